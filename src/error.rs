@@ -1,0 +1,110 @@
+//! Typed errors of the library. Every variant reads as one paragraph a person can act
+//! on: what went wrong, and what to do about it.
+
+use std::path::PathBuf;
+
+use ash::vk;
+
+/// What to install when there is no Vulkan loader or no driver (Debian/Ubuntu names).
+pub const INSTALL_HINT: &str = "On Debian/Ubuntu install the Vulkan loader and Mesa's software driver \
+     (lavapipe) with `sudo apt-get install -y libvulkan1 mesa-vulkan-drivers`, then check with \
+     `sediment info`.";
+
+/// What to install for `--validate` / `SEDIMENT_VALIDATE=1` and the tests.
+pub const VALIDATION_HINT: &str =
+    "On Debian/Ubuntu install them with `sudo apt-get install -y vulkan-validationlayers`.";
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("No Vulkan loader could be opened ({detail}). {INSTALL_HINT}")]
+    NoLoader { detail: String },
+
+    #[error("No Vulkan driver is available ({detail}). {INSTALL_HINT}")]
+    NoDriver { detail: String },
+
+    #[error(
+        "No Vulkan device name contains \"{wanted}\" (from --device or SEDIMENT_DEVICE). \
+         Devices present: {available}. Run `sediment info` to see them and what they support."
+    )]
+    NoMatchingDevice { wanted: String, available: String },
+
+    #[error(
+        "The Vulkan device \"{device}\" lacks {feature}, which sediment needs ({why}). \
+         Pick another device with --device, or use Mesa's lavapipe, which has it \
+         (`sudo apt-get install -y mesa-vulkan-drivers`). `sediment info` lists what each \
+         device supports."
+    )]
+    MissingFeature {
+        device: String,
+        feature: &'static str,
+        why: &'static str,
+    },
+
+    #[error(
+        "Validation was requested (--validate, SEDIMENT_VALIDATE=1, or a test) but the layer \
+         VK_LAYER_KHRONOS_validation is not installed. {VALIDATION_HINT}"
+    )]
+    NoValidationLayer,
+
+    #[error("The Vulkan call {call} failed with {result:?} ({result}).")]
+    Vulkan {
+        call: &'static str,
+        result: vk::Result,
+    },
+
+    #[error(
+        "Out of GPU memory (or no suitable memory type) allocating \"{name}\" ({bytes} bytes): {source}"
+    )]
+    Allocation {
+        name: String,
+        bytes: u64,
+        source: gpu_allocator::AllocationError,
+    },
+
+    #[error("Invalid value for {argument}: {message}")]
+    InvalidArgument { argument: String, message: String },
+
+    #[error("Shader module {path}: {message}")]
+    Shader { path: String, message: String },
+
+    #[error("Could not write {}: {source}", path.display())]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+
+    #[error("Could not read {}: {source}", path.display())]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+
+    #[error("Could not encode {}: {source}", path.display())]
+    Encode {
+        path: PathBuf,
+        source: image::ImageError,
+    },
+}
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Names the Vulkan call a raw `vk::Result` came from, so no error is a bare code.
+pub(crate) trait VkContext<T> {
+    fn vk(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
+    fn vk(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { call, result })
+    }
+}
+
+impl Error {
+    /// Shorthand for an out-of-range or malformed user argument.
+    pub fn invalid(argument: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::InvalidArgument {
+            argument: argument.into(),
+            message: message.into(),
+        }
+    }
+}

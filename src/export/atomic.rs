@@ -1,0 +1,69 @@
+//! Write-then-rename.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// Writes `path` through `write` into a temporary sibling file, then renames it into
+/// place. On any error the temporary file is removed and `path` is left untouched.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<()>,
+) -> Result<()> {
+    let io_err = |source| Error::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let tmp = temporary_name(path);
+    let file = std::fs::File::create(&tmp).map_err(io_err)?;
+    let mut writer = std::io::BufWriter::new(file);
+    let result = write(&mut writer)
+        .and_then(|()| writer.flush().map_err(io_err))
+        .and_then(|()| writer.get_ref().sync_all().map_err(io_err));
+    drop(writer);
+    let result = result.and_then(|()| std::fs::rename(&tmp, path).map_err(io_err));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+fn temporary_name(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "output".to_owned());
+    path.with_file_name(format!(".{name}.partial-{}", std::process::id()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failure_leaves_no_file_and_success_renames() {
+        let dir = std::env::temp_dir().join(format!("sediment-atomic-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let target = dir.join("out.txt");
+        let failed = write_atomically(&target, |w| {
+            w.write_all(b"half").map_err(|source| Error::Write {
+                path: target.clone(),
+                source,
+            })?;
+            Err(Error::invalid("test", "simulated failure mid-write"))
+        });
+        assert!(failed.is_err());
+        let leftovers: Vec<_> = std::fs::read_dir(&dir).expect("read dir").collect();
+        assert!(leftovers.is_empty(), "nothing left behind: {leftovers:?}");
+        write_atomically(&target, |w| {
+            w.write_all(b"whole").map_err(|source| Error::Write {
+                path: target.clone(),
+                source,
+            })
+        })
+        .expect("write succeeds");
+        assert_eq!(std::fs::read(&target).expect("read back"), b"whole");
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
+}

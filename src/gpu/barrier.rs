@@ -1,0 +1,63 @@
+//! Pipeline barriers (synchronization2), written once.
+
+use ash::vk;
+
+use super::Context;
+
+/// A full memory barrier: all prior commands' writes visible to all later commands.
+pub fn full(ctx: &Context, cmd: vk::CommandBuffer) {
+    let barrier = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+        .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+        .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE)];
+    let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+    // SAFETY: `cmd` is in the recording state on this device.
+    unsafe { ctx.device.cmd_pipeline_barrier2(cmd, &dep) };
+}
+
+/// A global memory barrier between two stage/access scopes.
+pub fn memory(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+) {
+    let barrier = [vk::MemoryBarrier2::default()
+        .src_stage_mask(src.0)
+        .src_access_mask(src.1)
+        .dst_stage_mask(dst.0)
+        .dst_access_mask(dst.1)];
+    let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+    // SAFETY: `cmd` is in the recording state on this device.
+    unsafe { ctx.device.cmd_pipeline_barrier2(cmd, &dep) };
+}
+
+/// One image layout transition with its scopes.
+pub struct ImageTransition {
+    pub image: vk::Image,
+    pub range: vk::ImageSubresourceRange,
+    pub from: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+    pub to: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+}
+
+/// Records the layout transitions in one barrier.
+pub fn images(ctx: &Context, cmd: vk::CommandBuffer, transitions: &[ImageTransition]) {
+    let barriers: Vec<vk::ImageMemoryBarrier2<'_>> = transitions
+        .iter()
+        .map(|t| {
+            vk::ImageMemoryBarrier2::default()
+                .image(t.image)
+                .subresource_range(t.range)
+                .old_layout(t.from.0)
+                .src_stage_mask(t.from.1)
+                .src_access_mask(t.from.2)
+                .new_layout(t.to.0)
+                .dst_stage_mask(t.to.1)
+                .dst_access_mask(t.to.2)
+        })
+        .collect();
+    let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
+    // SAFETY: `cmd` is recording; the images belong to this device.
+    unsafe { ctx.device.cmd_pipeline_barrier2(cmd, &dep) };
+}

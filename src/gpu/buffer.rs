@@ -1,0 +1,241 @@
+//! Buffers: a plain-data description, and an owning wrapper that frees its memory.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+
+use super::Context;
+use crate::error::{Error, Result, VkContext};
+
+/// What a buffer is for and where its memory lives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct BufferDesc {
+    pub size: u64,
+    pub usage: vk::BufferUsageFlags,
+    pub location: MemoryLocation,
+}
+
+impl BufferDesc {
+    /// Device-local memory; filled by transfers or by the GPU itself.
+    pub fn gpu_only(size: u64, usage: vk::BufferUsageFlags) -> Self {
+        Self {
+            size,
+            usage,
+            location: MemoryLocation::GpuOnly,
+        }
+    }
+
+    /// Host-visible memory the CPU writes and the GPU reads (uploads, uniforms).
+    pub fn upload(size: u64, usage: vk::BufferUsageFlags) -> Self {
+        Self {
+            size,
+            usage,
+            location: MemoryLocation::CpuToGpu,
+        }
+    }
+
+    /// Host-visible memory the GPU writes and the CPU reads back.
+    pub fn readback(size: u64, usage: vk::BufferUsageFlags) -> Self {
+        Self {
+            size,
+            usage,
+            location: MemoryLocation::GpuToCpu,
+        }
+    }
+}
+
+/// An owned `VkBuffer` with its memory. Dropping it frees both; the caller makes sure
+/// the GPU is done with it (sediment's submissions wait on their fence).
+pub struct Buffer {
+    allocation: Option<Allocation>,
+    raw: vk::Buffer,
+    desc: BufferDesc,
+    ctx: Arc<Context>,
+}
+
+impl Buffer {
+    pub fn new(ctx: &Arc<Context>, name: &str, desc: BufferDesc) -> Result<Self> {
+        if desc.size == 0 {
+            return Err(Error::invalid(
+                format!("buffer \"{name}\" size"),
+                "a buffer must hold at least one byte",
+            ));
+        }
+        let info = vk::BufferCreateInfo::default()
+            .size(desc.size)
+            .usage(desc.usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { ctx.device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        // SAFETY: `raw` was just created on this device.
+        let requirements = unsafe { ctx.device.get_buffer_memory_requirements(raw) };
+        let allocation = ctx.allocator().allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location: desc.location,
+            linear: true,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(source) => {
+                // SAFETY: the buffer has no memory bound and no other user.
+                unsafe { ctx.device.destroy_buffer(raw, None) };
+                return Err(Error::Allocation {
+                    name: name.to_owned(),
+                    bytes: desc.size,
+                    source,
+                });
+            }
+        };
+        // SAFETY: the allocation satisfies `requirements`; it is freed only after the
+        // buffer is destroyed (see Drop).
+        let bound = unsafe {
+            ctx.device
+                .bind_buffer_memory(raw, allocation.memory(), allocation.offset())
+        };
+        let buffer = Buffer {
+            allocation: Some(allocation),
+            raw,
+            desc,
+            ctx: ctx.clone(),
+        };
+        bound.vk("vkBindBufferMemory")?;
+        ctx.name(raw, name);
+        Ok(buffer)
+    }
+
+    /// A host-visible buffer filled with `data`.
+    pub fn with_data<T: Pod>(
+        ctx: &Arc<Context>,
+        name: &str,
+        usage: vk::BufferUsageFlags,
+        data: &[T],
+    ) -> Result<Self> {
+        let bytes = as_bytes(data);
+        let mut buffer = Buffer::new(ctx, name, BufferDesc::upload(bytes.len() as u64, usage))?;
+        buffer.write(0, data)?;
+        Ok(buffer)
+    }
+
+    pub fn raw(&self) -> vk::Buffer {
+        self.raw
+    }
+
+    pub fn size(&self) -> u64 {
+        self.desc.size
+    }
+
+    pub fn desc(&self) -> &BufferDesc {
+        &self.desc
+    }
+
+    /// Copies `data` into a host-visible buffer at byte `offset`.
+    pub fn write<T: Pod>(&mut self, offset: u64, data: &[T]) -> Result<()> {
+        let bytes = as_bytes(data);
+        let slice = self.mapped_mut()?;
+        let start = usize::try_from(offset).unwrap_or(usize::MAX);
+        let end = start.saturating_add(bytes.len());
+        let Some(dst) = slice.get_mut(start..end) else {
+            return Err(Error::invalid(
+                "buffer write",
+                format!(
+                    "{} bytes at offset {offset} do not fit in {} bytes",
+                    bytes.len(),
+                    slice.len()
+                ),
+            ));
+        };
+        dst.copy_from_slice(bytes);
+        Ok(())
+    }
+
+    /// The bytes of a host-visible buffer (after the GPU work writing it has finished).
+    pub fn mapped(&self) -> Result<&[u8]> {
+        let size = self.size() as usize;
+        self.allocation
+            .as_ref()
+            .and_then(Allocation::mapped_slice)
+            .map(|s| &s[..size.min(s.len())])
+            .ok_or_else(|| Error::invalid("buffer read", "the buffer is not host-visible"))
+    }
+
+    fn mapped_mut(&mut self) -> Result<&mut [u8]> {
+        let size = self.desc.size as usize;
+        self.allocation
+            .as_mut()
+            .and_then(Allocation::mapped_slice_mut)
+            .map(|s| {
+                let n = size.min(s.len());
+                &mut s[..n]
+            })
+            .ok_or_else(|| Error::invalid("buffer write", "the buffer is not host-visible"))
+    }
+
+    /// Reads a host-visible buffer as a vector of `T` (whole elements only).
+    pub fn read<T: Pod>(&self) -> Result<Vec<T>> {
+        let bytes = self.mapped()?;
+        Ok(from_bytes(bytes))
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        // SAFETY: the buffer belongs to this device and the GPU is done with it.
+        unsafe { self.ctx.device.destroy_buffer(self.raw, None) };
+        if let Some(allocation) = self.allocation.take() {
+            // A failed free only leaks; nothing better can be done in Drop.
+            let _ = self.ctx.allocator().free(allocation);
+        }
+    }
+}
+
+/// Plain-old-data: types whose every bit pattern is valid and which have no padding,
+/// so they can be copied to and from GPU memory as bytes.
+///
+/// # Safety
+/// Implement only for `#[repr(C)]` types made of `f32`/`u32`/`i32` fields (or arrays of
+/// them) with no padding.
+pub unsafe trait Pod: Copy + 'static {}
+
+// SAFETY: primitive numbers have no padding and every bit pattern is valid.
+unsafe impl Pod for f32 {}
+// SAFETY: as above.
+unsafe impl Pod for u32 {}
+// SAFETY: as above.
+unsafe impl Pod for i32 {}
+// SAFETY: as above.
+unsafe impl Pod for u64 {}
+// SAFETY: as above.
+unsafe impl Pod for u8 {}
+// SAFETY: arrays of Pod are Pod.
+unsafe impl<T: Pod, const N: usize> Pod for [T; N] {}
+
+/// The bytes of a slice of plain data.
+pub fn as_bytes<T: Pod>(data: &[T]) -> &[u8] {
+    // SAFETY: `T: Pod` has no padding, so every byte is initialised; the length is the
+    // slice's size in bytes.
+    unsafe { std::slice::from_raw_parts(data.as_ptr().cast::<u8>(), std::mem::size_of_val(data)) }
+}
+
+/// Copies whole `T`s out of `bytes` (any alignment).
+pub fn from_bytes<T: Pod>(bytes: &[u8]) -> Vec<T> {
+    let size = std::mem::size_of::<T>().max(1);
+    bytes
+        .chunks_exact(size)
+        // SAFETY: every bit pattern is a valid `T: Pod`; `read_unaligned` has no alignment
+        // requirement and the chunk holds exactly size_of::<T>() bytes.
+        .map(|chunk| unsafe { chunk.as_ptr().cast::<T>().read_unaligned() })
+        .collect()
+}
+
+// SAFETY: glam's Vec2/Vec3/Vec4/Mat4 are `#[repr(C)]` f32 aggregates without padding.
+unsafe impl Pod for glam::Vec2 {}
+// SAFETY: as above.
+unsafe impl Pod for glam::Vec3 {}
+// SAFETY: as above.
+unsafe impl Pod for glam::Vec4 {}
+// SAFETY: as above.
+unsafe impl Pod for glam::Mat4 {}

@@ -1,0 +1,166 @@
+//! A command buffer being recorded, with the draw/bind/copy calls passes need, so that
+//! passes never call ash themselves.
+
+use ash::vk;
+
+use super::pipeline::{DescriptorSet, Pipeline, PipelineLayout};
+use super::{Buffer, Context, Pod};
+use crate::error::Result;
+
+/// A command buffer in the recording state (see `Context::submit_and_wait`).
+pub struct Commands<'a> {
+    pub(crate) ctx: &'a Context,
+    pub(crate) raw: vk::CommandBuffer,
+}
+
+impl Commands<'_> {
+    pub fn raw(&self) -> vk::CommandBuffer {
+        self.raw
+    }
+
+    pub fn context(&self) -> &Context {
+        self.ctx
+    }
+
+    pub fn bind_pipeline(
+        &self,
+        pipeline: &Pipeline,
+        layout: &PipelineLayout,
+        sets: &[&DescriptorSet],
+    ) {
+        pipeline.bind(self.raw, layout, sets);
+    }
+
+    pub fn push_constants<T: Pod>(&self, layout: &PipelineLayout, value: &T) -> Result<()> {
+        layout.push(self.raw, value)
+    }
+
+    /// Viewport and scissor covering `width` x `height` from the origin.
+    pub fn set_viewport(&self, width: u32, height: u32) {
+        let viewport = [vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: width as f32,
+            height: height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        }];
+        let scissor = [vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: vk::Extent2D { width, height },
+        }];
+        // SAFETY: `raw` is recording; the pipelines declare both states dynamic.
+        unsafe {
+            self.ctx.device.cmd_set_viewport(self.raw, 0, &viewport);
+            self.ctx.device.cmd_set_scissor(self.raw, 0, &scissor);
+        }
+    }
+
+    pub fn bind_vertex_buffer(&self, buffer: &Buffer, offset: u64) {
+        // SAFETY: `raw` is recording; the buffer has VERTEX_BUFFER usage by construction.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_bind_vertex_buffers(self.raw, 0, &[buffer.raw()], &[offset])
+        };
+    }
+
+    pub fn bind_index_buffer(&self, buffer: &Buffer) {
+        // SAFETY: `raw` is recording; the buffer holds u32 indices.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_bind_index_buffer(self.raw, buffer.raw(), 0, vk::IndexType::UINT32)
+        };
+    }
+
+    pub fn draw(&self, vertex_count: u32, instance_count: u32) {
+        // SAFETY: `raw` is recording inside a rendering scope with a bound pipeline.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_draw(self.raw, vertex_count, instance_count, 0, 0)
+        };
+    }
+
+    pub fn draw_indexed(&self, index_count: u32, instance_count: u32) {
+        // SAFETY: `raw` is recording inside a rendering scope with bound pipeline/buffers.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_draw_indexed(self.raw, index_count, instance_count, 0, 0, 0)
+        };
+    }
+
+    pub fn dispatch(&self, x: u32, y: u32, z: u32) {
+        // SAFETY: `raw` is recording with a bound compute pipeline.
+        unsafe { self.ctx.device.cmd_dispatch(self.raw, x, y, z) };
+    }
+
+    /// Copies `size` bytes between buffers.
+    pub fn copy_buffer(&self, src: &Buffer, dst: &Buffer, size: u64) {
+        let region = [vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size,
+        }];
+        // SAFETY: `raw` is recording; both buffers are large enough (caller's contract,
+        // checked by validation in tests).
+        unsafe {
+            self.ctx
+                .device
+                .cmd_copy_buffer(self.raw, src.raw(), dst.raw(), &region)
+        };
+    }
+
+    /// Fills `size` bytes of `buffer` from `offset` with the word `value`.
+    pub fn fill_buffer(&self, buffer: &Buffer, offset: u64, size: u64, value: u32) {
+        // SAFETY: `raw` is recording outside a rendering scope; the buffer has
+        // TRANSFER_DST usage (validation checks it in tests).
+        unsafe {
+            self.ctx
+                .device
+                .cmd_fill_buffer(self.raw, buffer.raw(), offset, size, value)
+        };
+    }
+
+    /// A full memory barrier (see `barrier::full`).
+    pub fn full_barrier(&self) {
+        super::barrier::full(self.ctx, self.raw);
+    }
+
+    /// Transfer writes made visible to every later read (uploads before use).
+    pub fn transfer_to_all_barrier(&self) {
+        super::barrier::memory(
+            self.ctx,
+            self.raw,
+            (
+                vk::PipelineStageFlags2::TRANSFER,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                vk::AccessFlags2::MEMORY_READ,
+            ),
+        );
+    }
+
+    /// Begins dynamic rendering with no attachments over `width` x `height`, for
+    /// transform-feedback passes whose rasterizer is discarded.
+    pub fn begin_rendering_without_attachments(&self, width: u32, height: u32) {
+        let info = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D { x: 0, y: 0 },
+                extent: vk::Extent2D { width, height },
+            })
+            .layer_count(1);
+        // SAFETY: `raw` is recording outside a rendering scope.
+        unsafe { self.ctx.device.cmd_begin_rendering(self.raw, &info) };
+        self.set_viewport(width, height);
+    }
+
+    pub fn end_rendering(&self) {
+        // SAFETY: a rendering scope begun on `raw` is open.
+        unsafe { self.ctx.device.cmd_end_rendering(self.raw) };
+    }
+}

@@ -1,0 +1,174 @@
+//! 2D images with one view: a plain-data description and an owning wrapper.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+
+use super::Context;
+use crate::error::{Error, Result, VkContext};
+
+/// What a 2D image is: size, format, mip levels and usage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ImageDesc {
+    pub width: u32,
+    pub height: u32,
+    pub format: vk::Format,
+    pub mip_levels: u32,
+    pub usage: vk::ImageUsageFlags,
+}
+
+impl ImageDesc {
+    pub fn new_2d(width: u32, height: u32, format: vk::Format, usage: vk::ImageUsageFlags) -> Self {
+        Self {
+            width,
+            height,
+            format,
+            mip_levels: 1,
+            usage,
+        }
+    }
+
+    pub fn mip_levels(mut self, levels: u32) -> Self {
+        self.mip_levels = levels;
+        self
+    }
+
+    /// The aspect the single view covers.
+    pub fn aspect(&self) -> vk::ImageAspectFlags {
+        match self.format {
+            vk::Format::D16_UNORM | vk::Format::D32_SFLOAT | vk::Format::X8_D24_UNORM_PACK32 => {
+                vk::ImageAspectFlags::DEPTH
+            }
+            vk::Format::D24_UNORM_S8_UINT | vk::Format::D32_SFLOAT_S8_UINT => {
+                vk::ImageAspectFlags::DEPTH
+            }
+            _ => vk::ImageAspectFlags::COLOR,
+        }
+    }
+}
+
+/// An owned device-local `VkImage`, its memory and one view of all its mip levels.
+pub struct Image {
+    view: vk::ImageView,
+    allocation: Option<Allocation>,
+    raw: vk::Image,
+    desc: ImageDesc,
+    ctx: Arc<Context>,
+}
+
+impl Image {
+    pub fn new(ctx: &Arc<Context>, name: &str, desc: ImageDesc) -> Result<Self> {
+        let max = ctx.info().max_image_dimension_2d;
+        if desc.width == 0 || desc.height == 0 || desc.width > max || desc.height > max {
+            return Err(Error::invalid(
+                format!("image \"{name}\" size"),
+                format!(
+                    "{}x{} is outside 1..={max} per side on this device",
+                    desc.width, desc.height
+                ),
+            ));
+        }
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(desc.format)
+            .extent(vk::Extent3D {
+                width: desc.width,
+                height: desc.height,
+                depth: 1,
+            })
+            .mip_levels(desc.mip_levels)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(desc.usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { ctx.device.create_image(&info, None) }.vk("vkCreateImage")?;
+        // SAFETY: `raw` was just created on this device.
+        let requirements = unsafe { ctx.device.get_image_memory_requirements(raw) };
+        let allocation = match ctx.allocator().allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location: MemoryLocation::GpuOnly,
+            linear: false,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        }) {
+            Ok(a) => a,
+            Err(source) => {
+                // SAFETY: no memory bound, no other user.
+                unsafe { ctx.device.destroy_image(raw, None) };
+                return Err(Error::Allocation {
+                    name: name.to_owned(),
+                    bytes: requirements.size,
+                    source,
+                });
+            }
+        };
+        let mut image = Image {
+            view: vk::ImageView::null(),
+            allocation: Some(allocation),
+            raw,
+            desc,
+            ctx: ctx.clone(),
+        };
+        let allocation = image.allocation.as_ref().map(|a| {
+            // SAFETY: the allocation is freed only after the image is destroyed.
+            (unsafe { a.memory() }, a.offset())
+        });
+        if let Some((memory, offset)) = allocation {
+            // SAFETY: the allocation satisfies the image's requirements.
+            unsafe { ctx.device.bind_image_memory(raw, memory, offset) }.vk("vkBindImageMemory")?;
+        }
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(desc.format)
+            .subresource_range(image.full_range());
+        // SAFETY: the image is bound to memory and the range is within it.
+        image.view =
+            unsafe { ctx.device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        ctx.name(raw, name);
+        ctx.name(image.view, &format!("{name} view"));
+        Ok(image)
+    }
+
+    pub fn raw(&self) -> vk::Image {
+        self.raw
+    }
+
+    pub fn view(&self) -> vk::ImageView {
+        self.view
+    }
+
+    pub fn desc(&self) -> &ImageDesc {
+        &self.desc
+    }
+
+    /// Every mip level of the image's aspect.
+    pub fn full_range(&self) -> vk::ImageSubresourceRange {
+        vk::ImageSubresourceRange {
+            aspect_mask: self.desc.aspect(),
+            base_mip_level: 0,
+            level_count: self.desc.mip_levels,
+            base_array_layer: 0,
+            layer_count: 1,
+        }
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        // SAFETY: both belong to this device and the GPU is done with them; destroying a
+        // null view is a no-op.
+        unsafe {
+            self.ctx.device.destroy_image_view(self.view, None);
+            self.ctx.device.destroy_image(self.raw, None);
+        }
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.ctx.allocator().free(allocation);
+        }
+    }
+}

@@ -1,0 +1,33 @@
+//! The only module that touches ash: context and device choice, memory, buffers and
+//! images, shader modules, pipelines (incl. geometry stage and transform feedback),
+//! the offscreen target and its readback, timestamp spans and XFB helpers.
+
+mod barrier;
+mod buffer;
+mod commands;
+mod context;
+mod features;
+mod image;
+mod pipeline;
+mod shader;
+mod target;
+mod timing;
+mod validation;
+mod xfb;
+
+/// Vulkan's types (formats, flags) for passes that describe pipelines; calls stay here.
+pub use ash::vk;
+
+pub use buffer::{Buffer, BufferDesc, Pod, as_bytes, from_bytes};
+pub use commands::Commands;
+pub use context::{Context, ContextOptions, DeviceInfo, probe_devices};
+pub use features::{Capability, DeviceReport};
+pub use image::{Image, ImageDesc};
+pub use pipeline::{DescriptorSet, GraphicsPipelineDesc, Pipeline, PipelineLayout, VertexLayout};
+pub use shader::ShaderModule;
+pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget};
+pub use timing::{GpuTimer, Span, SpanId};
+pub use validation::ValidationLog;
+pub use xfb::{
+    CAPTURE_USAGE, COUNTER_USAGE, StreamCounts, StreamQueries, capture_buffer, counter_buffer,
+};

@@ -1,0 +1,546 @@
+//! Pipeline layouts built from the Rust-side shader interfaces, descriptor sets, and a
+//! graphics-pipeline builder that takes an optional geometry stage and rasterizer
+//! discard (for transform-feedback-only passes). Compute pipelines too.
+
+use std::collections::BTreeMap;
+use std::ffi::CStr;
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::shader::{ShaderModule, descriptor_type, stage_flags};
+use super::{Buffer, Context};
+use crate::error::{Error, Result, VkContext};
+use crate::shaders::{DescriptorKind, ShaderInterface, ShaderSpirv};
+
+const ENTRY: &CStr = c"main";
+
+/// Descriptor-set layouts and push-constant range derived from the interfaces of every
+/// module of one pipeline (the declarations `shaders::check_interface` tests).
+pub struct PipelineLayout {
+    raw: vk::PipelineLayout,
+    set_layouts: Vec<(u32, vk::DescriptorSetLayout, Vec<(u32, DescriptorKind)>)>,
+    push_constant_bytes: u32,
+    push_stages: vk::ShaderStageFlags,
+    ctx: Arc<Context>,
+}
+
+impl PipelineLayout {
+    pub fn new(ctx: &Arc<Context>, name: &str, interfaces: &[&ShaderInterface]) -> Result<Self> {
+        // set -> binding -> (kind, stages)
+        let mut sets: BTreeMap<u32, BTreeMap<u32, (DescriptorKind, vk::ShaderStageFlags)>> =
+            BTreeMap::new();
+        let mut push_constant_bytes = 0;
+        let mut push_stages = vk::ShaderStageFlags::empty();
+        for iface in interfaces {
+            let stage = stage_flags(iface.shader.stage);
+            for b in iface.bindings {
+                let entry = sets
+                    .entry(b.set)
+                    .or_default()
+                    .entry(b.binding)
+                    .or_insert((b.kind, vk::ShaderStageFlags::empty()));
+                if entry.0 != b.kind {
+                    return Err(Error::Shader {
+                        path: iface.shader.path.to_owned(),
+                        message: format!(
+                            "set {} binding {} is {:?} here but {:?} in another stage of {name}",
+                            b.set, b.binding, b.kind, entry.0
+                        ),
+                    });
+                }
+                entry.1 |= stage;
+            }
+            if iface.push_constant_bytes > 0 {
+                push_constant_bytes = push_constant_bytes.max(iface.push_constant_bytes);
+                push_stages |= stage;
+            }
+        }
+        let mut layout = PipelineLayout {
+            raw: vk::PipelineLayout::null(),
+            set_layouts: Vec::new(),
+            push_constant_bytes,
+            push_stages,
+            ctx: ctx.clone(),
+        };
+        let max_set = sets.keys().next_back().copied();
+        for set in 0..max_set.map_or(0, |m| m + 1) {
+            let bindings = sets.get(&set).cloned().unwrap_or_default();
+            let vk_bindings: Vec<vk::DescriptorSetLayoutBinding<'_>> = bindings
+                .iter()
+                .map(|(&binding, &(kind, stages))| {
+                    vk::DescriptorSetLayoutBinding::default()
+                        .binding(binding)
+                        .descriptor_type(descriptor_type(kind))
+                        .descriptor_count(1)
+                        .stage_flags(stages)
+                })
+                .collect();
+            let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&vk_bindings);
+            // SAFETY: valid device and create info.
+            let raw = unsafe { ctx.device.create_descriptor_set_layout(&info, None) }
+                .vk("vkCreateDescriptorSetLayout")?;
+            ctx.name(raw, &format!("{name} set {set}"));
+            layout.set_layouts.push((
+                set,
+                raw,
+                bindings.iter().map(|(&b, &(k, _))| (b, k)).collect(),
+            ));
+        }
+        let raw_sets: Vec<vk::DescriptorSetLayout> =
+            layout.set_layouts.iter().map(|s| s.1).collect();
+        let ranges = [vk::PushConstantRange::default()
+            .stage_flags(push_stages)
+            .offset(0)
+            .size(push_constant_bytes)];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&raw_sets)
+            .push_constant_ranges(if push_constant_bytes > 0 {
+                &ranges
+            } else {
+                &[]
+            });
+        // SAFETY: the set layouts are alive; create info is valid.
+        layout.raw = unsafe { ctx.device.create_pipeline_layout(&info, None) }
+            .vk("vkCreatePipelineLayout")?;
+        ctx.name(layout.raw, name);
+        Ok(layout)
+    }
+
+    pub fn raw(&self) -> vk::PipelineLayout {
+        self.raw
+    }
+
+    pub fn push_constant_bytes(&self) -> u32 {
+        self.push_constant_bytes
+    }
+
+    /// Records `vkCmdPushConstants` for the whole declared block.
+    pub fn push<T: super::Pod>(&self, cmd: vk::CommandBuffer, value: &T) -> Result<()> {
+        let bytes = super::as_bytes(std::slice::from_ref(value));
+        if bytes.len() as u32 != self.push_constant_bytes {
+            return Err(Error::invalid(
+                "push constants",
+                format!(
+                    "{} bytes pushed but the layout declares {}",
+                    bytes.len(),
+                    self.push_constant_bytes
+                ),
+            ));
+        }
+        // SAFETY: `cmd` is recording and the range matches the layout's.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_push_constants(cmd, self.raw, self.push_stages, 0, bytes)
+        };
+        Ok(())
+    }
+
+    /// Allocates descriptor set `set` of this layout from a pool of its own.
+    pub fn allocate_set(&self, name: &str, set: u32) -> Result<DescriptorSet> {
+        let Some((_, raw_layout, bindings)) = self.set_layouts.iter().find(|s| s.0 == set) else {
+            return Err(Error::invalid(
+                "descriptor set",
+                format!("the layout has no set {set}"),
+            ));
+        };
+        let mut counts: BTreeMap<i32, u32> = BTreeMap::new();
+        for (_, kind) in bindings {
+            *counts.entry(descriptor_type(*kind).as_raw()).or_default() += 1;
+        }
+        let sizes: Vec<vk::DescriptorPoolSize> = counts
+            .into_iter()
+            .map(|(ty, n)| vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::from_raw(ty),
+                descriptor_count: n,
+            })
+            .collect();
+        let info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
+        // SAFETY: valid device and create info.
+        let pool = unsafe { self.ctx.device.create_descriptor_pool(&info, None) }
+            .vk("vkCreateDescriptorPool")?;
+        let layouts = [*raw_layout];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(pool)
+            .set_layouts(&layouts);
+        // SAFETY: the pool was sized for exactly this layout.
+        let raw = match unsafe { self.ctx.device.allocate_descriptor_sets(&alloc) } {
+            Ok(sets) => sets[0],
+            Err(result) => {
+                // SAFETY: the pool has no live sets.
+                unsafe { self.ctx.device.destroy_descriptor_pool(pool, None) };
+                return Err(Error::Vulkan {
+                    call: "vkAllocateDescriptorSets",
+                    result,
+                });
+            }
+        };
+        self.ctx.name(pool, &format!("{name} pool"));
+        self.ctx.name(raw, name);
+        Ok(DescriptorSet {
+            raw,
+            pool,
+            set,
+            bindings: bindings.clone(),
+            ctx: self.ctx.clone(),
+        })
+    }
+}
+
+impl Drop for PipelineLayout {
+    fn drop(&mut self) {
+        // SAFETY: no pipeline using the layout is executing (submissions wait).
+        unsafe {
+            self.ctx.device.destroy_pipeline_layout(self.raw, None);
+            for (_, raw, _) in &self.set_layouts {
+                self.ctx.device.destroy_descriptor_set_layout(*raw, None);
+            }
+        }
+    }
+}
+
+/// One descriptor set with the pool it came from.
+pub struct DescriptorSet {
+    raw: vk::DescriptorSet,
+    pool: vk::DescriptorPool,
+    set: u32,
+    bindings: Vec<(u32, DescriptorKind)>,
+    ctx: Arc<Context>,
+}
+
+impl DescriptorSet {
+    pub fn raw(&self) -> vk::DescriptorSet {
+        self.raw
+    }
+
+    fn kind_of(&self, binding: u32) -> Result<DescriptorKind> {
+        self.bindings
+            .iter()
+            .find(|b| b.0 == binding)
+            .map(|b| b.1)
+            .ok_or_else(|| {
+                Error::invalid(
+                    "descriptor write",
+                    format!("set {} has no binding {binding}", self.set),
+                )
+            })
+    }
+
+    /// Points a uniform or storage buffer binding at the whole of `buffer`.
+    pub fn write_buffer(&self, binding: u32, buffer: &Buffer) -> Result<()> {
+        let kind = self.kind_of(binding)?;
+        let info = [vk::DescriptorBufferInfo {
+            buffer: buffer.raw(),
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
+        let write = [vk::WriteDescriptorSet::default()
+            .dst_set(self.raw)
+            .dst_binding(binding)
+            .descriptor_type(descriptor_type(kind))
+            .buffer_info(&info)];
+        // SAFETY: the set is not in use by the GPU while it is updated.
+        unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
+        Ok(())
+    }
+
+    /// Points a sampled or storage image binding at `view` in `layout`.
+    pub fn write_image(
+        &self,
+        binding: u32,
+        view: vk::ImageView,
+        layout: vk::ImageLayout,
+    ) -> Result<()> {
+        let kind = self.kind_of(binding)?;
+        let info = [vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: view,
+            image_layout: layout,
+        }];
+        let write = [vk::WriteDescriptorSet::default()
+            .dst_set(self.raw)
+            .dst_binding(binding)
+            .descriptor_type(descriptor_type(kind))
+            .image_info(&info)];
+        // SAFETY: the set is not in use by the GPU while it is updated.
+        unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
+        Ok(())
+    }
+}
+
+impl Drop for DescriptorSet {
+    fn drop(&mut self) {
+        // SAFETY: destroying the pool frees the set; the GPU is done with it.
+        unsafe { self.ctx.device.destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+/// Vertex input: one interleaved binding.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct VertexLayout {
+    pub stride: u32,
+    /// (location, format, byte offset)
+    pub attributes: Vec<(u32, vk::Format, u32)>,
+}
+
+/// A graphics pipeline, described as plain data and built with `build`.
+pub struct GraphicsPipelineDesc<'a> {
+    pub name: &'a str,
+    pub vertex: &'a ShaderSpirv,
+    pub geometry: Option<&'a ShaderSpirv>,
+    pub fragment: Option<&'a ShaderSpirv>,
+    pub vertex_layout: VertexLayout,
+    pub topology: vk::PrimitiveTopology,
+    pub cull_mode: vk::CullModeFlags,
+    pub front_face: vk::FrontFace,
+    pub polygon_mode: vk::PolygonMode,
+    /// For transform-feedback-only passes: nothing is rasterized.
+    pub rasterizer_discard: bool,
+    pub color_formats: Vec<vk::Format>,
+    pub depth_format: Option<vk::Format>,
+    pub depth_test: bool,
+    pub depth_write: bool,
+    pub alpha_blend: bool,
+}
+
+impl<'a> GraphicsPipelineDesc<'a> {
+    /// A triangle-list pipeline with back-face culling (counter-clockwise front faces)
+    /// and depth testing, ready to be adjusted field by field or with the setters.
+    pub fn new(name: &'a str, vertex: &'a ShaderSpirv) -> Self {
+        Self {
+            name,
+            vertex,
+            geometry: None,
+            fragment: None,
+            vertex_layout: VertexLayout::default(),
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            cull_mode: vk::CullModeFlags::BACK,
+            front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+            polygon_mode: vk::PolygonMode::FILL,
+            rasterizer_discard: false,
+            color_formats: Vec::new(),
+            depth_format: None,
+            depth_test: true,
+            depth_write: true,
+            alpha_blend: false,
+        }
+    }
+
+    pub fn geometry(mut self, shader: &'a ShaderSpirv) -> Self {
+        self.geometry = Some(shader);
+        self
+    }
+
+    pub fn fragment(mut self, shader: &'a ShaderSpirv) -> Self {
+        self.fragment = Some(shader);
+        self
+    }
+
+    pub fn vertex_layout(mut self, layout: VertexLayout) -> Self {
+        self.vertex_layout = layout;
+        self
+    }
+
+    pub fn targets(mut self, color: &[vk::Format], depth: Option<vk::Format>) -> Self {
+        self.color_formats = color.to_vec();
+        self.depth_format = depth;
+        self
+    }
+
+    pub fn rasterizer_discard(mut self, on: bool) -> Self {
+        self.rasterizer_discard = on;
+        self
+    }
+
+    pub fn build(&self, ctx: &Arc<Context>, layout: &PipelineLayout) -> Result<Pipeline> {
+        let mut modules = vec![ShaderModule::new(ctx, self.vertex)?];
+        if let Some(g) = self.geometry {
+            modules.push(ShaderModule::new(ctx, g)?);
+        }
+        if let Some(f) = self.fragment {
+            modules.push(ShaderModule::new(ctx, f)?);
+        }
+        let stages: Vec<vk::PipelineShaderStageCreateInfo<'_>> = modules
+            .iter()
+            .map(|m| {
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(m.stage())
+                    .module(m.raw())
+                    .name(ENTRY)
+            })
+            .collect();
+        let vl = &self.vertex_layout;
+        let bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: vl.stride,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let attributes: Vec<vk::VertexInputAttributeDescription> = vl
+            .attributes
+            .iter()
+            .map(
+                |&(location, format, offset)| vk::VertexInputAttributeDescription {
+                    location,
+                    binding: 0,
+                    format,
+                    offset,
+                },
+            )
+            .collect();
+        let vertex_input = if vl.attributes.is_empty() {
+            vk::PipelineVertexInputStateCreateInfo::default()
+        } else {
+            vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&bindings)
+                .vertex_attribute_descriptions(&attributes)
+        };
+        let input_assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(self.topology);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .rasterizer_discard_enable(self.rasterizer_discard)
+            .polygon_mode(self.polygon_mode)
+            .cull_mode(self.cull_mode)
+            .front_face(self.front_face)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(self.depth_test && self.depth_format.is_some())
+            .depth_write_enable(self.depth_write && self.depth_format.is_some())
+            .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
+        let blend_attachments: Vec<vk::PipelineColorBlendAttachmentState> = self
+            .color_formats
+            .iter()
+            .map(|_| {
+                let state = vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA);
+                if self.alpha_blend {
+                    state
+                        .blend_enable(true)
+                        .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
+                        .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+                        .color_blend_op(vk::BlendOp::ADD)
+                        .src_alpha_blend_factor(vk::BlendFactor::ONE)
+                        .dst_alpha_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+                        .alpha_blend_op(vk::BlendOp::ADD)
+                } else {
+                    state
+                }
+            })
+            .collect();
+        let blend =
+            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&self.color_formats)
+            .depth_attachment_format(self.depth_format.unwrap_or(vk::Format::UNDEFINED));
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout.raw())
+            .push_next(&mut rendering);
+        // SAFETY: every pointer in `info` refers to locals alive for the call; the modules
+        // are destroyed only after the pipeline is created.
+        let raw = unsafe {
+            ctx.device
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, result)| Error::Vulkan {
+            call: "vkCreateGraphicsPipelines",
+            result,
+        })?[0];
+        ctx.name(raw, self.name);
+        Ok(Pipeline {
+            raw,
+            bind_point: vk::PipelineBindPoint::GRAPHICS,
+            ctx: ctx.clone(),
+        })
+    }
+}
+
+/// An owned graphics or compute pipeline.
+pub struct Pipeline {
+    raw: vk::Pipeline,
+    bind_point: vk::PipelineBindPoint,
+    ctx: Arc<Context>,
+}
+
+impl Pipeline {
+    /// A compute pipeline from one compute module.
+    pub fn compute(
+        ctx: &Arc<Context>,
+        name: &str,
+        shader: &ShaderSpirv,
+        layout: &PipelineLayout,
+    ) -> Result<Self> {
+        let module = ShaderModule::new(ctx, shader)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module.raw())
+            .name(ENTRY);
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.raw());
+        // SAFETY: the module and layout are alive for the call.
+        let raw = unsafe {
+            ctx.device
+                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, result)| Error::Vulkan {
+            call: "vkCreateComputePipelines",
+            result,
+        })?[0];
+        ctx.name(raw, name);
+        Ok(Self {
+            raw,
+            bind_point: vk::PipelineBindPoint::COMPUTE,
+            ctx: ctx.clone(),
+        })
+    }
+
+    pub fn raw(&self) -> vk::Pipeline {
+        self.raw
+    }
+
+    /// Binds the pipeline and, if given, descriptor sets starting at set 0.
+    pub fn bind(&self, cmd: vk::CommandBuffer, layout: &PipelineLayout, sets: &[&DescriptorSet]) {
+        let raw_sets: Vec<vk::DescriptorSet> = sets.iter().map(|s| s.raw()).collect();
+        // SAFETY: `cmd` is recording; pipeline, layout and sets belong to this device.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_bind_pipeline(cmd, self.bind_point, self.raw);
+            if !raw_sets.is_empty() {
+                self.ctx.device.cmd_bind_descriptor_sets(
+                    cmd,
+                    self.bind_point,
+                    layout.raw(),
+                    0,
+                    &raw_sets,
+                    &[],
+                );
+            }
+        }
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        // SAFETY: the GPU is done with the pipeline (submissions wait).
+        unsafe { self.ctx.device.destroy_pipeline(self.raw, None) };
+    }
+}

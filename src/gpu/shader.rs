@@ -1,0 +1,66 @@
+//! `VkShaderModule` from the SPIR-V `build.rs` embedded, and stage conversions.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::Context;
+use crate::error::{Result, VkContext};
+use crate::shaders::{DescriptorKind, ShaderSpirv, ShaderStageKind};
+
+/// An owned shader module.
+pub struct ShaderModule {
+    raw: vk::ShaderModule,
+    stage: ShaderStageKind,
+    ctx: Arc<Context>,
+}
+
+impl ShaderModule {
+    pub fn new(ctx: &Arc<Context>, spirv: &ShaderSpirv) -> Result<Self> {
+        let words = spirv.words()?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: `words` is SPIR-V produced by glslang at build time.
+        let raw =
+            unsafe { ctx.device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+        ctx.name(raw, spirv.path);
+        Ok(Self {
+            raw,
+            stage: spirv.stage,
+            ctx: ctx.clone(),
+        })
+    }
+
+    pub fn raw(&self) -> vk::ShaderModule {
+        self.raw
+    }
+
+    pub fn stage(&self) -> vk::ShaderStageFlags {
+        stage_flags(self.stage)
+    }
+}
+
+impl Drop for ShaderModule {
+    fn drop(&mut self) {
+        // SAFETY: modules are only needed during pipeline creation, which has returned.
+        unsafe { self.ctx.device.destroy_shader_module(self.raw, None) };
+    }
+}
+
+pub(crate) fn stage_flags(stage: ShaderStageKind) -> vk::ShaderStageFlags {
+    match stage {
+        ShaderStageKind::Vertex => vk::ShaderStageFlags::VERTEX,
+        ShaderStageKind::Geometry => vk::ShaderStageFlags::GEOMETRY,
+        ShaderStageKind::Fragment => vk::ShaderStageFlags::FRAGMENT,
+        ShaderStageKind::Compute => vk::ShaderStageFlags::COMPUTE,
+    }
+}
+
+pub(crate) fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
+    match kind {
+        DescriptorKind::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
+        DescriptorKind::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+        DescriptorKind::SampledImage => vk::DescriptorType::SAMPLED_IMAGE,
+        DescriptorKind::Sampler => vk::DescriptorType::SAMPLER,
+        DescriptorKind::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
+    }
+}

@@ -1,0 +1,80 @@
+//! Indexed triangle meshes on the CPU, with the invariants tests hold them to.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+/// An indexed triangle mesh; triangles wind counter-clockwise seen from outside.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        self.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]])
+    }
+
+    /// Area-weighted vertex normals from the triangles.
+    pub fn recompute_normals(&mut self) {
+        let mut normals = vec![Vec3::ZERO; self.positions.len()];
+        for [a, b, c] in self.triangles() {
+            let (pa, pb, pc) = (
+                self.positions[a as usize],
+                self.positions[b as usize],
+                self.positions[c as usize],
+            );
+            // The cross product's length is twice the area: weighting by it for free.
+            let n = (pb - pa).cross(pc - pa);
+            for i in [a, b, c] {
+                normals[i as usize] += n;
+            }
+        }
+        self.normals = normals
+            .into_iter()
+            .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
+            .collect();
+    }
+
+    /// Every directed edge appears once and its reverse once: the surface is closed,
+    /// 2-manifold and consistently oriented. Returns the first offending edge.
+    pub fn check_closed_manifold(&self) -> Result<(), String> {
+        let mut directed: HashMap<(u32, u32), u32> = HashMap::new();
+        for [a, b, c] in self.triangles() {
+            for (u, v) in [(a, b), (b, c), (c, a)] {
+                *directed.entry((u, v)).or_default() += 1;
+            }
+        }
+        for (&(u, v), &n) in &directed {
+            if n != 1 {
+                return Err(format!(
+                    "edge {u}->{v} is used by {n} triangles in that direction"
+                ));
+            }
+            if directed.get(&(v, u)) != Some(&1) {
+                return Err(format!("edge {u}->{v} has no opposite edge {v}->{u}"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Smallest triangle area (0 means a degenerate triangle).
+    pub fn min_triangle_area(&self) -> f32 {
+        self.triangles()
+            .map(|[a, b, c]| {
+                let (pa, pb, pc) = (
+                    self.positions[a as usize],
+                    self.positions[b as usize],
+                    self.positions[c as usize],
+                );
+                0.5 * (pb - pa).cross(pc - pa).length()
+            })
+            .fold(f32::INFINITY, f32::min)
+    }
+}

@@ -1,0 +1,7 @@
+//! Pure CPU models: deterministic, seeded, unit-tested without a GPU. Models never
+//! touch Vulkan.
+
+pub mod mesh;
+pub mod noise;
+pub mod random;
+pub mod rock;

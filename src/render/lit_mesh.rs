@@ -1,0 +1,165 @@
+//! The lit-mesh pass: indexed triangle meshes with per-vertex normals, lit by a sun and
+//! a sky/ground hemisphere, tone-mapped into the sRGB target.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec4};
+
+use crate::error::Result;
+use crate::gpu::{
+    Buffer, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pod,
+    VertexLayout, vk,
+};
+use crate::model::mesh::Mesh;
+use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
+
+/// Vertex layout of `lit_mesh.vert`: position then normal, interleaved.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LitVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+}
+// SAFETY: repr(C), six f32, no padding.
+unsafe impl Pod for LitVertex {}
+
+/// `Frame` uniform block (set 0, binding 0) of the lit-mesh shaders.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameUniforms {
+    pub view_proj: Mat4,
+    pub camera_pos: Vec4,
+    /// Unit vector toward the sun.
+    pub sun_dir: Vec4,
+    pub sun_color: Vec4,
+    pub sky_color: Vec4,
+    pub ground_color: Vec4,
+    /// x: exposure.
+    pub params: Vec4,
+}
+// SAFETY: repr(C), Mat4 + six Vec4 (all 16-byte multiples), no padding.
+unsafe impl Pod for FrameUniforms {}
+
+/// `Object` push-constant block of the lit-mesh shaders.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectPush {
+    pub model: Mat4,
+    /// rgb: linear albedo.
+    pub albedo: Vec4,
+    /// x: Blinn-Phong shininess, y: specular weight.
+    pub material: Vec4,
+}
+// SAFETY: repr(C), Mat4 + two Vec4, no padding.
+unsafe impl Pod for ObjectPush {}
+
+const FRAME_BINDING: DescriptorBinding =
+    DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
+
+pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::LIT_MESH_LIT_MESH_VERT,
+    bindings: &[FRAME_BINDING],
+    push_constant_bytes: size_of::<ObjectPush>() as u32,
+};
+
+pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::LIT_MESH_LIT_MESH_FRAG,
+    bindings: &[FRAME_BINDING],
+    push_constant_bytes: size_of::<ObjectPush>() as u32,
+};
+
+/// A mesh in GPU buffers.
+pub struct GpuMesh {
+    vertices: Buffer,
+    indices: Buffer,
+    index_count: u32,
+}
+
+impl GpuMesh {
+    pub fn upload(ctx: &Arc<Context>, name: &str, mesh: &Mesh) -> Result<Self> {
+        let vertices: Vec<LitVertex> = mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .map(|(p, n)| LitVertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+            })
+            .collect();
+        Ok(Self {
+            vertices: Buffer::with_data(
+                ctx,
+                &format!("{name} vertices"),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+                &vertices,
+            )?,
+            indices: Buffer::with_data(
+                ctx,
+                &format!("{name} indices"),
+                vk::BufferUsageFlags::INDEX_BUFFER,
+                &mesh.indices,
+            )?,
+            index_count: mesh.indices.len() as u32,
+        })
+    }
+}
+
+/// Pipeline, layout and per-frame uniforms of the lit-mesh pass.
+pub struct LitMeshPass {
+    frame_set: DescriptorSet,
+    frame_buffer: Buffer,
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+}
+
+impl LitMeshPass {
+    pub fn new(ctx: &Arc<Context>, color: vk::Format, depth: vk::Format) -> Result<Self> {
+        let layout = PipelineLayout::new(
+            ctx,
+            "lit mesh layout",
+            &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
+        )?;
+        let pipeline = GraphicsPipelineDesc::new("lit mesh", VERTEX_INTERFACE.shader)
+            .fragment(FRAGMENT_INTERFACE.shader)
+            .vertex_layout(VertexLayout {
+                stride: size_of::<LitVertex>() as u32,
+                attributes: vec![
+                    (0, vk::Format::R32G32B32_SFLOAT, 0),
+                    (1, vk::Format::R32G32B32_SFLOAT, 12),
+                ],
+            })
+            .targets(&[color], Some(depth))
+            .build(ctx, &layout)?;
+        let frame_buffer = Buffer::new(
+            ctx,
+            "lit mesh frame uniforms",
+            crate::gpu::BufferDesc::upload(
+                size_of::<FrameUniforms>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+        )?;
+        let frame_set = layout.allocate_set("lit mesh frame set", 0)?;
+        frame_set.write_buffer(FRAME_BINDING.binding, &frame_buffer)?;
+        Ok(Self {
+            frame_set,
+            frame_buffer,
+            pipeline,
+            layout,
+        })
+    }
+
+    /// Sets the camera and lights for the next submission.
+    pub fn set_frame(&mut self, frame: &FrameUniforms) -> Result<()> {
+        self.frame_buffer.write(0, std::slice::from_ref(frame))
+    }
+
+    /// Draws `mesh` inside an open rendering scope.
+    pub fn draw(&self, cmd: &Commands<'_>, mesh: &GpuMesh, object: &ObjectPush) -> Result<()> {
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.frame_set]);
+        cmd.push_constants(&self.layout, object)?;
+        cmd.bind_vertex_buffer(&mesh.vertices, 0);
+        cmd.bind_index_buffer(&mesh.indices);
+        cmd.draw_indexed(mesh.index_count, 1);
+        Ok(())
+    }
+}

@@ -1,0 +1,22 @@
+//! One module per GPU pass. Passes know nothing of the CLI; they take models and
+//! parameters and record commands through `gpu`.
+
+pub mod lit_mesh;
+
+use crate::gpu::Span;
+use crate::shaders::ShaderInterface;
+
+/// A rendered frame and what it cost.
+pub struct RenderedFrame {
+    pub image: image::RgbaImage,
+    /// GPU time of each named pass.
+    pub gpu_spans: Vec<Span>,
+    /// Wall-clock time of the whole render (set-up, record, submit, wait, readback).
+    pub wall_ms: f64,
+}
+
+/// Every shader interface the passes declare; the reflection test holds each against
+/// its SPIR-V and checks that no non-geometry module is left undeclared.
+pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
+    vec![&lit_mesh::VERTEX_INTERFACE, &lit_mesh::FRAGMENT_INTERFACE]
+}

@@ -1,0 +1,7 @@
+//! Scenes: what to show (models, camera, lights) and how to render it offscreen.
+
+pub mod camera;
+pub mod rock;
+pub mod size;
+
+pub use size::Size;

@@ -1,0 +1,197 @@
+//! The shader modules `build.rs` compiled from `shaders-glsl/`, the Rust side's
+//! declaration of each module's resource interface, and the naga reflection that
+//! checks the two agree.
+//!
+//! naga reads vertex, fragment and compute SPIR-V; it has no geometry stage, so
+//! geometry interfaces are declared by hand and covered by GPU tests instead.
+
+use naga::{AddressSpace, ImageClass, TypeInner};
+
+use crate::error::{Error, Result};
+
+/// Pipeline stage of a compiled module (from its file extension).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShaderStageKind {
+    Vertex,
+    Geometry,
+    Fragment,
+    Compute,
+}
+
+/// One SPIR-V module embedded in the binary.
+#[derive(Debug)]
+pub struct ShaderSpirv {
+    /// Path under `shaders-glsl/`.
+    pub path: &'static str,
+    pub stage: ShaderStageKind,
+    /// Little-endian SPIR-V words (not necessarily 4-byte aligned in memory).
+    pub bytes: &'static [u8],
+}
+
+impl ShaderSpirv {
+    /// The module as aligned SPIR-V words.
+    pub fn words(&self) -> Result<Vec<u32>> {
+        ash::util::read_spv(&mut std::io::Cursor::new(self.bytes)).map_err(|e| Error::Shader {
+            path: self.path.to_owned(),
+            message: format!("not valid SPIR-V: {e}"),
+        })
+    }
+}
+
+/// Every module compiled from `shaders-glsl/`, one `const` each (e.g. `ROCK_ROCK_VERT`).
+pub mod compiled {
+    use super::{ShaderSpirv, ShaderStageKind};
+    include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
+}
+
+/// The kind of a descriptor binding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DescriptorKind {
+    UniformBuffer,
+    StorageBuffer,
+    SampledImage,
+    Sampler,
+    StorageImage,
+}
+
+/// One `layout(set = S, binding = B)` resource.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct DescriptorBinding {
+    pub set: u32,
+    pub binding: u32,
+    pub kind: DescriptorKind,
+}
+
+impl DescriptorBinding {
+    pub const fn new(set: u32, binding: u32, kind: DescriptorKind) -> Self {
+        Self { set, binding, kind }
+    }
+}
+
+/// What the Rust side believes one module uses: the pipeline layouts are built from
+/// these declarations, and `check_interface` holds them against the SPIR-V.
+#[derive(Debug)]
+pub struct ShaderInterface {
+    pub shader: &'static ShaderSpirv,
+    pub bindings: &'static [DescriptorBinding],
+    /// Size of the push-constant block in bytes (0: none).
+    pub push_constant_bytes: u32,
+}
+
+/// What naga reads from a module.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Reflection {
+    pub bindings: Vec<DescriptorBinding>,
+    pub push_constant_bytes: u32,
+}
+
+/// Parses and validates a non-geometry module with naga and lists its resources.
+pub fn reflect(shader: &ShaderSpirv) -> Result<Reflection> {
+    let fail = |message: String| Error::Shader {
+        path: shader.path.to_owned(),
+        message,
+    };
+    if shader.stage == ShaderStageKind::Geometry {
+        return Err(fail(
+            "naga has no geometry stage; declare its interface by hand".to_owned(),
+        ));
+    }
+    let module = naga::front::spv::parse_u8_slice(shader.bytes, &Default::default())
+        .map_err(|e| fail(format!("naga could not read the SPIR-V: {e}")))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| fail(format!("naga validation failed: {}", e.as_inner())))?;
+
+    let mut bindings = Vec::new();
+    let mut push_constant_bytes = 0;
+    for (_, var) in module.global_variables.iter() {
+        let inner = &module.types[var.ty].inner;
+        if var.space == AddressSpace::Immediate {
+            push_constant_bytes = inner.size(module.to_ctx());
+            continue;
+        }
+        let Some(rb) = &var.binding else { continue };
+        let kind = match (var.space, inner) {
+            (AddressSpace::Uniform, _) => DescriptorKind::UniformBuffer,
+            (AddressSpace::Storage { .. }, _) => DescriptorKind::StorageBuffer,
+            (
+                AddressSpace::Handle,
+                TypeInner::Image {
+                    class: ImageClass::Storage { .. },
+                    ..
+                },
+            ) => DescriptorKind::StorageImage,
+            (AddressSpace::Handle, TypeInner::Image { .. }) => DescriptorKind::SampledImage,
+            (AddressSpace::Handle, TypeInner::Sampler { .. }) => DescriptorKind::Sampler,
+            (space, other) => {
+                return Err(fail(format!(
+                    "binding (set {}, binding {}) has an unsupported kind: {space:?} {other:?}",
+                    rb.group, rb.binding
+                )));
+            }
+        };
+        bindings.push(DescriptorBinding::new(rb.group, rb.binding, kind));
+    }
+    bindings.sort_by_key(|b| (b.set, b.binding));
+    Ok(Reflection {
+        bindings,
+        push_constant_bytes,
+    })
+}
+
+/// Holds a Rust-side declaration against the module's reflection; the error lists
+/// every disagreement.
+pub fn check_interface(iface: &ShaderInterface) -> Result<()> {
+    let reflected = reflect(iface.shader)?;
+    let mut declared = iface.bindings.to_vec();
+    declared.sort_by_key(|b| (b.set, b.binding));
+    let mut problems = Vec::new();
+    if reflected.push_constant_bytes != iface.push_constant_bytes {
+        problems.push(format!(
+            "push constants are {} bytes in the shader but {} bytes in the Rust declaration",
+            reflected.push_constant_bytes, iface.push_constant_bytes
+        ));
+    }
+    for b in &reflected.bindings {
+        match declared
+            .iter()
+            .find(|d| d.set == b.set && d.binding == b.binding)
+        {
+            None => problems.push(format!(
+                "set {} binding {} ({:?}) is used by the shader but not declared in Rust",
+                b.set, b.binding, b.kind
+            )),
+            Some(d) if d.kind != b.kind => problems.push(format!(
+                "set {} binding {} is {:?} in the shader but {:?} in Rust",
+                b.set, b.binding, b.kind, d.kind
+            )),
+            Some(_) => {}
+        }
+    }
+    for d in &declared {
+        if !reflected
+            .bindings
+            .iter()
+            .any(|b| b.set == d.set && b.binding == d.binding)
+        {
+            problems.push(format!(
+                "set {} binding {} ({:?}) is declared in Rust but the shader does not use it",
+                d.set, d.binding, d.kind
+            ));
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Shader {
+            path: iface.shader.path.to_owned(),
+            message: format!(
+                "the Rust interface does not match the SPIR-V: {}",
+                problems.join("; ")
+            ),
+        })
+    }
+}
