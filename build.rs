@@ -74,9 +74,10 @@ fn main() {
 }
 
 fn fail(message: &str) -> ! {
-    // Printing to stderr and panicking is how a build script fails; cargo shows both.
+    // Printing to stderr and panicking is how a build script fails; cargo shows both,
+    // so the details go to stderr once and the panic only says what failed.
     eprintln!("{message}");
-    panic!("shader compilation failed:\n{message}");
+    panic!("GLSL compilation failed; the errors are listed above as path:line: message");
 }
 
 fn collect(dir: &Path, out: &mut Vec<PathBuf>) {

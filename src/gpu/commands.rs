@@ -113,6 +113,28 @@ impl Commands<'_> {
         };
     }
 
+    /// Copies `size` bytes from `src` at `src_offset` to `dst` at `dst_offset`.
+    pub fn copy_buffer_region(
+        &self,
+        src: &Buffer,
+        src_offset: u64,
+        dst: &Buffer,
+        dst_offset: u64,
+        size: u64,
+    ) {
+        let region = [vk::BufferCopy {
+            src_offset,
+            dst_offset,
+            size,
+        }];
+        // SAFETY: `raw` is recording; ranges are checked by validation in tests.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_copy_buffer(self.raw, src.raw(), dst.raw(), &region)
+        };
+    }
+
     /// Fills `size` bytes of `buffer` from `offset` with the word `value`.
     pub fn fill_buffer(&self, buffer: &Buffer, offset: u64, size: u64, value: u32) {
         // SAFETY: `raw` is recording outside a rendering scope; the buffer has
@@ -142,6 +164,19 @@ impl Commands<'_> {
                 vk::PipelineStageFlags2::ALL_COMMANDS,
                 vk::AccessFlags2::MEMORY_READ,
             ),
+        );
+    }
+
+    /// Transfer writes made visible to the host (before reading a readback buffer).
+    pub fn transfer_to_host_barrier(&self) {
+        super::barrier::memory(
+            self.ctx,
+            self.raw,
+            (
+                vk::PipelineStageFlags2::TRANSFER,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
         );
     }
 

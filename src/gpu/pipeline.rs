@@ -15,11 +15,18 @@ use crate::shaders::{DescriptorKind, ShaderInterface, ShaderSpirv};
 
 const ENTRY: &CStr = c"main";
 
+/// One descriptor-set layout: its set index, handle and (binding, kind) list.
+struct SetLayout {
+    set: u32,
+    raw: vk::DescriptorSetLayout,
+    bindings: Vec<(u32, DescriptorKind)>,
+}
+
 /// Descriptor-set layouts and push-constant range derived from the interfaces of every
 /// module of one pipeline (the declarations `shaders::check_interface` tests).
 pub struct PipelineLayout {
     raw: vk::PipelineLayout,
-    set_layouts: Vec<(u32, vk::DescriptorSetLayout, Vec<(u32, DescriptorKind)>)>,
+    set_layouts: Vec<SetLayout>,
     push_constant_bytes: u32,
     push_stages: vk::ShaderStageFlags,
     ctx: Arc<Context>,
@@ -81,14 +88,14 @@ impl PipelineLayout {
             let raw = unsafe { ctx.device.create_descriptor_set_layout(&info, None) }
                 .vk("vkCreateDescriptorSetLayout")?;
             ctx.name(raw, &format!("{name} set {set}"));
-            layout.set_layouts.push((
+            layout.set_layouts.push(SetLayout {
                 set,
                 raw,
-                bindings.iter().map(|(&b, &(k, _))| (b, k)).collect(),
-            ));
+                bindings: bindings.iter().map(|(&b, &(k, _))| (b, k)).collect(),
+            });
         }
         let raw_sets: Vec<vk::DescriptorSetLayout> =
-            layout.set_layouts.iter().map(|s| s.1).collect();
+            layout.set_layouts.iter().map(|s| s.raw).collect();
         let ranges = [vk::PushConstantRange::default()
             .stage_flags(push_stages)
             .offset(0)
@@ -139,7 +146,12 @@ impl PipelineLayout {
 
     /// Allocates descriptor set `set` of this layout from a pool of its own.
     pub fn allocate_set(&self, name: &str, set: u32) -> Result<DescriptorSet> {
-        let Some((_, raw_layout, bindings)) = self.set_layouts.iter().find(|s| s.0 == set) else {
+        let Some(SetLayout {
+            raw: raw_layout,
+            bindings,
+            ..
+        }) = self.set_layouts.iter().find(|s| s.set == set)
+        else {
             return Err(Error::invalid(
                 "descriptor set",
                 format!("the layout has no set {set}"),
@@ -195,8 +207,8 @@ impl Drop for PipelineLayout {
         // SAFETY: no pipeline using the layout is executing (submissions wait).
         unsafe {
             self.ctx.device.destroy_pipeline_layout(self.raw, None);
-            for (_, raw, _) in &self.set_layouts {
-                self.ctx.device.destroy_descriptor_set_layout(*raw, None);
+            for s in &self.set_layouts {
+                self.ctx.device.destroy_descriptor_set_layout(s.raw, None);
             }
         }
     }

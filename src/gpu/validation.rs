@@ -59,8 +59,8 @@ unsafe extern "system" fn on_message(
     // SAFETY: the loader passes a valid callback-data pointer for the duration of the call.
     let message = unsafe { data.as_ref() }
         .filter(|d| !d.p_message.is_null())
-        // SAFETY: p_message is a NUL-terminated string owned by the layer for this call.
         .map(|d| {
+            // SAFETY: p_message is a NUL-terminated string owned by the layer for this call.
             unsafe { CStr::from_ptr(d.p_message) }
                 .to_string_lossy()
                 .into_owned()

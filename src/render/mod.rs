@@ -2,6 +2,7 @@
 //! parameters and record commands through `gpu`.
 
 pub mod lit_mesh;
+pub mod xfb_selftest;
 
 use crate::gpu::Span;
 use crate::shaders::ShaderInterface;
@@ -18,5 +19,10 @@ pub struct RenderedFrame {
 /// Every shader interface the passes declare; the reflection test holds each against
 /// its SPIR-V and checks that no non-geometry module is left undeclared.
 pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
-    vec![&lit_mesh::VERTEX_INTERFACE, &lit_mesh::FRAGMENT_INTERFACE]
+    vec![
+        &lit_mesh::VERTEX_INTERFACE,
+        &lit_mesh::FRAGMENT_INTERFACE,
+        &xfb_selftest::VERTEX_INTERFACE,
+        &xfb_selftest::GEOMETRY_INTERFACE,
+    ]
 }

@@ -1,0 +1,135 @@
+//! The Vulkan context on the test device: features, validation canary, device choice,
+//! and the XFB wrappers against their CPU reference.
+
+mod common;
+
+use glam::Vec4;
+use sediment::gpu::{Buffer, BufferDesc, Context, ContextOptions, vk};
+use sediment::render::xfb_selftest;
+
+#[test]
+fn required_features_are_reported_present() {
+    let reports = sediment::gpu::probe_devices().expect("a Vulkan device (see README)");
+    let ctx = common::gpu();
+    let report = reports
+        .iter()
+        .find(|r| r.name == ctx.info().name)
+        .expect("the chosen device is among the probed ones");
+    for name in [
+        "geometryShader",
+        "transformFeedback",
+        "transformFeedbackDraw",
+        "transformFeedbackQueries",
+        "timestamps",
+    ] {
+        let c = report
+            .capabilities
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap_or_else(|| panic!("{name} is not reported"));
+        assert!(c.present && c.required, "{name}: {c:?}");
+    }
+}
+
+#[test]
+fn validation_errors_are_recorded() {
+    let ctx = common::gpu();
+    assert!(ctx.validating());
+    // A fill into a buffer created without TRANSFER_DST usage is a validation error.
+    let buffer = Buffer::new(
+        &ctx,
+        "canary",
+        BufferDesc::upload(64, vk::BufferUsageFlags::UNIFORM_BUFFER),
+    )
+    .expect("buffer");
+    ctx.submit_and_wait("canary", |cmd| {
+        cmd.fill_buffer(&buffer, 0, 64, 0);
+        Ok(())
+    })
+    .expect("submission");
+    let errors = ctx.take_validation_errors();
+    assert!(
+        errors.iter().any(|e| e.contains("TRANSFER_DST")),
+        "expected a usage error, got {errors:?}"
+    );
+    assert_eq!(ctx.validation_error_count(), 0, "errors are taken once");
+}
+
+#[test]
+fn an_unknown_device_name_is_a_clear_error() {
+    let err = match Context::new(&ContextOptions {
+        device: Some("no-such-gpu-xyz".to_owned()),
+        validate: false,
+    }) {
+        Ok(_) => panic!("no device is called no-such-gpu-xyz"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        err.contains("no-such-gpu-xyz") && err.contains("Devices present"),
+        "{err}"
+    );
+}
+
+fn triangles(n: usize) -> Vec<[f32; 4]> {
+    (0..n * 3)
+        .map(|i| {
+            let f = i as f32;
+            [
+                f * 0.25,
+                (f * 0.5).sin(),
+                -f * 0.125,
+                if i % 3 == 0 { 0.0 } else { -1.0 },
+            ]
+        })
+        .collect()
+}
+
+#[test]
+fn transform_feedback_ping_pong_matches_cpu_reference() {
+    common::with_gpu(|ctx| {
+        let input = triangles(40);
+        let offset = Vec4::new(0.5, -1.0, 0.25, 0.0);
+        for passes in [1, 2, 5] {
+            let result = xfb_selftest::run(ctx, &input, offset, passes, input.len() as u32)
+                .expect("self-test runs");
+            let expected = xfb_selftest::reference(&input, offset, passes);
+            assert_eq!(
+                result.vertices.len(),
+                expected.len(),
+                "captured vertex count"
+            );
+            let wrong = result
+                .vertices
+                .iter()
+                .zip(&expected)
+                .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| (x - y).abs() > 1e-5))
+                .count();
+            assert_eq!(
+                wrong,
+                0,
+                "out of {}, {wrong} vertices were wrong",
+                expected.len()
+            );
+            for (pass, c) in result.counts.iter().enumerate() {
+                assert_eq!((c.written, c.needed), (40, 40), "pass {pass}");
+            }
+        }
+    });
+}
+
+#[test]
+fn stream_query_reports_overflow() {
+    common::with_gpu(|ctx| {
+        let input = triangles(10);
+        // Room for 4 triangles only.
+        let result = xfb_selftest::run(ctx, &input, Vec4::ZERO, 1, 12).expect("self-test runs");
+        let c = result.counts[0];
+        assert_eq!((c.written, c.needed), (4, 10));
+        assert!(c.overflowed());
+        assert_eq!(
+            result.vertices.len(),
+            12,
+            "the counter is clamped to what fit"
+        );
+    });
+}
