@@ -12,6 +12,7 @@ pub mod error;
 pub mod export;
 pub mod gpu;
 pub mod model;
+pub mod pod;
 pub mod render;
 pub mod scene;
 pub mod shaders;

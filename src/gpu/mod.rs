@@ -18,7 +18,8 @@ mod xfb;
 /// Vulkan's types (formats, flags) for passes that describe pipelines; calls stay here.
 pub use ash::vk;
 
-pub use buffer::{Buffer, BufferDesc, Pod, as_bytes, from_bytes};
+pub use crate::pod::{Pod, as_bytes, from_bytes};
+pub use buffer::{Buffer, BufferDesc};
 pub use commands::Commands;
 pub use context::{Context, ContextOptions, DeviceInfo, probe_devices};
 pub use features::{Capability, DeviceReport};

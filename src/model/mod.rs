@@ -5,3 +5,4 @@ pub mod mesh;
 pub mod noise;
 pub mod random;
 pub mod rock;
+pub mod speleothem;

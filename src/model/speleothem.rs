@@ -1,0 +1,299 @@
+//! Tortelli & Walter 2009: speleothems grown ring by ring. This file holds the base
+//! primitive (the initial calcite ring) and the CPU reference of one growth pass — the
+//! exact twin of `shaders-glsl/speleothem/ring_growth.geom`, compared vertex by vertex
+//! with the captured transform-feedback buffer in `tests/ring_growth.rs`.
+//!
+//! One pass, for every input triangle in order (as the geometry shader sees them):
+//! - every vertex ID is incremented by 2 and the triangle is re-emitted (displaced
+//!   outward by the speleothem's `thicken`, which is non-zero only after it stopped);
+//! - a triangle of the growth front (all IDs <= 0 before the increment) also emits its
+//!   copy in the new band, `v' = v + height * g + r * N + wind` with the original IDs
+//!   (0 on the base side, -1 on the tip side), and one triangle joining the old tip ring
+//!   to the new band. A flank deposit `vd` bumps the old tip ring outward.
+//! - closing a tip joins the old tip ring to one apex point; forming a column joins it
+//!   to the meeting ring both fronts share.
+//!
+//! The front band of segment i has base-ring vertices b_i (ID 0), tip-ring vertices
+//! t_i (ID -1) and two triangles: A = (b_i, t_i, b_i+1) and B = (b_i+1, t_i, t_i+1),
+//! wound outward (reversed for stalactites, which grow along -y). From A the pass
+//! builds the link (t_i, b'_i, b'_i+1), from B the link (t_i, b'_i+1, t_i+1), so each
+//! front triangle emits at most three triangles (9 vertices).
+
+pub mod plan;
+pub mod table2;
+
+use glam::{Vec3, Vec4};
+
+pub use plan::{GrowthPlan, GrowthScene, Kind, PassAction, StopReason};
+
+use crate::pod::Pod;
+
+/// One vertex of the growing mesh, as captured by transform feedback (48 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RingVertex {
+    /// xyz position, w the paper's ID.
+    pub pos_id: [f32; 4],
+    /// xyz radial unit normal N (zero at a cone apex), w speleothem index.
+    pub normal_sp: [f32; 4],
+    /// x segment index, y distance grown along the axis, z slope dr/dh of the band
+    /// (shading tilt), w ring number from the base (the paper's arID).
+    pub extra: [f32; 4],
+}
+// SAFETY: repr(C), twelve f32, no padding.
+unsafe impl Pod for RingVertex {}
+
+impl RingVertex {
+    pub fn position(&self) -> Vec3 {
+        Vec3::new(self.pos_id[0], self.pos_id[1], self.pos_id[2])
+    }
+    pub fn id(&self) -> f32 {
+        self.pos_id[3]
+    }
+    pub fn normal(&self) -> Vec3 {
+        Vec3::new(self.normal_sp[0], self.normal_sp[1], self.normal_sp[2])
+    }
+    pub fn speleothem(&self) -> usize {
+        self.normal_sp[3] as usize
+    }
+    pub fn segment(&self) -> u32 {
+        self.extra[0] as u32
+    }
+    pub fn ring(&self) -> u32 {
+        self.extra[3] as u32
+    }
+}
+
+/// Bytes per captured vertex.
+pub const VERTEX_STRIDE: u32 = size_of::<RingVertex>() as u32;
+
+/// The base primitive of every speleothem: a thin hollow cylinder (the initial
+/// calcite ring) as a triangle list, top... base ring ID 0, tip ring ID -1.
+pub fn initial_rings(plan: &GrowthPlan) -> Vec<RingVertex> {
+    let s = plan.segments;
+    let mut out = Vec::with_capacity(plan.speleothems.len() * s as usize * 6);
+    for (index, sp) in plan.speleothems.iter().enumerate() {
+        let g = Vec3::Y * sp.kind.sign();
+        let vertex = |seg: u32, tip: bool| {
+            let theta = std::f32::consts::TAU * seg as f32 / s as f32;
+            let n = Vec3::new(theta.cos(), 0.0, theta.sin());
+            let axial = if tip { plan.ring_thickness } else { 0.0 };
+            let p = sp.base + g * axial + n * sp.initial_radius;
+            RingVertex {
+                pos_id: [p.x, p.y, p.z, if tip { -1.0 } else { 0.0 }],
+                normal_sp: [n.x, n.y, n.z, index as f32],
+                extra: [seg as f32, axial, 0.0, 0.0],
+            }
+        };
+        for i in 0..s {
+            let i1 = (i + 1) % s;
+            let a = [vertex(i, false), vertex(i, true), vertex(i1, false)];
+            let b = [vertex(i1, false), vertex(i, true), vertex(i1, true)];
+            for tri in [a, b] {
+                out.extend(wind(tri, g.y));
+            }
+        }
+    }
+    out
+}
+
+/// Triangles are built counter-clockwise for growth along +y; a stalactite (-y)
+/// mirrors the band, so its triangles are reversed to keep facing outward.
+fn wind(tri: [RingVertex; 3], growth_sign: f32) -> [RingVertex; 3] {
+    if growth_sign < 0.0 {
+        [tri[0], tri[2], tri[1]]
+    } else {
+        tri
+    }
+}
+
+/// The plan's step for `pass` as the shader reads it.
+struct PassStep {
+    height: f32,
+    radius: f32,
+    thicken: f32,
+    action: f32,
+    wind: Vec3,
+    sign: f32,
+    flank: f32,
+    flank_angle: f32,
+    flank_width: f32,
+    target: Vec3,
+    target_radius: f32,
+}
+
+fn read_step(steps: &[Vec4], index: usize) -> PassStep {
+    let (s0, s1, s2, s3) = (steps[index * 4], steps[index * 4 + 1], steps[index * 4 + 2], steps[index * 4 + 3]);
+    PassStep {
+        height: s0.x,
+        radius: s0.y,
+        thicken: s0.z,
+        action: s0.w,
+        wind: s1.truncate(),
+        sign: s1.w,
+        flank: s2.x,
+        flank_angle: s2.y,
+        flank_width: s2.z,
+        target: s3.truncate(),
+        target_radius: s3.w,
+    }
+}
+
+/// The flank deposit's profile: 1 at `angle`, falling to 0 at ±`width` (radians).
+pub fn flank_profile(n: Vec3, angle: f32, width: f32) -> f32 {
+    let theta = n.z.atan2(n.x);
+    let mut d = (theta - angle).abs() % std::f32::consts::TAU;
+    d = d.min(std::f32::consts::TAU - d);
+    let x = d / width;
+    (1.0 - x * x).max(0.0)
+}
+
+/// One growth pass over `input` (a triangle list), appending to `out` exactly what the
+/// geometry shader captures, in the same order.
+pub fn grow_pass(
+    input: &[RingVertex],
+    steps: &[Vec4],
+    speleothem_count: usize,
+    segments: u32,
+    pass: u32,
+    out: &mut Vec<RingVertex>,
+) {
+    for tri in input.chunks_exact(3) {
+        let sp = tri[0].normal_sp[3] as usize;
+        let st = read_step(steps, pass as usize * speleothem_count + sp);
+        let front = tri.iter().all(|v| v.pos_id[3] <= 0.0);
+        let action = st.action as u32;
+        let moved = |v: &RingVertex, offset: Vec3| {
+            let mut o = *v;
+            let p = v.position() + offset;
+            o.pos_id = [p.x, p.y, p.z, v.pos_id[3] + 2.0];
+            o
+        };
+        if !front || action == PassAction::Idle as u32 {
+            for v in tri {
+                out.push(moved(v, v.normal() * st.thicken));
+            }
+            continue;
+        }
+        // The old front, re-emitted; a flank deposit bumps its tip ring (ID -1) only,
+        // so the rings already joined to the body stay watertight.
+        let bump = |v: &RingVertex| {
+            if action == PassAction::Grow as u32 && v.pos_id[3] < -0.5 && st.flank > 0.0 {
+                v.normal() * (st.flank * flank_profile(v.normal(), st.flank_angle, st.flank_width))
+            } else {
+                Vec3::ZERO
+            }
+        };
+        let old: Vec<RingVertex> = tri.iter().map(|v| moved(v, bump(v))).collect();
+        out.extend_from_slice(&old);
+
+        let g = Vec3::new(0.0, st.sign, 0.0);
+        // Roles of the input vertices (see the module comment).
+        let base_count = tri.iter().filter(|v| v.pos_id[3] > -0.5).count();
+        let is_a = base_count == 2;
+        let next = |k: usize, j: usize| (tri[k].segment() + 1) % segments == tri[j].segment();
+        let (base, tip): (Vec<usize>, Vec<usize>) = (0..3).partition(|&k| tri[k].pos_id[3] > -0.5);
+        // A: b_i, b_i1 (ordered by segment), t_i.  B: b_i1, t_i, t_i1.
+        let (b_i, b_i1, t_i, t_i1) = if is_a {
+            let (x, y) = (base[0], base[1]);
+            let (bi, bi1) = if next(x, y) { (x, y) } else { (y, x) };
+            (Some(bi), bi1, tip[0], None)
+        } else {
+            let (x, y) = (tip[0], tip[1]);
+            let (ti, ti1) = if next(x, y) { (x, y) } else { (y, x) };
+            (None, base[0], ti, Some(ti1))
+        };
+        let new_vertex = |k: usize| {
+            let v = &tri[k];
+            let p = v.position() + g * st.height + v.normal() * st.radius + st.wind;
+            RingVertex {
+                pos_id: [p.x, p.y, p.z, v.pos_id[3]],
+                normal_sp: v.normal_sp,
+                extra: [
+                    v.extra[0],
+                    v.extra[1] + st.height,
+                    st.radius / st.height,
+                    v.extra[3] + 1.0,
+                ],
+            }
+        };
+        let ring_vertex = |k: usize| {
+            // A vertex of the meeting ring of a column.
+            let v = &tri[k];
+            let p = st.target + v.normal() * st.target_radius;
+            RingVertex {
+                pos_id: [p.x, p.y, p.z, 0.0],
+                normal_sp: v.normal_sp,
+                extra: [v.extra[0], v.extra[1] + (st.target - v.position()).y.abs(), 0.0, v.extra[3] + 1.0],
+            }
+        };
+        let emit = |tri: [RingVertex; 3], out: &mut Vec<RingVertex>| out.extend(wind(tri, st.sign));
+        let old_of = |k: usize| old[k];
+        match action {
+            a if a == PassAction::Grow as u32 => {
+                out.extend(tri.iter().enumerate().map(|(k, _)| new_vertex(k)));
+                let link = match (b_i, t_i1) {
+                    (Some(bi), _) => [old_of(t_i), new_vertex(bi), new_vertex(b_i1)],
+                    (None, Some(ti1)) => [old_of(t_i), new_vertex(b_i1), old_of(ti1)],
+                    _ => continue,
+                };
+                emit(link, out);
+            }
+            a if a == PassAction::Close as u32 => {
+                if let Some(ti1) = t_i1 {
+                    let t = &tri[t_i];
+                    let apex = RingVertex {
+                        pos_id: [st.target.x, st.target.y, st.target.z, 0.0],
+                        normal_sp: [0.0, 0.0, 0.0, t.normal_sp[3]],
+                        extra: [t.extra[0], t.extra[1] + st.height, -1.0, t.extra[3] + 1.0],
+                    };
+                    emit([old_of(t_i), apex, old_of(ti1)], out);
+                }
+            }
+            a if a == PassAction::Join as u32 => {
+                let link = match (b_i, t_i1) {
+                    (Some(bi), _) => [old_of(t_i), ring_vertex(bi), ring_vertex(b_i1)],
+                    (None, Some(ti1)) => [old_of(t_i), ring_vertex(b_i1), old_of(ti1)],
+                    _ => continue,
+                };
+                emit(link, out);
+            }
+            _ => {}
+        }
+    }
+}
+
+/// The whole growth on the CPU: `passes` passes from the initial rings.
+pub fn grow_reference(plan: &GrowthPlan, passes: u32) -> Vec<RingVertex> {
+    let steps = plan.gpu_steps();
+    let mut mesh = initial_rings(plan);
+    let mut next = Vec::new();
+    for pass in 0..passes.min(plan.passes) {
+        next.clear();
+        grow_pass(&mesh, &steps, plan.speleothems.len(), plan.segments, pass, &mut next);
+        std::mem::swap(&mut mesh, &mut next);
+    }
+    mesh
+}
+
+/// Vertices after each pass, predicted without growing (for buffer sizes).
+pub fn vertex_counts(plan: &GrowthPlan) -> Vec<u64> {
+    let s = u64::from(plan.segments);
+    let mut count: u64 = plan.speleothems.len() as u64 * s * 6;
+    let mut counts = Vec::with_capacity(plan.passes as usize);
+    for pass in 0..plan.passes {
+        for i in 0..plan.speleothems.len() {
+            count += match plan.step(pass, i).action {
+                PassAction::Idle => 0,
+                // New band (2 triangles per segment) and link (2 per segment).
+                PassAction::Grow => s * 4 * 3,
+                // One cone triangle per segment.
+                PassAction::Close => s * 3,
+                // One link band (2 triangles per segment).
+                PassAction::Join => s * 2 * 3,
+            };
+        }
+        counts.push(count);
+    }
+    counts
+}

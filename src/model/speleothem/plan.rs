@@ -1,0 +1,539 @@
+//! The growth plan: where speleothems stand and, for every pass, each one's radius and
+//! height step (Table 2), wind, flank deposit and stop — generated on the CPU from the
+//! seed into the buffer the ring-growth geometry shader indexes. (This buffer is what
+//! the paper's "constant buffer variable" becomes when many speleothems grow in one
+//! draw.)
+//!
+//! The plan tracks each front ring analytically (centre and radius): the shader only
+//! ever translates and rescales the front band, so the tracking is exact, and stops
+//! (tip closed, floor or roof reached, column formed) are decided here.
+
+use glam::{Vec3, Vec4};
+
+use super::table2::{Co2, DripInterval, Mineral, Pil, stalactite_steps, stalagmite_steps};
+use crate::error::{Error, Result};
+use crate::model::random::{Rng, mix64};
+
+/// Which way a speleothem grows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// Hangs from the roof, grows along -y.
+    Stalactite,
+    /// Stands on the floor, grows along +y.
+    Stalagmite,
+}
+
+impl Kind {
+    /// The growth direction's y component.
+    pub fn sign(self) -> f32 {
+        match self {
+            Kind::Stalactite => -1.0,
+            Kind::Stalagmite => 1.0,
+        }
+    }
+}
+
+/// The Table 2 inputs and the user's controls that may change between passes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GrowthParams {
+    pub pil: Pil,
+    pub drip: DripInterval,
+    pub co2: Co2,
+    /// Wind direction in the horizontal plane, degrees from +x toward +z.
+    pub wind_direction_degrees: f32,
+    /// Wind intensity `wi`, 0..=1.
+    pub wind_intensity: f32,
+    pub mineral: Mineral,
+    /// How strongly the mineral colours the calcite, 0..=1.
+    pub mineral_intensity: f32,
+}
+
+impl Default for GrowthParams {
+    fn default() -> Self {
+        Self {
+            pil: Pil::Stalactites,
+            drip: DripInterval::Standard,
+            co2: Co2::Normal,
+            wind_direction_degrees: 0.0,
+            wind_intensity: 0.0,
+            mineral: Mineral::Calcareous,
+            mineral_intensity: 0.6,
+        }
+    }
+}
+
+/// A change of parameters taking effect at a pass (the paper changes them during growth).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ParamChange {
+    pub pass: u32,
+    pub pil: Option<Pil>,
+    pub drip: Option<DripInterval>,
+    pub co2: Option<Co2>,
+    pub wind_direction_degrees: Option<f32>,
+    pub wind_intensity: Option<f32>,
+}
+
+/// How steps are chosen each pass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StepMode {
+    /// Exactly the Table 2 row of the current parameters.
+    Manual,
+    /// Each pass each speleothem draws its CO2 level and drip interval at random and
+    /// jitters the steps by up to ±`jitter` (a fraction), fixed by the seed.
+    Random { jitter: f32 },
+}
+
+/// Scale of the scene: lengths in scene units (1 unit ≈ 1 m).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GrowthUnits {
+    /// Initial ring radius `irr`.
+    pub initial_radius: f32,
+    /// Thickness of the base primitive (the hollow cylinder's height).
+    pub ring_thickness: f32,
+    /// One "x1" of Table 2's radius column.
+    pub radius_unit: f32,
+    /// One "x1" of Table 2's height column.
+    pub height_unit: f32,
+    /// `kf` of the flank displacement `vd = kf * arr / irr`.
+    pub flank_scale: f32,
+    /// Chance per pass that a drop solidifies on the flank while CO2 is low.
+    pub flank_rate: f32,
+    /// Horizontal thickening per pass once vertical growth has stopped.
+    pub thicken_rate: f32,
+    /// Ring displacement per pass at wind intensity 1.
+    pub wind_scale: f32,
+}
+
+impl Default for GrowthUnits {
+    fn default() -> Self {
+        Self {
+            initial_radius: 0.09,
+            ring_thickness: 0.02,
+            radius_unit: 0.006,
+            height_unit: 0.035,
+            flank_scale: 0.02,
+            flank_rate: 0.3,
+            thicken_rate: 0.0012,
+            wind_scale: 0.02,
+        }
+    }
+}
+
+/// Everything that fixes a growth.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GrowthScene {
+    pub seed: u64,
+    /// Sites: each has a stalactite, and at PIL 2 a stalagmite below it. 1..=256.
+    pub count: u32,
+    /// Growth passes, 1..=512.
+    pub passes: u32,
+    /// Segments per ring, 3..=128.
+    pub segments: u32,
+    pub mode: StepMode,
+    pub params: GrowthParams,
+    pub changes: Vec<ParamChange>,
+    pub units: GrowthUnits,
+    pub floor_y: f32,
+    pub ceiling_y: f32,
+    /// Sites are spread over [-extent, extent] in x and z.
+    pub extent: f32,
+}
+
+impl Default for GrowthScene {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            count: 9,
+            passes: 30,
+            segments: 32,
+            mode: StepMode::Manual,
+            params: GrowthParams::default(),
+            changes: Vec::new(),
+            units: GrowthUnits::default(),
+            floor_y: 0.0,
+            ceiling_y: 2.4,
+            extent: 1.2,
+        }
+    }
+}
+
+/// Why a speleothem stopped growing vertically.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    /// The ring radius reached zero: the tip closed in a cone point.
+    TipClosed,
+    /// A stalactite reached the floor or a stalagmite the roof.
+    CaveBoundary,
+    /// The stalactite met the stalagmite below: a column.
+    Column,
+}
+
+/// What the geometry shader does for one speleothem in one pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PassAction {
+    /// No new ring (PIL 0, not started, or stopped); `thicken` may still apply.
+    Idle = 0,
+    /// A new ring band.
+    Grow = 1,
+    /// Close the tip in a cone point at `target`.
+    Close = 2,
+    /// Join the front to the meeting ring (`target`, `target_radius`) of a column.
+    Join = 3,
+}
+
+/// One speleothem's step in one pass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GrowthStep {
+    pub action: PassAction,
+    /// Translation of the new band along the growth direction.
+    pub height: f32,
+    /// Signed change of the ring radius (`r` of `v' = v + height + r N`).
+    pub radius: f32,
+    /// Outward displacement of every vertex (horizontal thickening after a stop).
+    pub thicken: f32,
+    /// Wind displacement of the new band.
+    pub wind: Vec3,
+    /// Flank deposit `vd` on the old tip ring (0: none this pass).
+    pub flank: f32,
+    /// Angle (radians, from +x toward +z) and half-width (radians) of the deposit.
+    pub flank_angle: f32,
+    pub flank_width: f32,
+    /// Cone apex (Close) or meeting-ring centre (Join).
+    pub target: Vec3,
+    pub target_radius: f32,
+}
+
+impl GrowthStep {
+    fn idle() -> Self {
+        Self {
+            action: PassAction::Idle,
+            height: 0.0,
+            radius: 0.0,
+            thicken: 0.0,
+            wind: Vec3::ZERO,
+            flank: 0.0,
+            flank_angle: 0.0,
+            flank_width: 1.0,
+            target: Vec3::ZERO,
+            target_radius: 0.0,
+        }
+    }
+}
+
+/// One speleothem of the plan.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Speleothem {
+    pub kind: Kind,
+    /// Centre of the base ring (on the roof or the floor).
+    pub base: Vec3,
+    pub initial_radius: f32,
+    pub mineral: Mineral,
+    pub mineral_intensity: f32,
+    /// Rings grown (base band = ring 0).
+    pub rings: u32,
+    pub stop: Option<(u32, StopReason)>,
+}
+
+/// The plan the GPU and the CPU reference both follow.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GrowthPlan {
+    pub speleothems: Vec<Speleothem>,
+    /// Pass-major: `steps[pass * speleothems.len() + index]`.
+    pub steps: Vec<GrowthStep>,
+    pub passes: u32,
+    pub segments: u32,
+    pub ring_thickness: f32,
+}
+
+/// vec4s per step in the GPU buffer.
+pub const STEP_VEC4S: usize = 4;
+
+impl GrowthPlan {
+    pub fn step(&self, pass: u32, index: usize) -> &GrowthStep {
+        &self.steps[pass as usize * self.speleothems.len() + index]
+    }
+
+    /// The buffer the geometry shader reads (layout documented in `ring_growth.geom`).
+    pub fn gpu_steps(&self) -> Vec<Vec4> {
+        let mut out = Vec::with_capacity(self.steps.len() * STEP_VEC4S);
+        for (i, s) in self.steps.iter().enumerate() {
+            let kind = self.speleothems[i % self.speleothems.len()].kind;
+            out.push(Vec4::new(s.height, s.radius, s.thicken, s.action as u32 as f32));
+            out.push(s.wind.extend(kind.sign()));
+            out.push(Vec4::new(s.flank, s.flank_angle, s.flank_width, 0.0));
+            out.push(s.target.extend(s.target_radius));
+        }
+        out
+    }
+}
+
+/// Front state while planning.
+struct Front {
+    centre: Vec3,
+    radius: f32,
+}
+
+impl GrowthScene {
+    pub fn validate(&self) -> Result<()> {
+        let check = |ok: bool, what: &str, range: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(Error::invalid(what, format!("must be in {range}")))
+            }
+        };
+        check((1..=256).contains(&self.count), "--count", "1..=256")?;
+        check((1..=512).contains(&self.passes), "--passes", "1..=512")?;
+        check((3..=128).contains(&self.segments), "--segments", "3..=128")?;
+        let p = &self.params;
+        check((0.0..=1.0).contains(&p.wind_intensity), "--wind", "0..=1")?;
+        check(p.wind_direction_degrees.is_finite(), "--wind-direction", "finite degrees")?;
+        check((0.0..=1.0).contains(&p.mineral_intensity), "--mineral-intensity", "0..=1")?;
+        if let StepMode::Random { jitter } = self.mode {
+            check((0.0..=0.9).contains(&jitter), "--jitter", "0..=0.9")?;
+        }
+        for c in &self.changes {
+            check(c.pass < self.passes, "change pass", "0..passes")?;
+            if let Some(w) = c.wind_intensity {
+                check((0.0..=1.0).contains(&w), "change wind_intensity", "0..=1")?;
+            }
+        }
+        let u = &self.units;
+        let positive = |v: f32| v > 0.0 && v.is_finite();
+        check(positive(u.initial_radius), "--radius", "(0, inf) scene units")?;
+        check(positive(u.ring_thickness), "ring thickness", "(0, inf)")?;
+        check(positive(u.radius_unit), "--radius-unit", "(0, inf) scene units")?;
+        check(positive(u.height_unit), "--height-unit", "(0, inf) scene units")?;
+        check(u.flank_scale >= 0.0 && u.flank_scale.is_finite(), "--kf", "[0, inf)")?;
+        check((0.0..=1.0).contains(&u.flank_rate), "--flank-rate", "0..=1")?;
+        check(u.thicken_rate >= 0.0 && u.thicken_rate.is_finite(), "--thicken", "[0, inf)")?;
+        check(u.wind_scale >= 0.0 && u.wind_scale.is_finite(), "wind scale", "[0, inf)")?;
+        check(
+            self.ceiling_y > self.floor_y + 4.0 * u.ring_thickness,
+            "cave height",
+            "ceiling above the floor",
+        )?;
+        check(positive(self.extent), "extent", "(0, inf)")
+    }
+
+    /// The parameters in force at `pass` (every change with `pass <= pass` applied in
+    /// order).
+    pub fn params_at(&self, pass: u32) -> GrowthParams {
+        let mut p = self.params.clone();
+        for c in self.changes.iter().filter(|c| c.pass <= pass) {
+            if let Some(v) = c.pil {
+                p.pil = v;
+            }
+            if let Some(v) = c.drip {
+                p.drip = v;
+            }
+            if let Some(v) = c.co2 {
+                p.co2 = v;
+            }
+            if let Some(v) = c.wind_direction_degrees {
+                p.wind_direction_degrees = v;
+            }
+            if let Some(v) = c.wind_intensity {
+                p.wind_intensity = v;
+            }
+        }
+        p
+    }
+
+    /// Places the speleothems and decides every step.
+    pub fn plan(&self) -> Result<GrowthPlan> {
+        self.validate()?;
+        let u = &self.units;
+        let any_dripping = self.params.pil == Pil::Dripping
+            || self.changes.iter().any(|c| c.pil == Some(Pil::Dripping));
+        let mut speleothems = Vec::new();
+        // Pairs: (stalactite index, stalagmite index) at the same site.
+        let mut pairs = Vec::new();
+        let side = (self.count as f32).sqrt().ceil() as u32;
+        let cell = 2.0 * self.extent / side as f32;
+        let mut rng = Rng::new(mix64(self.seed ^ 0x5E7E_0000));
+        for site in 0..self.count {
+            let (gx, gz) = (site % side, site / side);
+            let x = -self.extent + cell * (gx as f32 + 0.5 + 0.5 * rng.range_f32(-1.0, 1.0));
+            let z = -self.extent + cell * (gz as f32 + 0.5 + 0.5 * rng.range_f32(-1.0, 1.0));
+            let radius = match self.mode {
+                StepMode::Manual => u.initial_radius,
+                StepMode::Random { .. } => u.initial_radius * rng.range_f32(0.8, 1.2),
+            };
+            let make = |kind: Kind, y: f32| Speleothem {
+                kind,
+                base: Vec3::new(x, y, z),
+                initial_radius: radius,
+                mineral: self.params.mineral,
+                mineral_intensity: self.params.mineral_intensity,
+                rings: 0,
+                stop: None,
+            };
+            speleothems.push(make(Kind::Stalactite, self.ceiling_y));
+            if any_dripping {
+                speleothems.push(make(Kind::Stalagmite, self.floor_y));
+                pairs.push((speleothems.len() - 2, speleothems.len() - 1));
+            }
+        }
+
+        let n = speleothems.len();
+        let mut fronts: Vec<Front> = speleothems
+            .iter()
+            .map(|s| Front {
+                centre: s.base,
+                radius: s.initial_radius,
+            })
+            .collect();
+        let mut steps = Vec::with_capacity(n * self.passes as usize);
+        let t0 = u.ring_thickness;
+        for pass in 0..self.passes {
+            let params = self.params_at(pass);
+            let mut pass_steps = vec![GrowthStep::idle(); n];
+            // Candidate (height, radius change, wind, flank) for every growing front.
+            let mut candidates: Vec<Option<GrowthStep>> = vec![None; n];
+            for (i, s) in speleothems.iter().enumerate() {
+                if s.stop.is_some() {
+                    if params.pil != Pil::Dry {
+                        pass_steps[i].thicken = u.thicken_rate;
+                    }
+                    continue;
+                }
+                let active = match s.kind {
+                    Kind::Stalactite => params.pil != Pil::Dry,
+                    Kind::Stalagmite => params.pil == Pil::Dripping,
+                };
+                if active {
+                    candidates[i] = Some(self.candidate(s, i, pass, &params, fronts[i].radius));
+                }
+            }
+            for &(a, b) in &pairs {
+                let (Some(ca), Some(cb)) = (candidates[a], candidates[b]) else {
+                    continue;
+                };
+                let tip_a = fronts[a].centre - Vec3::Y * t0;
+                let tip_b = fronts[b].centre + Vec3::Y * t0;
+                // The next bands (each `t0` thick) would overlap: meet in the middle.
+                if tip_a.y - tip_b.y <= ca.height + cb.height + 2.0 * t0 {
+                    let centre = (tip_a + tip_b) * 0.5;
+                    let radius = 0.5 * (fronts[a].radius + fronts[b].radius);
+                    for i in [a, b] {
+                        pass_steps[i] = GrowthStep {
+                            action: PassAction::Join,
+                            target: centre,
+                            target_radius: radius,
+                            ..GrowthStep::idle()
+                        };
+                        speleothems[i].rings += 1;
+                        speleothems[i].stop = Some((pass, StopReason::Column));
+                        candidates[i] = None;
+                    }
+                }
+            }
+            for (i, candidate) in candidates.into_iter().enumerate() {
+                let Some(c) = candidate else { continue };
+                let s = &mut speleothems[i];
+                let g = Vec3::Y * s.kind.sign();
+                let f = &mut fronts[i];
+                if f.radius + c.radius <= 0.5 * u.radius_unit {
+                    pass_steps[i] = GrowthStep {
+                        action: PassAction::Close,
+                        target: f.centre + g * (t0 + c.height) + c.wind,
+                        flank: 0.0,
+                        ..c
+                    };
+                    s.rings += 1;
+                    s.stop = Some((pass, StopReason::TipClosed));
+                    continue;
+                }
+                let new_tip = f.centre + g * (c.height + 2.0 * t0);
+                let outside = match s.kind {
+                    Kind::Stalactite => new_tip.y < self.floor_y,
+                    Kind::Stalagmite => new_tip.y > self.ceiling_y,
+                };
+                if outside {
+                    s.stop = Some((pass, StopReason::CaveBoundary));
+                    continue;
+                }
+                f.centre += g * c.height + c.wind;
+                f.radius += c.radius;
+                s.rings += 1;
+                pass_steps[i] = c;
+            }
+            steps.extend(pass_steps);
+        }
+        Ok(GrowthPlan {
+            speleothems,
+            steps,
+            passes: self.passes,
+            segments: self.segments,
+            ring_thickness: t0,
+        })
+    }
+
+    /// The Grow step a front would take this pass (before stops are decided).
+    fn candidate(
+        &self,
+        s: &Speleothem,
+        index: usize,
+        pass: u32,
+        params: &GrowthParams,
+        current_radius: f32,
+    ) -> GrowthStep {
+        let u = &self.units;
+        let mut rng = Rng::new(mix64(
+            self.seed ^ mix64(((index as u64) << 32) | u64::from(pass)),
+        ));
+        let (co2, drip, jitter) = match self.mode {
+            StepMode::Manual => (params.co2, params.drip, 0.0),
+            StepMode::Random { jitter } => {
+                let co2 = [Co2::Low, Co2::Normal, Co2::High][(rng.next_u64() % 3) as usize];
+                let drip = [DripInterval::Dry, DripInterval::Standard, DripInterval::Wet]
+                    [(rng.next_u64() % 3) as usize];
+                (co2, drip, jitter)
+            }
+        };
+        let multiples = match s.kind {
+            Kind::Stalactite => stalactite_steps(co2),
+            Kind::Stalagmite => stalagmite_steps(drip, co2),
+        };
+        let mut jittered = |v: f32| v * (1.0 + jitter * rng.range_f32(-1.0, 1.0));
+        let height = jittered(multiples.height * u.height_unit);
+        let mut radius = jittered(multiples.radius * u.radius_unit);
+        if s.kind == Kind::Stalactite {
+            // A stalactite ring is never wider than the one before (section 4.1).
+            radius = radius.min(0.0);
+        }
+        let wi = match self.mode {
+            StepMode::Manual => params.wind_intensity,
+            StepMode::Random { jitter } => {
+                (params.wind_intensity * (1.0 + jitter * rng.range_f32(-1.0, 1.0))).clamp(0.0, 1.0)
+            }
+        };
+        let angle = params.wind_direction_degrees.to_radians();
+        // The paper prints v' = wi (v + w); read as a displacement of the new ring along
+        // the unit wind direction w by wi (times the scene's wind scale).
+        let wind = Vec3::new(angle.cos(), 0.0, angle.sin()) * (wi * u.wind_scale);
+        // Tortelli & Walter: drops solidify on the flank when the concentration is low;
+        // vd = kf * arr / irr with arr the radius of the ring it lands on.
+        let (flank, flank_angle) = if co2 == Co2::Low && rng.next_f32() < u.flank_rate {
+            (
+                u.flank_scale * current_radius / s.initial_radius,
+                rng.range_f32(0.0, std::f32::consts::TAU),
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        GrowthStep {
+            action: PassAction::Grow,
+            height,
+            radius,
+            thicken: 0.0,
+            wind,
+            flank,
+            flank_angle,
+            flank_width: 0.9,
+            target: Vec3::ZERO,
+            target_radius: 0.0,
+        }
+    }
+}

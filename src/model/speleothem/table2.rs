@@ -1,0 +1,181 @@
+//! Tortelli & Walter's growth parameters (section 4.1, Table 2) and mineral colours
+//! (Table 1).
+
+use std::fmt;
+use std::str::FromStr;
+
+use crate::error::Error;
+
+/// Pluviometric index level: how much rain reaches the cave.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Pil {
+    /// Level 0: no rain, no growth.
+    Dry = 0,
+    /// Level 1: stalactites grow; drops solidify at the tip or on the flank, none fall.
+    Stalactites = 1,
+    /// Level 2: drops fall, so stalagmites grow under the stalactites.
+    Dripping = 2,
+}
+
+/// Drip interval (inversely related to the pluviometric index).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DripInterval {
+    /// Long interval: new stalagmite rings narrow.
+    Dry,
+    /// The ring keeps its radius.
+    Standard,
+    /// Short interval: new stalagmite rings widen.
+    Wet,
+}
+
+/// Calcium / CO2 concentration of the drop: drives the height step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Co2 {
+    Low,
+    Normal,
+    High,
+}
+
+/// Mineral mixed into the solution (Table 1 colours).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Mineral {
+    Calcareous,
+    Iron,
+    Manganese,
+    Copper,
+    Malachite,
+}
+
+impl Mineral {
+    /// Table 1: mineral colour `mc` (RGB).
+    pub fn color(self) -> [f32; 3] {
+        match self {
+            Mineral::Calcareous => [0.8, 0.8, 0.8],
+            Mineral::Iron => [0.87, 0.62, 0.34],
+            Mineral::Manganese => [0.32, 0.44, 0.54],
+            Mineral::Copper => [0.05, 0.7, 0.7],
+            Mineral::Malachite => [0.67, 0.82, 0.75],
+        }
+    }
+
+    pub const ALL: [Mineral; 5] = [
+        Mineral::Calcareous,
+        Mineral::Iron,
+        Mineral::Manganese,
+        Mineral::Copper,
+        Mineral::Malachite,
+    ];
+}
+
+/// Radius and height steps of one Table 2 row, in multiples of the scene's units
+/// (negative radius: the new ring is narrower).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepMultiples {
+    pub radius: f32,
+    pub height: f32,
+}
+
+/// Table 2 for stalactites (its PIL 1 rows). sediment applies them at PIL 2 as well:
+/// dripping makes stalagmites possible, it does not stop the stalactites above.
+pub fn stalactite_steps(co2: Co2) -> StepMultiples {
+    match co2 {
+        Co2::Low => StepMultiples {
+            radius: -2.0,
+            height: 1.0,
+        },
+        Co2::Normal => StepMultiples {
+            radius: -1.0,
+            height: 2.0,
+        },
+        Co2::High => StepMultiples {
+            radius: 0.0,
+            height: 3.0,
+        },
+    }
+}
+
+/// Table 2 for stalagmites (its PIL 2 rows): the drip interval sets the radius step,
+/// the CO2 concentration the height step.
+pub fn stalagmite_steps(drip: DripInterval, co2: Co2) -> StepMultiples {
+    let radius = match drip {
+        DripInterval::Dry => -1.0,
+        DripInterval::Standard => 0.0,
+        DripInterval::Wet => 1.0,
+    };
+    let height = match co2 {
+        Co2::Low => 1.0,
+        Co2::Normal => 2.0,
+        Co2::High => 3.0,
+    };
+    StepMultiples { radius, height }
+}
+
+macro_rules! named_enum {
+    ($ty:ty, $what:literal, [$($name:literal => $value:expr),+ $(,)?]) => {
+        impl FromStr for $ty {
+            type Err = Error;
+            fn from_str(s: &str) -> Result<Self, Error> {
+                match s.trim().to_ascii_lowercase().as_str() {
+                    $($name => Ok($value),)+
+                    other => Err(Error::invalid(
+                        $what,
+                        format!(
+                            "\"{other}\" is not one of: {}",
+                            [$($name),+].join(", ")
+                        ),
+                    )),
+                }
+            }
+        }
+        impl fmt::Display for $ty {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                let name = match self { $(v if *v == $value => $name,)+ _ => "?" };
+                f.write_str(name)
+            }
+        }
+    };
+}
+
+named_enum!(Pil, "pluviometric index (--pil)", ["0" => Pil::Dry, "1" => Pil::Stalactites, "2" => Pil::Dripping]);
+named_enum!(DripInterval, "drip interval (--drip)", ["dry" => DripInterval::Dry, "standard" => DripInterval::Standard, "wet" => DripInterval::Wet]);
+named_enum!(Co2, "CO2 concentration (--co2)", ["low" => Co2::Low, "normal" => Co2::Normal, "high" => Co2::High]);
+named_enum!(Mineral, "mineral (--mineral)", [
+    "calcareous" => Mineral::Calcareous,
+    "iron" => Mineral::Iron,
+    "manganese" => Mineral::Manganese,
+    "copper" => Mineral::Copper,
+    "malachite" => Mineral::Malachite,
+]);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table2_rows() {
+        assert_eq!(stalactite_steps(Co2::Low), StepMultiples { radius: -2.0, height: 1.0 });
+        assert_eq!(stalactite_steps(Co2::Normal), StepMultiples { radius: -1.0, height: 2.0 });
+        assert_eq!(stalactite_steps(Co2::High), StepMultiples { radius: 0.0, height: 3.0 });
+        for (co2, h) in [(Co2::Low, 1.0), (Co2::Normal, 2.0), (Co2::High, 3.0)] {
+            for (drip, r) in [
+                (DripInterval::Dry, -1.0),
+                (DripInterval::Standard, 0.0),
+                (DripInterval::Wet, 1.0),
+            ] {
+                assert_eq!(stalagmite_steps(drip, co2), StepMultiples { radius: r, height: h });
+            }
+        }
+    }
+
+    #[test]
+    fn names_parse_and_reject() {
+        assert_eq!("2".parse::<Pil>().ok(), Some(Pil::Dripping));
+        assert_eq!("Wet".parse::<DripInterval>().ok(), Some(DripInterval::Wet));
+        assert_eq!("malachite".parse::<Mineral>().ok(), Some(Mineral::Malachite));
+        assert_eq!(Mineral::Iron.to_string(), "iron");
+        let err = "3".parse::<Pil>().expect_err("PIL 3 does not exist").to_string();
+        assert!(err.contains("--pil") && err.contains("0, 1, 2"), "{err}");
+        let err = "gold".parse::<Mineral>().expect_err("no gold").to_string();
+        assert!(err.contains("gold") && err.contains("malachite"), "{err}");
+    }
+}
