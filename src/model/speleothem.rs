@@ -21,6 +21,8 @@
 
 pub mod plan;
 pub mod table2;
+#[cfg(test)]
+mod tests;
 
 use glam::{Vec3, Vec4};
 
@@ -123,7 +125,12 @@ struct PassStep {
 }
 
 fn read_step(steps: &[Vec4], index: usize) -> PassStep {
-    let (s0, s1, s2, s3) = (steps[index * 4], steps[index * 4 + 1], steps[index * 4 + 2], steps[index * 4 + 3]);
+    let (s0, s1, s2, s3) = (
+        steps[index * 4],
+        steps[index * 4 + 1],
+        steps[index * 4 + 2],
+        steps[index * 4 + 3],
+    );
     PassStep {
         height: s0.x,
         radius: s0.y,
@@ -224,7 +231,12 @@ pub fn grow_pass(
             RingVertex {
                 pos_id: [p.x, p.y, p.z, 0.0],
                 normal_sp: v.normal_sp,
-                extra: [v.extra[0], v.extra[1] + (st.target - v.position()).y.abs(), 0.0, v.extra[3] + 1.0],
+                extra: [
+                    v.extra[0],
+                    v.extra[1] + (st.target - v.position()).y.abs(),
+                    0.0,
+                    v.extra[3] + 1.0,
+                ],
             }
         };
         let emit = |tri: [RingVertex; 3], out: &mut Vec<RingVertex>| out.extend(wind(tri, st.sign));
@@ -270,7 +282,14 @@ pub fn grow_reference(plan: &GrowthPlan, passes: u32) -> Vec<RingVertex> {
     let mut next = Vec::new();
     for pass in 0..passes.min(plan.passes) {
         next.clear();
-        grow_pass(&mesh, &steps, plan.speleothems.len(), plan.segments, pass, &mut next);
+        grow_pass(
+            &mesh,
+            &steps,
+            plan.speleothems.len(),
+            plan.segments,
+            pass,
+            &mut next,
+        );
         std::mem::swap(&mut mesh, &mut next);
     }
     mesh

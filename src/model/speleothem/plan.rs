@@ -258,7 +258,12 @@ impl GrowthPlan {
         let mut out = Vec::with_capacity(self.steps.len() * STEP_VEC4S);
         for (i, s) in self.steps.iter().enumerate() {
             let kind = self.speleothems[i % self.speleothems.len()].kind;
-            out.push(Vec4::new(s.height, s.radius, s.thicken, s.action as u32 as f32));
+            out.push(Vec4::new(
+                s.height,
+                s.radius,
+                s.thicken,
+                s.action as u32 as f32,
+            ));
             out.push(s.wind.extend(kind.sign()));
             out.push(Vec4::new(s.flank, s.flank_angle, s.flank_width, 0.0));
             out.push(s.target.extend(s.target_radius));
@@ -287,8 +292,16 @@ impl GrowthScene {
         check((3..=128).contains(&self.segments), "--segments", "3..=128")?;
         let p = &self.params;
         check((0.0..=1.0).contains(&p.wind_intensity), "--wind", "0..=1")?;
-        check(p.wind_direction_degrees.is_finite(), "--wind-direction", "finite degrees")?;
-        check((0.0..=1.0).contains(&p.mineral_intensity), "--mineral-intensity", "0..=1")?;
+        check(
+            p.wind_direction_degrees.is_finite(),
+            "--wind-direction",
+            "finite degrees",
+        )?;
+        check(
+            (0.0..=1.0).contains(&p.mineral_intensity),
+            "--mineral-intensity",
+            "0..=1",
+        )?;
         if let StepMode::Random { jitter } = self.mode {
             check((0.0..=0.9).contains(&jitter), "--jitter", "0..=0.9")?;
         }
@@ -300,14 +313,38 @@ impl GrowthScene {
         }
         let u = &self.units;
         let positive = |v: f32| v > 0.0 && v.is_finite();
-        check(positive(u.initial_radius), "--radius", "(0, inf) scene units")?;
+        check(
+            positive(u.initial_radius),
+            "--radius",
+            "(0, inf) scene units",
+        )?;
         check(positive(u.ring_thickness), "ring thickness", "(0, inf)")?;
-        check(positive(u.radius_unit), "--radius-unit", "(0, inf) scene units")?;
-        check(positive(u.height_unit), "--height-unit", "(0, inf) scene units")?;
-        check(u.flank_scale >= 0.0 && u.flank_scale.is_finite(), "--kf", "[0, inf)")?;
+        check(
+            positive(u.radius_unit),
+            "--radius-unit",
+            "(0, inf) scene units",
+        )?;
+        check(
+            positive(u.height_unit),
+            "--height-unit",
+            "(0, inf) scene units",
+        )?;
+        check(
+            u.flank_scale >= 0.0 && u.flank_scale.is_finite(),
+            "--kf",
+            "[0, inf)",
+        )?;
         check((0.0..=1.0).contains(&u.flank_rate), "--flank-rate", "0..=1")?;
-        check(u.thicken_rate >= 0.0 && u.thicken_rate.is_finite(), "--thicken", "[0, inf)")?;
-        check(u.wind_scale >= 0.0 && u.wind_scale.is_finite(), "wind scale", "[0, inf)")?;
+        check(
+            u.thicken_rate >= 0.0 && u.thicken_rate.is_finite(),
+            "--thicken",
+            "[0, inf)",
+        )?;
+        check(
+            u.wind_scale >= 0.0 && u.wind_scale.is_finite(),
+            "wind scale",
+            "[0, inf)",
+        )?;
         check(
             self.ceiling_y > self.floor_y + 4.0 * u.ring_thickness,
             "cave height",

@@ -153,16 +153,40 @@ mod tests {
 
     #[test]
     fn table2_rows() {
-        assert_eq!(stalactite_steps(Co2::Low), StepMultiples { radius: -2.0, height: 1.0 });
-        assert_eq!(stalactite_steps(Co2::Normal), StepMultiples { radius: -1.0, height: 2.0 });
-        assert_eq!(stalactite_steps(Co2::High), StepMultiples { radius: 0.0, height: 3.0 });
+        assert_eq!(
+            stalactite_steps(Co2::Low),
+            StepMultiples {
+                radius: -2.0,
+                height: 1.0
+            }
+        );
+        assert_eq!(
+            stalactite_steps(Co2::Normal),
+            StepMultiples {
+                radius: -1.0,
+                height: 2.0
+            }
+        );
+        assert_eq!(
+            stalactite_steps(Co2::High),
+            StepMultiples {
+                radius: 0.0,
+                height: 3.0
+            }
+        );
         for (co2, h) in [(Co2::Low, 1.0), (Co2::Normal, 2.0), (Co2::High, 3.0)] {
             for (drip, r) in [
                 (DripInterval::Dry, -1.0),
                 (DripInterval::Standard, 0.0),
                 (DripInterval::Wet, 1.0),
             ] {
-                assert_eq!(stalagmite_steps(drip, co2), StepMultiples { radius: r, height: h });
+                assert_eq!(
+                    stalagmite_steps(drip, co2),
+                    StepMultiples {
+                        radius: r,
+                        height: h
+                    }
+                );
             }
         }
     }
@@ -171,9 +195,15 @@ mod tests {
     fn names_parse_and_reject() {
         assert_eq!("2".parse::<Pil>().ok(), Some(Pil::Dripping));
         assert_eq!("Wet".parse::<DripInterval>().ok(), Some(DripInterval::Wet));
-        assert_eq!("malachite".parse::<Mineral>().ok(), Some(Mineral::Malachite));
+        assert_eq!(
+            "malachite".parse::<Mineral>().ok(),
+            Some(Mineral::Malachite)
+        );
         assert_eq!(Mineral::Iron.to_string(), "iron");
-        let err = "3".parse::<Pil>().expect_err("PIL 3 does not exist").to_string();
+        let err = "3"
+            .parse::<Pil>()
+            .expect_err("PIL 3 does not exist")
+            .to_string();
         assert!(err.contains("--pil") && err.contains("0, 1, 2"), "{err}");
         let err = "gold".parse::<Mineral>().expect_err("no gold").to_string();
         assert!(err.contains("gold") && err.contains("malachite"), "{err}");

@@ -1,0 +1,353 @@
+//! Invariants of the CPU reference: counts, watertightness, orientation, stops, and
+//! Table 2 on the grown geometry.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use super::plan::{GrowthParams, GrowthScene, Kind, PassAction, StepMode, StopReason};
+use super::table2::{Co2, DripInterval, Pil};
+use super::{RingVertex, grow_reference, initial_rings, vertex_counts};
+
+/// Welds the triangle soup by exact position and returns directed-edge counts.
+fn directed_edges(mesh: &[RingVertex]) -> HashMap<([u32; 3], [u32; 3]), u32> {
+    let key = |v: &RingVertex| v.position().to_array().map(f32::to_bits);
+    let mut edges = HashMap::new();
+    for t in mesh.chunks_exact(3) {
+        for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+            *edges.entry((key(&t[a]), key(&t[b]))).or_insert(0) += 1;
+        }
+    }
+    edges
+}
+
+/// Every edge is used once in each direction, except the open base rings, whose
+/// edges (one direction only) are returned.
+fn open_edges(mesh: &[RingVertex]) -> Vec<([u32; 3], [u32; 3])> {
+    let edges = directed_edges(mesh);
+    let mut open = Vec::new();
+    for (&(a, b), &n) in &edges {
+        assert_eq!(n, 1, "edge used {n} times in one direction");
+        if !edges.contains_key(&(b, a)) {
+            open.push((a, b));
+        }
+    }
+    open
+}
+
+fn assert_outward(mesh: &[RingVertex], plan: &super::GrowthPlan) {
+    for t in mesh.chunks_exact(3) {
+        let (a, b, c) = (t[0].position(), t[1].position(), t[2].position());
+        let n = (b - a).cross(c - a);
+        if n.length() < 1e-9 {
+            panic!("degenerate triangle {a} {b} {c}");
+        }
+        let sp = &plan.speleothems[t[0].speleothem()];
+        let centroid = (a + b + c) / 3.0;
+        // Outward: away from the vertical axis through the base (no wind in these
+        // scenes), or along the growth direction at a closing tip.
+        let radial = Vec3::new(centroid.x - sp.base.x, 0.0, centroid.z - sp.base.z);
+        let axis = Vec3::Y * sp.kind.sign();
+        assert!(
+            n.dot(radial) > 0.0 || n.dot(axis) > 0.0,
+            "inward triangle at {centroid}"
+        );
+    }
+}
+
+fn scene(params: GrowthParams, count: u32, passes: u32) -> GrowthScene {
+    GrowthScene {
+        count,
+        passes,
+        segments: 12,
+        params,
+        ..GrowthScene::default()
+    }
+}
+
+#[test]
+fn base_primitive_is_an_outward_open_cylinder() {
+    let plan = scene(GrowthParams::default(), 2, 1).plan().expect("plan");
+    let mesh = initial_rings(&plan);
+    assert_eq!(mesh.len(), 2 * 12 * 6);
+    assert!(mesh.iter().all(|v| v.id() == 0.0 || v.id() == -1.0));
+    // Two open rings (top and bottom edge of the band) per speleothem.
+    assert_eq!(open_edges(&mesh).len(), 2 * 2 * 12);
+    assert_outward(&mesh, &plan);
+}
+
+#[test]
+fn growth_is_watertight_outward_and_counted() {
+    for (pil, co2, drip) in [
+        (Pil::Stalactites, Co2::Normal, DripInterval::Standard),
+        (Pil::Dripping, Co2::Low, DripInterval::Wet),
+    ] {
+        let params = GrowthParams {
+            pil,
+            co2,
+            drip,
+            ..GrowthParams::default()
+        };
+        let plan = scene(params, 3, 12).plan().expect("plan");
+        let counts = vertex_counts(&plan);
+        for passes in [1, 5, 12] {
+            let mesh = grow_reference(&plan, passes);
+            assert_eq!(
+                mesh.len() as u64,
+                counts[passes as usize - 1],
+                "count after {passes}"
+            );
+            assert_outward(&mesh, &plan);
+            let open = open_edges(&mesh).len();
+            // Base ring of each speleothem, plus the tip ring of those still open.
+            let open_tips = plan
+                .speleothems
+                .iter()
+                .filter(|s| !matches!(s.stop, Some((p, _)) if p < passes))
+                .count();
+            assert_eq!(
+                open,
+                12 * (plan.speleothems.len() + open_tips),
+                "after {passes}"
+            );
+        }
+    }
+}
+
+#[test]
+fn ids_increase_by_two_per_pass_and_front_keeps_0_and_minus_1() {
+    let plan = scene(GrowthParams::default(), 1, 4).plan().expect("plan");
+    let mesh = grow_reference(&plan, 4);
+    // The base band has been re-emitted 4 times: IDs 8 and 7.
+    let base_ids: Vec<f32> = mesh
+        .iter()
+        .filter(|v| v.ring() == 0)
+        .map(|v| v.id())
+        .collect();
+    assert!(
+        base_ids.iter().all(|&id| id == 8.0 || id == 7.0),
+        "{base_ids:?}"
+    );
+    let front: Vec<&RingVertex> = mesh.iter().filter(|v| v.ring() == 4).collect();
+    assert!(!front.is_empty());
+    assert!(front.iter().all(|v| v.id() == 0.0 || v.id() == -1.0));
+}
+
+#[test]
+fn a_narrowing_tip_closes_in_a_cone_point() {
+    let params = GrowthParams {
+        co2: Co2::Low,
+        ..GrowthParams::default()
+    };
+    let plan = scene(params, 1, 20).plan().expect("plan");
+    let s = &plan.speleothems[0];
+    let (pass, reason) = s.stop.expect("the tip closes within 20 passes");
+    assert_eq!(reason, StopReason::TipClosed);
+    assert_eq!(plan.step(pass, 0).action, PassAction::Close);
+    let mesh = grow_reference(&plan, 20);
+    // Only the base ring is open; the apex is one point shared by 12 triangles.
+    assert_eq!(open_edges(&mesh).len(), 12);
+    let apex = plan.step(pass, 0).target;
+    let at_apex = mesh.iter().filter(|v| v.position() == apex).count();
+    assert_eq!(at_apex, 12);
+    assert_outward(&mesh, &plan);
+    // After closing, only thickening continues.
+    for p in pass + 1..20 {
+        let step = plan.step(p, 0);
+        assert_eq!(step.action, PassAction::Idle);
+        assert!(step.thicken > 0.0);
+    }
+}
+
+#[test]
+fn stalactite_meets_stalagmite_in_a_column() {
+    let params = GrowthParams {
+        pil: Pil::Dripping,
+        co2: Co2::High,
+        drip: DripInterval::Standard,
+        ..GrowthParams::default()
+    };
+    let plan = scene(params, 1, 40).plan().expect("plan");
+    assert_eq!(plan.speleothems.len(), 2);
+    let (pa, ra) = plan.speleothems[0].stop.expect("stalactite stops");
+    let (pb, rb) = plan.speleothems[1].stop.expect("stalagmite stops");
+    assert_eq!((ra, rb, pa), (StopReason::Column, StopReason::Column, pb));
+    let mesh = grow_reference(&plan, 40);
+    // One tube from roof to floor: only the two base rings are open.
+    assert_eq!(open_edges(&mesh).len(), 2 * 12);
+    assert_outward(&mesh, &plan);
+}
+
+#[test]
+fn pil_zero_grows_nothing_and_stalagmites_need_dripping() {
+    let dry = GrowthParams {
+        pil: Pil::Dry,
+        ..GrowthParams::default()
+    };
+    let plan = scene(dry, 2, 5).plan().expect("plan");
+    assert!(
+        plan.steps
+            .iter()
+            .all(|s| s.action == PassAction::Idle && s.thicken == 0.0)
+    );
+    let stalactites = scene(GrowthParams::default(), 2, 5).plan().expect("plan");
+    assert!(
+        stalactites
+            .speleothems
+            .iter()
+            .all(|s| s.kind == Kind::Stalactite)
+    );
+}
+
+#[test]
+fn wind_displaces_the_new_rings_along_the_wind() {
+    let params = GrowthParams {
+        co2: Co2::High,
+        wind_direction_degrees: 90.0,
+        wind_intensity: 1.0,
+        ..GrowthParams::default()
+    };
+    let plan = scene(params, 1, 6).plan().expect("plan");
+    let mesh = grow_reference(&plan, 6);
+    let centre = |ring: u32| {
+        let vs: Vec<Vec3> = mesh
+            .iter()
+            .filter(|v| v.ring() == ring)
+            .map(|v| v.position())
+            .collect();
+        vs.iter().copied().sum::<Vec3>() / vs.len() as f32
+    };
+    let drift = centre(6) - centre(0);
+    // +z by wind_scale per pass, nothing along x.
+    assert!((drift.z - 6.0 * 0.02).abs() < 1e-4, "{drift}");
+    assert!(drift.x.abs() < 1e-4, "{drift}");
+}
+
+/// Mean ring radius and mean axial height of each ring number of speleothem 0.
+fn ring_profile(mesh: &[RingVertex], base: Vec3, rings: u32) -> Vec<(f32, f32)> {
+    (0..=rings)
+        .map(|k| {
+            // Each distinct vertex once (triangles repeat them).
+            let mut seen = std::collections::HashSet::new();
+            let vs: Vec<Vec3> = mesh
+                .iter()
+                .filter(|v| v.speleothem() == 0 && v.ring() == k)
+                .map(|v| v.position())
+                .filter(|p| seen.insert(p.to_array().map(f32::to_bits)))
+                .collect();
+            let n = vs.len() as f32;
+            let r = vs
+                .iter()
+                .map(|p| Vec3::new(p.x - base.x, 0.0, p.z - base.z).length())
+                .sum::<f32>()
+                / n;
+            let h = vs.iter().map(|p| (p.y - base.y).abs()).sum::<f32>() / n;
+            (r, h)
+        })
+        .collect()
+}
+
+#[test]
+fn table2_holds_on_the_grown_geometry() {
+    let u = super::plan::GrowthUnits::default();
+    let measure = |pil, co2, drip, kind_index: usize| {
+        let params = GrowthParams {
+            pil,
+            co2,
+            drip,
+            ..GrowthParams::default()
+        };
+        let mut sc = scene(params, 1, 3);
+        sc.mode = StepMode::Manual;
+        // Flank deposits would bump ring radii; Table 2 is about the steps alone.
+        sc.units.flank_rate = 0.0;
+        let plan = sc.plan().expect("plan");
+        let mesh: Vec<RingVertex> = grow_reference(&plan, 3)
+            .into_iter()
+            .filter(|v| v.speleothem() == kind_index)
+            .map(|mut v| {
+                v.normal_sp[3] = 0.0;
+                v
+            })
+            .collect();
+        let profile = ring_profile(&mesh, plan.speleothems[kind_index].base, 3);
+        let dr = (profile[3].0 - profile[0].0) / 3.0;
+        let dh = (profile[3].1 - profile[0].1) / 3.0;
+        (dr / u.radius_unit, dh / u.height_unit)
+    };
+    let close = |a: f32, b: f32| (a - b).abs() < 0.02;
+    // Stalactites (PIL 1): low -> r -2, h +1; normal -> r -1, h +2; high -> r 0, h +3.
+    for (co2, r, h) in [
+        (Co2::Low, -2.0, 1.0),
+        (Co2::Normal, -1.0, 2.0),
+        (Co2::High, 0.0, 3.0),
+    ] {
+        let (dr, dh) = measure(Pil::Stalactites, co2, DripInterval::Standard, 0);
+        assert!(
+            close(dr, r) && close(dh, h),
+            "stalactite {co2}: r {dr} h {dh}"
+        );
+    }
+    // Stalagmites (PIL 2): drip sets the radius step, CO2 the height step.
+    for (co2, h) in [(Co2::Low, 1.0), (Co2::Normal, 2.0), (Co2::High, 3.0)] {
+        for (drip, r) in [
+            (DripInterval::Dry, -1.0),
+            (DripInterval::Standard, 0.0),
+            (DripInterval::Wet, 1.0),
+        ] {
+            let (dr, dh) = measure(Pil::Dripping, co2, drip, 1);
+            assert!(
+                close(dr, r) && close(dh, h),
+                "stalagmite {drip}/{co2}: r {dr} h {dh}"
+            );
+        }
+    }
+}
+
+#[test]
+fn random_mode_is_seeded() {
+    let random = |seed| GrowthScene {
+        seed,
+        mode: StepMode::Random { jitter: 0.4 },
+        params: GrowthParams {
+            pil: Pil::Dripping,
+            ..GrowthParams::default()
+        },
+        ..scene(GrowthParams::default(), 4, 15)
+    };
+    let a = random(7).plan().expect("plan");
+    let b = random(7).plan().expect("plan");
+    let c = random(8).plan().expect("plan");
+    assert_eq!(a, b);
+    assert_ne!(a.steps, c.steps);
+    let mesh = grow_reference(&a, 15);
+    open_edges(&mesh);
+}
+
+#[test]
+fn bad_scenes_are_rejected_with_the_option_name() {
+    let mut s = GrowthScene::default();
+    s.count = 0;
+    assert!(
+        s.plan()
+            .expect_err("count 0")
+            .to_string()
+            .contains("--count")
+    );
+    let mut s = GrowthScene::default();
+    s.units.initial_radius = -1.0;
+    assert!(
+        s.plan()
+            .expect_err("negative radius")
+            .to_string()
+            .contains("--radius")
+    );
+    let mut s = GrowthScene::default();
+    s.params.wind_intensity = 1.5;
+    assert!(
+        s.plan()
+            .expect_err("wind 1.5")
+            .to_string()
+            .contains("--wind")
+    );
+}
