@@ -61,6 +61,19 @@ pub enum Error {
         source: gpu_allocator::AllocationError,
     },
 
+    #[error(
+        "The transform-feedback buffer was too small in growth pass {pass}: {needed} \
+         triangles needed, {written} written (capacity {capacity_vertices} vertices). \
+         Nothing was truncated silently; this is a bug in sediment's size prediction or \
+         an explicit capacity that is too small."
+    )]
+    CaptureOverflow {
+        pass: u32,
+        written: u64,
+        needed: u64,
+        capacity_vertices: u64,
+    },
+
     #[error("Invalid value for {argument}: {message}")]
     InvalidArgument { argument: String, message: String },
 

@@ -258,6 +258,27 @@ impl StreamQueries {
         };
     }
 
+    /// Resets queries `first..first + count`; record outside a rendering scope.
+    pub fn reset_range(&self, cmd: &Commands<'_>, first: u32, count: u32) -> Result<()> {
+        if first.saturating_add(count) > self.count {
+            return Err(Error::invalid(
+                "stream query",
+                format!(
+                    "range {first}..{} outside the pool's {} queries",
+                    first + count,
+                    self.count
+                ),
+            ));
+        }
+        // SAFETY: `cmd` is recording outside a rendering scope; the range is checked.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_reset_query_pool(cmd.raw, self.pool, first, count)
+        };
+        Ok(())
+    }
+
     /// Starts counting stream 0 into query `index`.
     pub fn begin(&self, cmd: &Commands<'_>, index: u32) -> Result<()> {
         self.check(index)?;

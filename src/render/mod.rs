@@ -2,6 +2,7 @@
 //! parameters and record commands through `gpu`.
 
 pub mod lit_mesh;
+pub mod ring_growth;
 pub mod xfb_selftest;
 
 use crate::gpu::Span;
@@ -22,6 +23,8 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
     vec![
         &lit_mesh::VERTEX_INTERFACE,
         &lit_mesh::FRAGMENT_INTERFACE,
+        &ring_growth::VERTEX_INTERFACE,
+        &ring_growth::GEOMETRY_INTERFACE,
         &xfb_selftest::VERTEX_INTERFACE,
         &xfb_selftest::GEOMETRY_INTERFACE,
     ]

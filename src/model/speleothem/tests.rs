@@ -326,8 +326,10 @@ fn random_mode_is_seeded() {
 
 #[test]
 fn bad_scenes_are_rejected_with_the_option_name() {
-    let mut s = GrowthScene::default();
-    s.count = 0;
+    let s = GrowthScene {
+        count: 0,
+        ..GrowthScene::default()
+    };
     assert!(
         s.plan()
             .expect_err("count 0")

@@ -1,0 +1,284 @@
+//! The ring-growth pass (Tortelli & Walter 2009) on the geometry-shader /
+//! transform-feedback pipeline: `shaders-glsl/speleothem/ring_growth.geom`, whose CPU
+//! twin is `model::speleothem::grow_pass`; `tests/ring_growth.rs` compares them.
+//!
+//! Ping-pong between two capture buffers; pass 0 draws the base primitives with a CPU
+//! vertex count, every later pass draws the previous capture with
+//! `vkCmdDrawIndirectByteCountEXT`, so the CPU never reads a count between passes, and
+//! any number of passes can go in one command buffer. Each pass's stream query is read
+//! afterwards: a pass that needed more room than it had is an error, never a silent
+//! truncation.
+
+use std::sync::Arc;
+
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Pipeline,
+    PipelineLayout, Pod, StreamCounts, StreamQueries, VertexLayout, capture_buffer, counter_buffer,
+    vk,
+};
+use crate::model::speleothem::{
+    GrowthPlan, RingVertex, VERTEX_STRIDE, initial_rings, vertex_counts,
+};
+use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
+
+/// Push constants of `ring_growth.geom`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PassPush {
+    pub pass_index: u32,
+    pub speleothem_count: u32,
+    pub segments: u32,
+    pub unused: u32,
+}
+// SAFETY: repr(C), four u32.
+unsafe impl Pod for PassPush {}
+
+pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::SPELEOTHEM_RING_GROWTH_VERT,
+    bindings: &[],
+    push_constant_bytes: 0,
+};
+
+/// Declared by hand (naga has no geometry stage); exercised by `tests/ring_growth.rs`.
+pub static GEOMETRY_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::SPELEOTHEM_RING_GROWTH_GEOM,
+    bindings: &[DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer)],
+    push_constant_bytes: size_of::<PassPush>() as u32,
+};
+
+/// The vertex layout of captured rings (shared with the surface pass).
+pub fn ring_vertex_layout() -> VertexLayout {
+    VertexLayout {
+        stride: VERTEX_STRIDE,
+        attributes: vec![
+            (0, vk::Format::R32G32B32A32_SFLOAT, 0),
+            (1, vk::Format::R32G32B32A32_SFLOAT, 16),
+            (2, vk::Format::R32G32B32A32_SFLOAT, 32),
+        ],
+    }
+}
+
+/// Where to draw the current mesh from.
+pub enum MeshSource<'a> {
+    /// Before any pass: the base primitives, with a known vertex count.
+    Counted { buffer: &'a Buffer, vertices: u32 },
+    /// After a pass: the capture buffer and the counter holding its byte count.
+    Captured {
+        buffer: &'a Buffer,
+        counter: &'a Buffer,
+        counter_offset: u64,
+    },
+}
+
+/// A growth in progress on the GPU.
+pub struct RingGrowth {
+    queries: StreamQueries,
+    counters: Buffer,
+    captures: [Buffer; 2],
+    input: Buffer,
+    plan_set: DescriptorSet,
+    // Read by the shader every pass; kept alive with the growth.
+    _plan_buffer: Buffer,
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+    initial_vertices: u32,
+    passes_done: u32,
+    total_passes: u32,
+    speleothem_count: u32,
+    segments: u32,
+    capacity_vertices: u64,
+}
+
+impl RingGrowth {
+    /// Uploads the plan and the base primitives. Capture buffers hold
+    /// `capacity_vertices` (default: exactly what the plan predicts for the last pass).
+    pub fn new(
+        ctx: &Arc<Context>,
+        plan: &GrowthPlan,
+        capacity_vertices: Option<u64>,
+    ) -> Result<Self> {
+        let layout = PipelineLayout::new(
+            ctx,
+            "ring growth layout",
+            &[&VERTEX_INTERFACE, &GEOMETRY_INTERFACE],
+        )?;
+        let pipeline = GraphicsPipelineDesc::new("ring growth", VERTEX_INTERFACE.shader)
+            .geometry(GEOMETRY_INTERFACE.shader)
+            .vertex_layout(ring_vertex_layout())
+            .rasterizer_discard(true)
+            .build(ctx, &layout)?;
+        let steps = plan.gpu_steps();
+        let plan_buffer = Buffer::with_data(
+            ctx,
+            "ring growth plan",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &steps,
+        )?;
+        let plan_set = layout.allocate_set("ring growth plan set", 0)?;
+        plan_set.write_buffer(0, &plan_buffer)?;
+        let initial = initial_rings(plan);
+        let input = Buffer::with_data(
+            ctx,
+            "ring growth base primitives",
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+            &initial,
+        )?;
+        let predicted = vertex_counts(plan)
+            .last()
+            .copied()
+            .unwrap_or(initial.len() as u64);
+        let capacity_vertices = capacity_vertices.unwrap_or(predicted).max(3);
+        let bytes = capacity_vertices * u64::from(VERTEX_STRIDE);
+        let captures = [
+            capture_buffer(ctx, "ring growth capture A", bytes)?,
+            capture_buffer(ctx, "ring growth capture B", bytes)?,
+        ];
+        let counters = counter_buffer(ctx, "ring growth counters", 2)?;
+        let queries = StreamQueries::new(ctx, "ring growth stream queries", plan.passes)?;
+        Ok(Self {
+            queries,
+            counters,
+            captures,
+            input,
+            plan_set,
+            _plan_buffer: plan_buffer,
+            pipeline,
+            layout,
+            initial_vertices: initial.len() as u32,
+            passes_done: 0,
+            total_passes: plan.passes,
+            speleothem_count: plan.speleothems.len() as u32,
+            segments: plan.segments,
+            capacity_vertices,
+        })
+    }
+
+    pub fn passes_done(&self) -> u32 {
+        self.passes_done
+    }
+
+    pub fn capacity_vertices(&self) -> u64 {
+        self.capacity_vertices
+    }
+
+    /// Records the next `passes` growth passes (clamped to the plan) into `cmd`.
+    pub fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
+        let first = self.passes_done;
+        let last = (first + passes).min(self.total_passes);
+        if last == first {
+            return Ok(());
+        }
+        self.queries.reset_range(cmd, first, last - first)?;
+        // Writes of earlier submissions (or the counter fill) become visible first.
+        cmd.capture_to_vertex_read_barrier();
+        cmd.counter_write_to_read_barrier();
+        for pass in first..last {
+            let dst = (pass % 2) as usize;
+            if pass >= 1 {
+                // `dst` was the vertex input of the previous pass (write-after-read).
+                cmd.vertex_read_to_capture_barrier();
+            }
+            cmd.begin_rendering_without_attachments(1, 1);
+            cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.plan_set]);
+            cmd.push_constants(
+                &self.layout,
+                &PassPush {
+                    pass_index: pass,
+                    speleothem_count: self.speleothem_count,
+                    segments: self.segments,
+                    unused: 0,
+                },
+            )?;
+            cmd.bind_capture_buffer(0, &self.captures[dst], 0, None);
+            self.queries.begin(cmd, pass)?;
+            cmd.begin_capture(None);
+            if pass == 0 {
+                cmd.bind_vertex_buffer(&self.input, 0);
+                cmd.draw(self.initial_vertices, 1);
+            } else {
+                let src = 1 - dst;
+                cmd.bind_vertex_buffer(&self.captures[src], 0);
+                cmd.draw_indirect_byte_count(&self.counters, src as u64 * 4, VERTEX_STRIDE, 1);
+            }
+            cmd.end_capture(Some((&self.counters, dst as u64 * 4)));
+            self.queries.end(cmd, pass)?;
+            cmd.end_rendering();
+            cmd.capture_to_vertex_read_barrier();
+            cmd.counter_write_to_read_barrier();
+        }
+        self.passes_done = last;
+        Ok(())
+    }
+
+    /// After the submission: every pass's stream counts, or an error for the first
+    /// pass whose capture buffer was too small.
+    pub fn check_counts(&self) -> Result<Vec<StreamCounts>> {
+        let counts = self.queries.results(self.passes_done)?;
+        if let Some((pass, c)) = counts.iter().enumerate().find(|(_, c)| c.overflowed()) {
+            return Err(Error::CaptureOverflow {
+                pass: pass as u32,
+                written: c.written,
+                needed: c.needed,
+                capacity_vertices: self.capacity_vertices,
+            });
+        }
+        Ok(counts)
+    }
+
+    /// The current mesh, for drawing.
+    pub fn source(&self) -> MeshSource<'_> {
+        if self.passes_done == 0 {
+            MeshSource::Counted {
+                buffer: &self.input,
+                vertices: self.initial_vertices,
+            }
+        } else {
+            let last = ((self.passes_done - 1) % 2) as usize;
+            MeshSource::Captured {
+                buffer: &self.captures[last],
+                counter: &self.counters,
+                counter_offset: last as u64 * 4,
+            }
+        }
+    }
+
+    /// Reads the current mesh back (submits its own copy and waits).
+    pub fn read_back(&self, ctx: &Arc<Context>) -> Result<Vec<RingVertex>> {
+        let (buffer, bytes, counter) = match self.source() {
+            MeshSource::Counted { buffer, vertices } => {
+                (buffer, u64::from(vertices) * u64::from(VERTEX_STRIDE), None)
+            }
+            MeshSource::Captured {
+                buffer,
+                counter,
+                counter_offset,
+            } => (buffer, buffer.size(), Some((counter, counter_offset))),
+        };
+        let readback = Buffer::new(
+            ctx,
+            "ring growth readback",
+            BufferDesc::readback(bytes + 4, vk::BufferUsageFlags::TRANSFER_DST),
+        )?;
+        ctx.submit_and_wait("ring growth readback", |cmd| {
+            cmd.capture_to_vertex_read_barrier();
+            cmd.counter_write_to_read_barrier();
+            cmd.copy_buffer(buffer, &readback, bytes);
+            if let Some((c, offset)) = counter {
+                cmd.copy_buffer_region(c, offset, &readback, bytes, 4);
+            }
+            cmd.transfer_to_host_barrier();
+            Ok(())
+        })?;
+        let data = readback.mapped()?;
+        let used = match counter {
+            Some(_) => {
+                let mut word = [0u8; 4];
+                word.copy_from_slice(&data[bytes as usize..bytes as usize + 4]);
+                u64::from(u32::from_le_bytes(word))
+            }
+            None => bytes,
+        };
+        Ok(crate::gpu::from_bytes(&data[..used.min(bytes) as usize]))
+    }
+}
