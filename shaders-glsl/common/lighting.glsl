@@ -15,4 +15,18 @@ vec3 sun_light(vec3 n, vec3 v, vec3 l, vec3 albedo, vec3 sun, float shininess, f
     return sun * ndl * (albedo + vec3(spec));
 }
 
+// `light.w == 0`: a directional light toward `light.xyz`; `light.w == 1`: a point light
+// at `light.xyz` with inverse-square falloff (`color` is its radiance at distance 1).
+void light_at(vec4 light, vec3 color, vec3 world, out vec3 l, out vec3 radiance) {
+    if (light.w > 0.5) {
+        vec3 d = light.xyz - world;
+        float d2 = max(dot(d, d), 0.01);
+        l = d * inversesqrt(d2);
+        radiance = color / d2;
+    } else {
+        l = normalize(light.xyz);
+        radiance = color;
+    }
+}
+
 #endif

@@ -27,9 +27,11 @@ layout(location = 0) out vec4 out_color;
 void main() {
     vec3 n = normalize(in_normal);
     vec3 v = normalize(frame.camera_pos.xyz - in_world);
-    vec3 l = normalize(frame.sun_dir.xyz);
+    vec3 l;
+    vec3 radiance;
+    light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, radiance);
     vec3 albedo = object.albedo.rgb;
     vec3 hdr = albedo * hemisphere_ambient(n, frame.sky_color.rgb, frame.ground_color.rgb)
-             + sun_light(n, v, l, albedo, frame.sun_color.rgb, object.material.x, object.material.y);
+             + sun_light(n, v, l, albedo, radiance, object.material.x, object.material.y);
     out_color = vec4(tonemap_aces(hdr, frame.params.x), 1.0);
 }

@@ -2,4 +2,6 @@
 //! renamed into place, so a failed run never leaves a half-written file.
 
 pub mod atomic;
+pub mod gif;
+pub mod mesh;
 pub mod png;

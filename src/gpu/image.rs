@@ -135,6 +135,112 @@ impl Image {
         Ok(image)
     }
 
+    /// A sampled RGBA8 (UNORM) texture of one mip level filled with `rgba` (row-major,
+    /// 4 bytes per texel), left in SHADER_READ_ONLY_OPTIMAL.
+    pub fn upload_rgba8(
+        ctx: &Arc<Context>,
+        name: &str,
+        width: u32,
+        height: u32,
+        rgba: &[u8],
+    ) -> Result<Self> {
+        let expected = width as usize * height as usize * 4;
+        if rgba.len() != expected {
+            return Err(Error::invalid(
+                format!("texture \"{name}\""),
+                format!(
+                    "{} bytes given for {width}x{height} RGBA8 ({expected})",
+                    rgba.len()
+                ),
+            ));
+        }
+        let image = Image::new(
+            ctx,
+            name,
+            ImageDesc::new_2d(
+                width,
+                height,
+                vk::Format::R8G8B8A8_UNORM,
+                vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            ),
+        )?;
+        let staging = super::Buffer::with_data(
+            ctx,
+            &format!("{name} staging"),
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            rgba,
+        )?;
+        let range = image.full_range();
+        ctx.submit_and_wait(&format!("upload {name}"), |cmd| {
+            super::barrier::images(
+                ctx,
+                cmd.raw,
+                &[super::barrier::ImageTransition {
+                    image: image.raw,
+                    range,
+                    from: (
+                        vk::ImageLayout::UNDEFINED,
+                        vk::PipelineStageFlags2::TOP_OF_PIPE,
+                        vk::AccessFlags2::NONE,
+                    ),
+                    to: (
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        vk::PipelineStageFlags2::COPY,
+                        vk::AccessFlags2::TRANSFER_WRITE,
+                    ),
+                }],
+            );
+            let region = [vk::BufferImageCopy {
+                buffer_offset: 0,
+                buffer_row_length: 0,
+                buffer_image_height: 0,
+                image_subresource: vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                },
+                image_offset: vk::Offset3D::default(),
+                image_extent: vk::Extent3D {
+                    width,
+                    height,
+                    depth: 1,
+                },
+            }];
+            // SAFETY: the image is in TRANSFER_DST_OPTIMAL and the staging buffer holds
+            // exactly width * height texels.
+            unsafe {
+                ctx.device.cmd_copy_buffer_to_image(
+                    cmd.raw,
+                    staging.raw(),
+                    image.raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &region,
+                )
+            };
+            super::barrier::images(
+                ctx,
+                cmd.raw,
+                &[super::barrier::ImageTransition {
+                    image: image.raw,
+                    range,
+                    from: (
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        vk::PipelineStageFlags2::COPY,
+                        vk::AccessFlags2::TRANSFER_WRITE,
+                    ),
+                    to: (
+                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                        vk::AccessFlags2::SHADER_SAMPLED_READ,
+                    ),
+                }],
+            );
+            Ok(())
+        })?;
+        Ok(image)
+    }
+
     pub fn raw(&self) -> vk::Image {
         self.raw
     }

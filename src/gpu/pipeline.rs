@@ -283,6 +283,26 @@ impl DescriptorSet {
     }
 }
 
+impl DescriptorSet {
+    /// Points a sampler binding at `sampler`.
+    pub fn write_sampler(&self, binding: u32, sampler: &super::Sampler) -> Result<()> {
+        let kind = self.kind_of(binding)?;
+        let info = [vk::DescriptorImageInfo {
+            sampler: sampler.raw(),
+            image_view: vk::ImageView::null(),
+            image_layout: vk::ImageLayout::UNDEFINED,
+        }];
+        let write = [vk::WriteDescriptorSet::default()
+            .dst_set(self.raw)
+            .dst_binding(binding)
+            .descriptor_type(descriptor_type(kind))
+            .image_info(&info)];
+        // SAFETY: the set is not in use by the GPU while it is updated.
+        unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
+        Ok(())
+    }
+}
+
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
         // SAFETY: destroying the pool frees the set; the GPU is done with it.

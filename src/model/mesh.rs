@@ -21,6 +21,47 @@ impl Mesh {
         self.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]])
     }
 
+    /// A square grid of `cells` x `cells` quads over [-half, half]^2 at height `y`,
+    /// displaced vertically by `height(x, z)`, facing up (or down for a ceiling).
+    pub fn height_grid(
+        half: f32,
+        y: f32,
+        cells: u32,
+        facing_up: bool,
+        height: impl Fn(f32, f32) -> f32,
+    ) -> Mesh {
+        let n = cells.max(1);
+        let mut positions = Vec::with_capacity(((n + 1) * (n + 1)) as usize);
+        for j in 0..=n {
+            for i in 0..=n {
+                let x = -half + 2.0 * half * i as f32 / n as f32;
+                let z = -half + 2.0 * half * j as f32 / n as f32;
+                positions.push(Vec3::new(x, y + height(x, z), z));
+            }
+        }
+        let mut indices = Vec::with_capacity((n * n * 6) as usize);
+        let at = |i: u32, j: u32| j * (n + 1) + i;
+        for j in 0..n {
+            for i in 0..n {
+                let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                // Counter-clockwise seen from +y: (a, d, c), (a, c, b).
+                let quad = if facing_up {
+                    [a, d, c, a, c, b]
+                } else {
+                    [a, c, d, a, b, c]
+                };
+                indices.extend(quad);
+            }
+        }
+        let mut mesh = Mesh {
+            positions,
+            normals: Vec::new(),
+            indices,
+        };
+        mesh.recompute_normals();
+        mesh
+    }
+
     /// Area-weighted vertex normals from the triangles.
     pub fn recompute_normals(&mut self) {
         let mut normals = vec![Vec3::ZERO; self.positions.len()];

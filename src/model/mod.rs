@@ -3,6 +3,7 @@
 
 pub mod mesh;
 pub mod noise;
+pub mod normal_map;
 pub mod random;
 pub mod rock;
 pub mod speleothem;

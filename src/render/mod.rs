@@ -3,6 +3,7 @@
 
 pub mod lit_mesh;
 pub mod ring_growth;
+pub mod speleothem_surface;
 pub mod xfb_selftest;
 
 use crate::gpu::Span;
@@ -25,6 +26,8 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &lit_mesh::FRAGMENT_INTERFACE,
         &ring_growth::VERTEX_INTERFACE,
         &ring_growth::GEOMETRY_INTERFACE,
+        &speleothem_surface::VERTEX_INTERFACE,
+        &speleothem_surface::FRAGMENT_INTERFACE,
         &xfb_selftest::VERTEX_INTERFACE,
         &xfb_selftest::GEOMETRY_INTERFACE,
     ]

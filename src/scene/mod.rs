@@ -1,6 +1,8 @@
 //! Scenes: what to show (models, camera, lights) and how to render it offscreen.
 
 pub mod camera;
+pub mod file;
+pub mod grow;
 pub mod rock;
 pub mod size;
 

@@ -12,7 +12,7 @@ use crate::gpu::{COLOR_FORMAT, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget}
 use crate::model::mesh::Mesh;
 use crate::model::rock::{RockParams, rock_mesh};
 use crate::render::RenderedFrame;
-use crate::render::lit_mesh::{FrameUniforms, GpuMesh, LitMeshPass, ObjectPush};
+use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
 
 /// Everything that fixes the rock frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -74,16 +74,7 @@ pub fn render(ctx: &Arc<Context>, scene: &RockScene, size: Size) -> Result<Rende
     let mut pass = LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?;
     let rock_gpu = GpuMesh::upload(ctx, "rock", &rock)?;
     let ground_gpu = GpuMesh::upload(ctx, "ground", &ground(20.0, floor_y))?;
-    let l = &scene.lighting;
-    pass.set_frame(&FrameUniforms {
-        view_proj: scene.camera.view_proj(size.aspect()),
-        camera_pos: scene.camera.eye.extend(1.0),
-        sun_dir: l.sun_dir4(),
-        sun_color: l.sun_color.extend(0.0),
-        sky_color: l.sky_color.extend(0.0),
-        ground_color: l.ground_color.extend(0.0),
-        params: Vec4::new(l.exposure, 0.0, 0.0, 0.0),
-    })?;
+    pass.set_frame(&scene.lighting.frame_uniforms(&scene.camera, size.aspect()))?;
     let mut timer = GpuTimer::new(ctx, "rock timer", 1)?;
     // Sky colour behind the rock, already in the linear space the sRGB target expects.
     let clear = [0.05, 0.07, 0.10, 1.0];

@@ -57,7 +57,7 @@ impl Default for GrowthParams {
             wind_direction_degrees: 0.0,
             wind_intensity: 0.0,
             mineral: Mineral::Calcareous,
-            mineral_intensity: 0.6,
+            mineral_intensity: 0.8,
         }
     }
 }

@@ -1,0 +1,46 @@
+//! Samplers.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::Context;
+use crate::error::{Result, VkContext};
+
+/// An owned `VkSampler`.
+pub struct Sampler {
+    raw: vk::Sampler,
+    ctx: Arc<Context>,
+}
+
+impl Sampler {
+    /// Trilinear filtering, repeating in both directions (tiling textures).
+    pub fn linear_repeat(ctx: &Arc<Context>, name: &str) -> Result<Self> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+            .address_mode_u(vk::SamplerAddressMode::REPEAT)
+            .address_mode_v(vk::SamplerAddressMode::REPEAT)
+            .address_mode_w(vk::SamplerAddressMode::REPEAT)
+            .max_lod(vk::LOD_CLAMP_NONE);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { ctx.device.create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        ctx.name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+
+    pub fn raw(&self) -> vk::Sampler {
+        self.raw
+    }
+}
+
+impl Drop for Sampler {
+    fn drop(&mut self) {
+        // SAFETY: the GPU is done with the sampler (submissions wait).
+        unsafe { self.ctx.device.destroy_sampler(self.raw, None) };
+    }
+}

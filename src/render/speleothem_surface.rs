@@ -1,0 +1,171 @@
+//! Shading the grown speleothems straight from the transform-feedback buffer, drawn
+//! with `vkCmdDrawIndirectByteCountEXT`: normal mapping, lamp light, environment-mapped
+//! wet sheen, tone mapping (Tortelli & Walter section 4.2).
+
+use std::sync::Arc;
+
+use glam::Vec4;
+
+use super::lit_mesh::FrameUniforms;
+use super::ring_growth::{MeshSource, ring_vertex_layout};
+use crate::error::Result;
+use crate::gpu::{
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, Pipeline,
+    PipelineLayout, Pod, Sampler, vk,
+};
+use crate::model::normal_map::calcite_normal_map;
+use crate::model::speleothem::{GrowthPlan, PassAction, VERTEX_STRIDE};
+use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
+
+/// Push constants of the surface shaders.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePush {
+    /// x segments per ring, y normal-map repeats per unit length, z normal-map strength.
+    pub params: Vec4,
+}
+// SAFETY: repr(C), one Vec4.
+unsafe impl Pod for SurfacePush {}
+
+const FRAME: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
+const SPELEOTHEMS: DescriptorBinding = DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer);
+const NORMAL_MAP: DescriptorBinding = DescriptorBinding::new(0, 2, DescriptorKind::SampledImage);
+const NORMAL_SAMPLER: DescriptorBinding = DescriptorBinding::new(0, 3, DescriptorKind::Sampler);
+
+pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::SPELEOTHEM_SURFACE_VERT,
+    bindings: &[FRAME, SPELEOTHEMS],
+    push_constant_bytes: size_of::<SurfacePush>() as u32,
+};
+
+pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::SPELEOTHEM_SURFACE_FRAG,
+    bindings: &[FRAME, NORMAL_MAP, NORMAL_SAMPLER],
+    push_constant_bytes: size_of::<SurfacePush>() as u32,
+};
+
+/// Per-speleothem shading data for `pass` passes grown: mineral colour, rings so far
+/// (the paper's `rc`), growth direction and mix intensity.
+pub fn speleothem_info(plan: &GrowthPlan, passes: u32) -> Vec<Vec4> {
+    let mut out = Vec::with_capacity(plan.speleothems.len() * 2);
+    for (i, s) in plan.speleothems.iter().enumerate() {
+        let rings = (0..passes.min(plan.passes))
+            .filter(|&p| plan.step(p, i).action != PassAction::Idle)
+            .count();
+        let [r, g, b] = s.mineral.color();
+        out.push(Vec4::new(r, g, b, rings as f32));
+        out.push(Vec4::new(s.kind.sign(), s.mineral_intensity, 0.0, 0.0));
+    }
+    out
+}
+
+/// The surface pass and its resources.
+pub struct SpeleothemSurfacePass {
+    set: DescriptorSet,
+    _sampler: Sampler,
+    _normal_map: Image,
+    info: Buffer,
+    frame: Buffer,
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+    push: SurfacePush,
+}
+
+impl SpeleothemSurfacePass {
+    pub fn new(
+        ctx: &Arc<Context>,
+        color: vk::Format,
+        depth: vk::Format,
+        plan: &GrowthPlan,
+        seed: u64,
+    ) -> Result<Self> {
+        let layout = PipelineLayout::new(
+            ctx,
+            "speleothem surface layout",
+            &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
+        )?;
+        let mut desc = GraphicsPipelineDesc::new("speleothem surface", VERTEX_INTERFACE.shader)
+            .fragment(FRAGMENT_INTERFACE.shader)
+            .vertex_layout(ring_vertex_layout())
+            .targets(&[color], Some(depth));
+        // Straws are open tubes: both sides are visible (the shader flips back faces).
+        desc.cull_mode = vk::CullModeFlags::NONE;
+        let pipeline = desc.build(ctx, &layout)?;
+        let frame = Buffer::new(
+            ctx,
+            "speleothem frame uniforms",
+            BufferDesc::upload(
+                size_of::<FrameUniforms>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+        )?;
+        let info = Buffer::with_data(
+            ctx,
+            "speleothem info",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &speleothem_info(plan, plan.passes),
+        )?;
+        const MAP_SIZE: u32 = 128;
+        let normal_map = Image::upload_rgba8(
+            ctx,
+            "calcite normal map",
+            MAP_SIZE,
+            MAP_SIZE,
+            &calcite_normal_map(seed, MAP_SIZE, 5.0),
+        )?;
+        let sampler = Sampler::linear_repeat(ctx, "calcite normal sampler")?;
+        let set = layout.allocate_set("speleothem surface set", 0)?;
+        set.write_buffer(FRAME.binding, &frame)?;
+        set.write_buffer(SPELEOTHEMS.binding, &info)?;
+        set.write_image(
+            NORMAL_MAP.binding,
+            normal_map.view(),
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        set.write_sampler(NORMAL_SAMPLER.binding, &sampler)?;
+        Ok(Self {
+            set,
+            _sampler: sampler,
+            _normal_map: normal_map,
+            info,
+            frame,
+            pipeline,
+            layout,
+            push: SurfacePush {
+                params: Vec4::new(plan.segments as f32, 2.5, 1.0, 0.0),
+            },
+        })
+    }
+
+    /// Camera and lights, and the ring counts after `passes` passes.
+    pub fn set_frame(
+        &mut self,
+        frame: &FrameUniforms,
+        plan: &GrowthPlan,
+        passes: u32,
+    ) -> Result<()> {
+        self.frame.write(0, std::slice::from_ref(frame))?;
+        self.info.write(0, &speleothem_info(plan, passes))
+    }
+
+    /// Draws the current mesh inside an open rendering scope.
+    pub fn draw(&self, cmd: &Commands<'_>, source: MeshSource<'_>) -> Result<()> {
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
+        cmd.push_constants(&self.layout, &self.push)?;
+        match source {
+            MeshSource::Counted { buffer, vertices } => {
+                cmd.bind_vertex_buffer(buffer, 0);
+                cmd.draw(vertices, 1);
+            }
+            MeshSource::Captured {
+                buffer,
+                counter,
+                counter_offset,
+            } => {
+                cmd.bind_vertex_buffer(buffer, 0);
+                cmd.draw_indirect_byte_count(counter, counter_offset, VERTEX_STRIDE, 1);
+            }
+        }
+        Ok(())
+    }
+}
