@@ -88,7 +88,7 @@ struct GrowArgs {
     #[arg(long, value_name = "manual|random")]
     mode: Option<String>,
     /// Random mode's step jitter, as a fraction, 0..=0.9 (default 0.5).
-    #[arg(long, value_name = "F")]
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
     jitter: Option<f32>,
     /// Pluviometric index level: 0 no growth, 1 stalactites only, 2 dripping
     /// (stalagmites below the stalactites).
@@ -101,36 +101,36 @@ struct GrowArgs {
     #[arg(long, value_name = "low|normal|high")]
     co2: Option<String>,
     /// Wind intensity wi, 0..=1 (displaces each new ring by wi x 0.02 units).
-    #[arg(long, value_name = "F")]
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
     wind: Option<f32>,
     /// Wind direction in degrees from +x toward +z.
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     wind_direction: Option<f32>,
     /// Mineral colour (Table 1): calcareous, iron, manganese, copper, malachite.
     #[arg(long, value_name = "NAME")]
     mineral: Option<String>,
     /// How strongly the mineral colours the calcite, 0..=1.
-    #[arg(long, value_name = "F")]
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
     mineral_intensity: Option<f32>,
     /// Initial ring radius irr, scene units, > 0 (default 0.09).
-    #[arg(long, value_name = "UNITS")]
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
     radius: Option<f32>,
     /// Table 2's "x1" radius step, scene units, > 0 (default 0.006).
-    #[arg(long, value_name = "UNITS")]
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
     radius_unit: Option<f32>,
     /// Table 2's "x1" height step, scene units, > 0 (default 0.035).
-    #[arg(long, value_name = "UNITS")]
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
     height_unit: Option<f32>,
     /// kf of the flank displacement vd = kf * arr / irr, scene units, >= 0 (default 0.02).
-    #[arg(long, value_name = "UNITS")]
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
     kf: Option<f32>,
     /// Chance per pass, 0..=1, that a drop solidifies on the flank while CO2 is low
     /// (default 0.3).
-    #[arg(long, value_name = "P")]
+    #[arg(long, value_name = "P", allow_negative_numbers = true)]
     flank_rate: Option<f32>,
     /// Horizontal thickening per pass after vertical growth stopped, scene units, >= 0
     /// (default 0.0012).
-    #[arg(long, value_name = "UNITS")]
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
     thicken: Option<f32>,
     /// The final frame as PNG (default grow.png when no other output is asked for).
     #[arg(short = 'o', long = "output", value_name = "FILE.png")]
