@@ -8,7 +8,7 @@ use sediment::Error;
 use sediment::model::speleothem::plan::{GrowthParams, GrowthScene, StepMode};
 use sediment::model::speleothem::table2::{Co2, DripInterval, Pil};
 use sediment::model::speleothem::{
-    GrowthPlan, RingVertex, StopReason, grow_reference, vertex_counts,
+    GrowthPlan, RingVertex, StopReason, grow_reference, ring_measure, vertex_counts,
 };
 use sediment::render::ring_growth::RingGrowth;
 
@@ -190,5 +190,73 @@ fn a_too_small_capture_buffer_is_detected() {
             }) => assert!(needed > written),
             other => panic!("overflow not detected: {other:?}"),
         }
+    });
+}
+
+/// Mean radius and height step per pass of speleothem `index`, measured on the GPU's
+/// captured mesh.
+fn measured_steps(mesh: &[RingVertex], plan: &GrowthPlan, index: usize, passes: u32) -> (f32, f32) {
+    let base = plan.speleothems[index].base;
+    let (r0, h0) = ring_measure(mesh, index, base, 0).expect("ring 0");
+    let (r1, h1) = ring_measure(mesh, index, base, passes).expect("last ring");
+    ((r1 - r0) / passes as f32, (h1 - h0) / passes as f32)
+}
+
+#[test]
+fn table2_holds_on_the_gpu_output() {
+    common::with_gpu(|ctx| {
+        let grow = |pil, drip, co2, index| {
+            let mut sc = scene(
+                GrowthParams {
+                    pil,
+                    drip,
+                    co2,
+                    ..GrowthParams::default()
+                },
+                1,
+                4,
+            );
+            sc.units.flank_rate = 0.0;
+            let plan = sc.plan().expect("plan");
+            let mut growth = RingGrowth::new(ctx, &plan, None).expect("set-up");
+            ctx.submit_and_wait("table 2", |cmd| growth.record(cmd, 4))
+                .expect("submit");
+            growth.check_counts().expect("counts");
+            let mesh = growth.read_back(ctx).expect("read back");
+            measured_steps(&mesh, &plan, index, 4)
+        };
+        let std = DripInterval::Standard;
+        // Stalactites: radius decrease x2 < decrease x1 < same; height x1 < x2 < x3.
+        let (r_low, h_low) = grow(Pil::Stalactites, std, Co2::Low, 0);
+        let (r_norm, h_norm) = grow(Pil::Stalactites, std, Co2::Normal, 0);
+        let (r_high, h_high) = grow(Pil::Stalactites, std, Co2::High, 0);
+        assert!(
+            r_low < r_norm && r_norm < 0.0 && r_high.abs() < 1e-5,
+            "{r_low} {r_norm} {r_high}"
+        );
+        assert!(
+            (r_low / r_norm - 2.0).abs() < 0.01,
+            "x2 vs x1: {r_low} {r_norm}"
+        );
+        assert!(
+            0.0 < h_low && h_low < h_norm && h_norm < h_high,
+            "{h_low} {h_norm} {h_high}"
+        );
+        assert!((h_norm / h_low - 2.0).abs() < 0.01 && (h_high / h_low - 3.0).abs() < 0.01);
+        // Stalagmites: dry narrows, standard keeps, wet widens; CO2 sets the height.
+        let (r_dry, _) = grow(Pil::Dripping, DripInterval::Dry, Co2::Normal, 1);
+        let (r_std, _) = grow(Pil::Dripping, std, Co2::Normal, 1);
+        let (r_wet, _) = grow(Pil::Dripping, DripInterval::Wet, Co2::Normal, 1);
+        assert!(
+            r_dry < 0.0 && r_std.abs() < 1e-5 && r_wet > 0.0,
+            "{r_dry} {r_std} {r_wet}"
+        );
+        assert!(
+            (r_dry + r_wet).abs() < 1e-5,
+            "decrease x1 mirrors increase x1"
+        );
+        let (_, g_low) = grow(Pil::Dripping, std, Co2::Low, 1);
+        let (_, g_high) = grow(Pil::Dripping, std, Co2::High, 1);
+        assert!((g_high / g_low - 3.0).abs() < 0.01, "{g_low} {g_high}");
     });
 }

@@ -190,23 +190,7 @@ impl Image {
                     ),
                 }],
             );
-            let region = [vk::BufferImageCopy {
-                buffer_offset: 0,
-                buffer_row_length: 0,
-                buffer_image_height: 0,
-                image_subresource: vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                },
-                image_offset: vk::Offset3D::default(),
-                image_extent: vk::Extent3D {
-                    width,
-                    height,
-                    depth: 1,
-                },
-            }];
+            let region = [color_copy_region(width, height)];
             // SAFETY: the image is in TRANSFER_DST_OPTIMAL and the staging buffer holds
             // exactly width * height texels.
             unsafe {
@@ -262,6 +246,27 @@ impl Image {
             base_array_layer: 0,
             layer_count: 1,
         }
+    }
+}
+
+/// A copy of mip level 0 of a whole colour image to or from a tightly packed buffer.
+pub(crate) fn color_copy_region(width: u32, height: u32) -> vk::BufferImageCopy {
+    vk::BufferImageCopy {
+        buffer_offset: 0,
+        buffer_row_length: 0,
+        buffer_image_height: 0,
+        image_subresource: vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        },
+        image_offset: vk::Offset3D::default(),
+        image_extent: vk::Extent3D {
+            width,
+            height,
+            depth: 1,
+        },
     }
 }
 

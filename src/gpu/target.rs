@@ -177,23 +177,7 @@ impl OffscreenTarget {
                 ),
             }],
         );
-        let region = [vk::BufferImageCopy {
-            buffer_offset: 0,
-            buffer_row_length: 0,
-            buffer_image_height: 0,
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            },
-            image_offset: vk::Offset3D::default(),
-            image_extent: vk::Extent3D {
-                width: self.width,
-                height: self.height,
-                depth: 1,
-            },
-        }];
+        let region = [super::image::color_copy_region(self.width, self.height)];
         // SAFETY: the image is in TRANSFER_SRC_OPTIMAL and the buffer holds W*H*4 bytes.
         unsafe {
             cmd.ctx.device.cmd_copy_image_to_buffer(

@@ -295,6 +295,35 @@ pub fn grow_reference(plan: &GrowthPlan, passes: u32) -> Vec<RingVertex> {
     mesh
 }
 
+/// Mean radius (from the vertical axis through `base`) and mean distance from the base
+/// along the axis of the distinct vertices of ring `ring` of speleothem `index`: how
+/// tests read Table 2 back off a grown mesh.
+pub fn ring_measure(
+    mesh: &[RingVertex],
+    index: usize,
+    base: Vec3,
+    ring: u32,
+) -> Option<(f32, f32)> {
+    let mut seen = std::collections::HashSet::new();
+    let points: Vec<Vec3> = mesh
+        .iter()
+        .filter(|v| v.speleothem() == index && v.ring() == ring)
+        .map(RingVertex::position)
+        .filter(|p| seen.insert(p.to_array().map(f32::to_bits)))
+        .collect();
+    if points.is_empty() {
+        return None;
+    }
+    let n = points.len() as f32;
+    let radius = points
+        .iter()
+        .map(|p| Vec3::new(p.x - base.x, 0.0, p.z - base.z).length())
+        .sum::<f32>()
+        / n;
+    let axial = points.iter().map(|p| (p.y - base.y).abs()).sum::<f32>() / n;
+    Some((radius, axial))
+}
+
 /// Vertices after each pass, predicted without growing (for buffer sizes).
 pub fn vertex_counts(plan: &GrowthPlan) -> Vec<u64> {
     let s = u64::from(plan.segments);

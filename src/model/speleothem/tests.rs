@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::plan::{GrowthParams, GrowthScene, Kind, PassAction, StepMode, StopReason};
 use super::table2::{Co2, DripInterval, Pil};
-use super::{RingVertex, grow_reference, initial_rings, vertex_counts};
+use super::{RingVertex, grow_reference, initial_rings, ring_measure, vertex_counts};
 
 /// Welds the triangle soup by exact position and returns directed-edge counts.
 fn directed_edges(mesh: &[RingVertex]) -> HashMap<([u32; 3], [u32; 3]), u32> {
@@ -223,30 +223,6 @@ fn wind_displaces_the_new_rings_along_the_wind() {
     assert!(drift.x.abs() < 1e-4, "{drift}");
 }
 
-/// Mean ring radius and mean axial height of each ring number of speleothem 0.
-fn ring_profile(mesh: &[RingVertex], base: Vec3, rings: u32) -> Vec<(f32, f32)> {
-    (0..=rings)
-        .map(|k| {
-            // Each distinct vertex once (triangles repeat them).
-            let mut seen = std::collections::HashSet::new();
-            let vs: Vec<Vec3> = mesh
-                .iter()
-                .filter(|v| v.speleothem() == 0 && v.ring() == k)
-                .map(|v| v.position())
-                .filter(|p| seen.insert(p.to_array().map(f32::to_bits)))
-                .collect();
-            let n = vs.len() as f32;
-            let r = vs
-                .iter()
-                .map(|p| Vec3::new(p.x - base.x, 0.0, p.z - base.z).length())
-                .sum::<f32>()
-                / n;
-            let h = vs.iter().map(|p| (p.y - base.y).abs()).sum::<f32>() / n;
-            (r, h)
-        })
-        .collect()
-}
-
 #[test]
 fn table2_holds_on_the_grown_geometry() {
     let u = super::plan::GrowthUnits::default();
@@ -262,17 +238,12 @@ fn table2_holds_on_the_grown_geometry() {
         // Flank deposits would bump ring radii; Table 2 is about the steps alone.
         sc.units.flank_rate = 0.0;
         let plan = sc.plan().expect("plan");
-        let mesh: Vec<RingVertex> = grow_reference(&plan, 3)
-            .into_iter()
-            .filter(|v| v.speleothem() == kind_index)
-            .map(|mut v| {
-                v.normal_sp[3] = 0.0;
-                v
-            })
-            .collect();
-        let profile = ring_profile(&mesh, plan.speleothems[kind_index].base, 3);
-        let dr = (profile[3].0 - profile[0].0) / 3.0;
-        let dh = (profile[3].1 - profile[0].1) / 3.0;
+        let mesh = grow_reference(&plan, 3);
+        let base = plan.speleothems[kind_index].base;
+        let first = ring_measure(&mesh, kind_index, base, 0).expect("ring 0");
+        let last = ring_measure(&mesh, kind_index, base, 3).expect("ring 3");
+        let dr = (last.0 - first.0) / 3.0;
+        let dh = (last.1 - first.1) / 3.0;
         (dr / u.radius_unit, dh / u.height_unit)
     };
     let close = |a: f32, b: f32| (a - b).abs() < 0.02;
@@ -351,5 +322,29 @@ fn bad_scenes_are_rejected_with_the_option_name() {
             .expect_err("wind 1.5")
             .to_string()
             .contains("--wind")
+    );
+}
+
+#[test]
+fn a_straw_stops_at_the_floor() {
+    let params = GrowthParams {
+        co2: Co2::High,
+        ..GrowthParams::default()
+    };
+    let sc = scene(params, 1, 60);
+    let plan = sc.plan().expect("plan");
+    let (pass, reason) = plan.speleothems[0].stop.expect("reaches the floor");
+    assert_eq!(reason, StopReason::CaveBoundary);
+    let mesh = grow_reference(&plan, 60);
+    let lowest = mesh
+        .iter()
+        .map(|v| v.position().y)
+        .fold(f32::INFINITY, f32::min);
+    assert!(lowest >= sc.floor_y, "nothing below the floor ({lowest})");
+    assert!(lowest < sc.floor_y + 0.2, "it did reach down ({lowest})");
+    assert!(
+        plan.steps[(pass as usize + 1)..]
+            .iter()
+            .all(|s| s.action == PassAction::Idle)
     );
 }
