@@ -6,4 +6,5 @@ pub mod noise;
 pub mod normal_map;
 pub mod random;
 pub mod rock;
+pub mod sand;
 pub mod speleothem;
