@@ -103,7 +103,16 @@ pub fn reflect(shader: &ShaderSpirv) -> Result<Reflection> {
         naga::valid::Capabilities::all(),
     )
     .validate(&module)
-    .map_err(|e| fail(format!("naga validation failed: {}", e.as_inner())))?;
+    .map_err(|e| {
+        // The whole cause chain: naga's top-level messages name only the object.
+        let mut message = format!("naga validation failed: {}", e.as_inner());
+        let mut source = std::error::Error::source(e.as_inner());
+        while let Some(s) = source {
+            message.push_str(&format!(": {s}"));
+            source = s.source();
+        }
+        fail(message)
+    })?;
 
     let mut bindings = Vec::new();
     let mut push_constant_bytes = 0;

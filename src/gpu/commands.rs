@@ -180,6 +180,19 @@ impl Commands<'_> {
         );
     }
 
+    /// Shader writes made visible to the host (before reading a host-visible buffer).
+    pub fn shader_to_host_barrier(&self) {
+        super::barrier::memory(
+            self.ctx,
+            self.raw,
+            (
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+    }
+
     /// Begins dynamic rendering with no attachments over `width` x `height`, for
     /// transform-feedback passes whose rasterizer is discarded.
     pub fn begin_rendering_without_attachments(&self, width: u32, height: u32) {

@@ -5,6 +5,7 @@ pub mod mesh;
 pub mod noise;
 pub mod normal_map;
 pub mod random;
+pub mod ripple_maps;
 pub mod rock;
 pub mod sand;
 pub mod speleothem;

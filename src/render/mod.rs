@@ -3,6 +3,7 @@
 
 pub mod lit_mesh;
 pub mod ring_growth;
+pub mod ripple_maps;
 pub mod speleothem_surface;
 pub mod xfb_selftest;
 
@@ -24,6 +25,8 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
     vec![
         &lit_mesh::VERTEX_INTERFACE,
         &lit_mesh::FRAGMENT_INTERFACE,
+        &ripple_maps::NORMAL_MIP_INTERFACE,
+        &ripple_maps::HORIZON_INTERFACE,
         &ring_growth::VERTEX_INTERFACE,
         &ring_growth::GEOMETRY_INTERFACE,
         &speleothem_surface::VERTEX_INTERFACE,

@@ -1,0 +1,177 @@
+//! What the dune renderer reads from the ripple heightfield (Onoue & Nishita 3.2,
+//! 3.3.2, 3.5): the normal map, its level-of-detail chain, and the horizon map. These
+//! are the CPU references of the compute shaders in `shaders-glsl/dunes/`
+//! (`normal_mip.comp`, `horizon.comp`); `tests/ripple_maps.rs` compares them.
+
+use super::sand::Heightfield;
+
+/// Tangent-space normals of a square ripple tile, level 0: `normalize(-s dH/dx,
+/// -s dH/dy, 1)` with periodic central differences, `s` the height scale (surface
+/// height per unit of H, in texels).
+pub fn normal_level0(field: &Heightfield, height_scale: f32) -> Vec<[f32; 4]> {
+    let (w, h) = (field.width as isize, field.height as isize);
+    let mut out = Vec::with_capacity(field.data.len());
+    for y in 0..h {
+        for x in 0..w {
+            let dx = (field.at(x + 1, y) - field.at(x - 1, y)) as f32 * 0.5 * height_scale;
+            let dy = (field.at(x, y + 1) - field.at(x, y - 1)) as f32 * 0.5 * height_scale;
+            out.push(normalize([-dx, -dy, 1.0]));
+        }
+    }
+    out
+}
+
+fn normalize(v: [f32; 3]) -> [f32; 4] {
+    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    [v[0] / len, v[1] / len, v[2] / len, 0.0]
+}
+
+/// The LOD chain (paper 3.3.2): each level the renormalised average of the 4
+/// neighbouring normals of the level above, down to 1x1. `level0` is `size` x `size`
+/// with `size` a power of two.
+pub fn normal_mip_chain(level0: &[[f32; 4]], size: usize) -> Vec<Vec<[f32; 4]>> {
+    let mut chain = vec![level0.to_vec()];
+    let mut s = size;
+    while s > 1 {
+        let prev = chain.last().map(Vec::as_slice).unwrap_or(&[]);
+        let half = s / 2;
+        let mut next = Vec::with_capacity(half * half);
+        for y in 0..half {
+            for x in 0..half {
+                let texel = |dx: usize, dy: usize| prev[(2 * y + dy) * s + 2 * x + dx];
+                let (a, b, c, d) = (texel(0, 0), texel(1, 0), texel(0, 1), texel(1, 1));
+                // Same order of additions as normal_mip.comp.
+                let sum = [
+                    (a[0] + b[0]) + (c[0] + d[0]),
+                    (a[1] + b[1]) + (c[1] + d[1]),
+                    (a[2] + b[2]) + (c[2] + d[2]),
+                ];
+                next.push(normalize(sum));
+            }
+        }
+        chain.push(next);
+        s = half;
+    }
+    chain
+}
+
+/// The 8 horizon directions (axes and diagonals), counter-clockwise from +x.
+pub const HORIZON_DIRECTIONS: [(i32, i32); 8] = [
+    (1, 0),
+    (1, 1),
+    (0, 1),
+    (-1, 1),
+    (-1, 0),
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+];
+
+/// Horizon map (Max 1988; paper 3.5.1): for every texel and each of the 8 directions,
+/// the largest elevation slope `(H(p + k d) - H(p)) s / (k |d|)` over `k = 1..=steps`
+/// along the periodic tile (the paper walks the whole row: `steps = size - 1`). Slopes
+/// below zero are kept (a texel on a crest sees down to its horizon). Returned as two
+/// vec4 per texel: directions 0–3 then 4–7.
+pub fn horizon_map(field: &Heightfield, height_scale: f32, steps: usize) -> Vec<[f32; 4]> {
+    let (w, h) = (field.width as isize, field.height as isize);
+    let mut out = Vec::with_capacity(field.data.len() * 2);
+    for y in 0..h {
+        for x in 0..w {
+            let here = field.at(x, y) as f32;
+            let mut slopes = [f32::MIN; 8];
+            for (slot, &(dx, dy)) in slopes.iter_mut().zip(HORIZON_DIRECTIONS.iter()) {
+                let step_len = ((dx * dx + dy * dy) as f32).sqrt();
+                for k in 1..=steps as isize {
+                    let there = field.at(x + k * dx as isize, y + k * dy as isize) as f32;
+                    let slope = (there - here) * height_scale / (k as f32 * step_len);
+                    *slot = slot.max(slope);
+                }
+            }
+            out.push([slopes[0], slopes[1], slopes[2], slopes[3]]);
+            out.push([slopes[4], slopes[5], slopes[6], slopes[7]]);
+        }
+    }
+    out
+}
+
+/// The horizon slope toward azimuth `phi` (radians, counter-clockwise from +x), linearly
+/// interpolated between the two nearest of the 8 directions (paper 3.5.2).
+pub fn horizon_toward(slopes: &[f32; 8], phi: f32) -> f32 {
+    let sector = phi.rem_euclid(std::f32::consts::TAU) / (std::f32::consts::TAU / 8.0);
+    let i = (sector.floor() as usize) % 8;
+    let t = sector - sector.floor();
+    slopes[i] * (1.0 - t) + slopes[(i + 1) % 8] * t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sine_ridges(size: usize, period: f64) -> Heightfield {
+        Heightfield {
+            width: size,
+            height: size,
+            data: (0..size * size)
+                .map(|i| (std::f64::consts::TAU * (i % size) as f64 / period).sin())
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn flat_tile_gives_up_normals_and_zero_horizons() {
+        let flat = Heightfield {
+            width: 8,
+            height: 8,
+            data: vec![3.0; 64],
+        };
+        let n = normal_level0(&flat, 1.0);
+        assert!(n.iter().all(|v| *v == [0.0, 0.0, 1.0, 0.0]));
+        let chain = normal_mip_chain(&n, 8);
+        assert_eq!(
+            chain.iter().map(Vec::len).collect::<Vec<_>>(),
+            vec![64, 16, 4, 1]
+        );
+        let hz = horizon_map(&flat, 1.0, 7);
+        assert!(hz.iter().all(|v| v.iter().all(|&s| s == 0.0)));
+    }
+
+    #[test]
+    fn ripples_tilt_normals_along_x_and_levels_average() {
+        let field = sine_ridges(16, 8.0);
+        let n = normal_level0(&field, 1.0);
+        // On the rising flank (x = 0: sin rises) the normal leans toward -x.
+        assert!(n[0][0] < -0.3 && n[0][1].abs() < 1e-6);
+        let chain = normal_mip_chain(&n, 16);
+        for level in &chain {
+            for v in level {
+                let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                assert!((len - 1.0).abs() < 1e-5);
+            }
+        }
+        // A whole period averages out: by level 3 (2x2, 8 texels per side) flat.
+        assert!(
+            chain[3]
+                .iter()
+                .all(|v| v[0].abs() < 1e-5 && (v[2] - 1.0).abs() < 1e-5)
+        );
+    }
+
+    #[test]
+    fn horizons_see_the_next_crest() {
+        let field = sine_ridges(16, 8.0);
+        let hz = horizon_map(&field, 1.0, 15);
+        // In the trough (x = 6, sin = -1) the line of sight grazes the next flank at
+        // x = 9 (sin = 0.707): slope 1.707 / 3 toward +x; at the crest (x = 2) nothing
+        // is higher: slope 0 (the next crest, 8 texels on, is level).
+        let trough = hz[2 * 6][0];
+        let crest = hz[2 * 2][0];
+        let grazing = (1.0 + std::f32::consts::FRAC_1_SQRT_2) / 3.0;
+        assert!((trough - grazing).abs() < 1e-5, "{trough}");
+        assert!(crest.abs() < 1e-5, "{crest}");
+        // Along y the tile is constant: horizon 0.
+        assert!(hz[2 * 6][2].abs() < 1e-6);
+        let s = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
+        assert!((horizon_toward(&s, std::f32::consts::TAU / 16.0) - 0.5).abs() < 1e-5);
+        assert!((horizon_toward(&s, -std::f32::consts::TAU / 16.0) - 3.5).abs() < 1e-5);
+    }
+}

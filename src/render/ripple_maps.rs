@@ -1,0 +1,196 @@
+//! The ripple tile's normal-map chain and horizon map, built on the GPU in compute
+//! passes (`shaders-glsl/dunes/normal_mip.comp`, `horizon.comp`) from a ripple
+//! heightfield; their CPU twins are in `model::ripple_maps`, compared in
+//! `tests/ripple_maps.rs`.
+
+use std::sync::Arc;
+
+use crate::error::{Error, Result};
+use crate::gpu::{Buffer, BufferDesc, Context, GpuTimer, Pipeline, PipelineLayout, Pod, Span, vk};
+use crate::model::ripple_maps::normal_level0;
+use crate::model::sand::Heightfield;
+use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
+
+/// Push constants of `normal_mip.comp`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct MipPush {
+    pub src_offset: u32,
+    pub dst_offset: u32,
+    pub dst_size: u32,
+    pub unused: u32,
+}
+// SAFETY: repr(C), four u32.
+unsafe impl Pod for MipPush {}
+
+/// Push constants of `horizon.comp`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct HorizonPush {
+    pub size: u32,
+    pub steps: u32,
+    pub height_scale: f32,
+    pub unused: u32,
+}
+// SAFETY: repr(C), four 4-byte fields.
+unsafe impl Pod for HorizonPush {}
+
+pub static NORMAL_MIP_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::DUNES_NORMAL_MIP_COMP,
+    bindings: &[DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer)],
+    push_constant_bytes: size_of::<MipPush>() as u32,
+};
+
+pub static HORIZON_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::DUNES_HORIZON_COMP,
+    bindings: &[
+        DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer),
+        DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer),
+    ],
+    push_constant_bytes: size_of::<HorizonPush>() as u32,
+};
+
+/// The maps on the GPU, as storage buffers (host-visible so tests and exports can
+/// read them).
+pub struct RippleMaps {
+    /// Every level of the normal chain, packed from level 0 (vec4 per texel).
+    pub levels: Buffer,
+    /// Two vec4 of horizon slopes per texel of level 0.
+    pub horizon: Buffer,
+    pub size: u32,
+    /// Texel offset of each level in `levels`.
+    pub level_offsets: Vec<u32>,
+    /// GPU time of the two builds.
+    pub spans: Vec<Span>,
+}
+
+/// Offsets of each level of a `size` chain down to 1x1.
+pub fn level_offsets(size: u32) -> Vec<u32> {
+    let mut offsets = Vec::new();
+    let (mut s, mut offset) = (size, 0);
+    while s >= 1 {
+        offsets.push(offset);
+        offset += s * s;
+        if s == 1 {
+            break;
+        }
+        s /= 2;
+    }
+    offsets
+}
+
+impl RippleMaps {
+    /// Builds both maps for a square, power-of-two ripple tile.
+    pub fn build(
+        ctx: &Arc<Context>,
+        field: &Heightfield,
+        height_scale: f32,
+        horizon_steps: u32,
+    ) -> Result<Self> {
+        let size = field.width as u32;
+        if field.width != field.height || !size.is_power_of_two() || size < 2 {
+            return Err(Error::invalid(
+                "ripple tile",
+                format!(
+                    "{}x{} must be square with a power-of-two side >= 2",
+                    field.width, field.height
+                ),
+            ));
+        }
+        let offsets = level_offsets(size);
+        let total: u32 = offsets.last().copied().unwrap_or(0) + 1;
+        let mut levels = Buffer::new(
+            ctx,
+            "ripple normal chain",
+            BufferDesc::upload(u64::from(total) * 16, vk::BufferUsageFlags::STORAGE_BUFFER),
+        )?;
+        levels.write(0, &normal_level0(field, height_scale))?;
+        let heights: Vec<f32> = field.data.iter().map(|&h| h as f32).collect();
+        let height_buffer = Buffer::with_data(
+            ctx,
+            "ripple heights",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &heights,
+        )?;
+        let horizon = Buffer::new(
+            ctx,
+            "ripple horizon map",
+            BufferDesc::readback(
+                u64::from(size * size) * 32,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+            ),
+        )?;
+
+        let mip_layout = PipelineLayout::new(ctx, "normal mip layout", &[&NORMAL_MIP_INTERFACE])?;
+        let mip = Pipeline::compute(ctx, "normal mip", NORMAL_MIP_INTERFACE.shader, &mip_layout)?;
+        let mip_set = mip_layout.allocate_set("normal mip set", 0)?;
+        mip_set.write_buffer(0, &levels)?;
+        let hz_layout = PipelineLayout::new(ctx, "horizon layout", &[&HORIZON_INTERFACE])?;
+        let hz = Pipeline::compute(ctx, "horizon", HORIZON_INTERFACE.shader, &hz_layout)?;
+        let hz_set = hz_layout.allocate_set("horizon set", 0)?;
+        hz_set.write_buffer(0, &height_buffer)?;
+        hz_set.write_buffer(1, &horizon)?;
+
+        let mut timer = GpuTimer::new(ctx, "ripple maps timer", 2)?;
+        ctx.submit_and_wait("ripple maps", |cmd| {
+            timer.reset(cmd);
+            let span = timer.begin(cmd, "normal chain")?;
+            cmd.bind_pipeline(&mip, &mip_layout, &[&mip_set]);
+            let mut s = size;
+            for pair in offsets.windows(2) {
+                s /= 2;
+                cmd.push_constants(
+                    &mip_layout,
+                    &MipPush {
+                        src_offset: pair[0],
+                        dst_offset: pair[1],
+                        dst_size: s,
+                        unused: 0,
+                    },
+                )?;
+                cmd.dispatch(s.div_ceil(8), s.div_ceil(8), 1);
+                // The next level reads what this one wrote.
+                cmd.full_barrier();
+            }
+            timer.end(cmd, span);
+            let span = timer.begin(cmd, "horizon map")?;
+            cmd.bind_pipeline(&hz, &hz_layout, &[&hz_set]);
+            cmd.push_constants(
+                &hz_layout,
+                &HorizonPush {
+                    size,
+                    steps: horizon_steps,
+                    height_scale,
+                    unused: 0,
+                },
+            )?;
+            cmd.dispatch(size.div_ceil(8), size.div_ceil(8), 1);
+            timer.end(cmd, span);
+            cmd.shader_to_host_barrier();
+            Ok(())
+        })?;
+        Ok(Self {
+            spans: timer.read()?,
+            levels,
+            horizon,
+            size,
+            level_offsets: offsets,
+        })
+    }
+
+    /// Level `k` of the chain as read back.
+    pub fn level(&self, k: usize) -> Result<Vec<[f32; 4]>> {
+        let all: Vec<[f32; 4]> = self.levels.read()?;
+        let start =
+            self.level_offsets.get(k).copied().ok_or_else(|| {
+                Error::invalid("normal chain level", format!("{k} beyond the chain"))
+            })? as usize;
+        let side = (self.size >> k).max(1) as usize;
+        Ok(all[start..start + side * side].to_vec())
+    }
+
+    /// The horizon map as read back (two vec4 per texel).
+    pub fn horizon_slopes(&self) -> Result<Vec<[f32; 4]>> {
+        self.horizon.read()
+    }
+}
