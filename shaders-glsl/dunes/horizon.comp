@@ -10,7 +10,7 @@ layout(set = 0, binding = 0, std430) readonly buffer Heights {
     float h[];
 } heights;
 
-// Two vec4 per texel: directions 0-3, then 4-7.
+// Two planes of vec4: directions 0-3 for every texel, then directions 4-7.
 layout(set = 0, binding = 1, std430) buffer Horizon {
     vec4 slopes[];
 } horizon;
@@ -47,6 +47,6 @@ void main() {
         s[d] = best;
     }
     uint i = uint(p.y * n + p.x);
-    horizon.slopes[2u * i] = vec4(s[0], s[1], s[2], s[3]);
-    horizon.slopes[2u * i + 1u] = vec4(s[4], s[5], s[6], s[7]);
+    horizon.slopes[i] = vec4(s[0], s[1], s[2], s[3]);
+    horizon.slopes[uint(n * n) + i] = vec4(s[4], s[5], s[6], s[7]);
 }

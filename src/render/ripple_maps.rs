@@ -55,7 +55,7 @@ pub static HORIZON_INTERFACE: ShaderInterface = ShaderInterface {
 pub struct RippleMaps {
     /// Every level of the normal chain, packed from level 0 (vec4 per texel).
     pub levels: Buffer,
-    /// Two vec4 of horizon slopes per texel of level 0.
+    /// Horizon slopes of level 0: a plane of vec4 (directions 0–3), then another (4–7).
     pub horizon: Buffer,
     pub size: u32,
     /// Texel offset of each level in `levels`.
@@ -189,7 +189,7 @@ impl RippleMaps {
         Ok(all[start..start + side * side].to_vec())
     }
 
-    /// The horizon map as read back (two vec4 per texel).
+    /// The horizon map as read back (two planes).
     pub fn horizon_slopes(&self) -> Result<Vec<[f32; 4]>> {
         self.horizon.read()
     }
