@@ -55,3 +55,45 @@ fn normal_chain_and_horizon_match_the_cpu_reference() {
         assert!(maps.spans.iter().all(|s| s.milliseconds > 0.0));
     });
 }
+
+#[test]
+fn dune_shadow_map_matches_the_cpu_reference() {
+    use sediment::model::dune_shadow::{DuneGrid, shadow_map};
+    use sediment::render::dune_shadow::DuneShadowPass;
+    common::with_gpu(|ctx| {
+        // Bumpy dunes: a few sines, so shadows have long and short edges.
+        let n = 64usize;
+        let heights: Vec<f32> = (0..n * n)
+            .map(|i| {
+                let (x, z) = ((i % n) as f32, (i / n) as f32);
+                4.0 * (x * 0.21).sin() * (z * 0.13).cos() + 2.0 * (x * 0.07 + z * 0.05).sin()
+            })
+            .collect();
+        let grid = DuneGrid {
+            n,
+            heights: &heights,
+        };
+        let (dir, rise) = ([0.8f32, 0.6f32], 0.25f32);
+        let cpu = shadow_map(&grid, 128, dir, rise);
+        let pass = DuneShadowPass::new(ctx, n as u32, &heights, 128).expect("pass");
+        ctx.submit_and_wait("dune shadow", |cmd| {
+            pass.record(cmd, dir, rise)?;
+            cmd.shader_to_host_barrier();
+            Ok(())
+        })
+        .expect("submit");
+        let gpu: Vec<f32> = pass.visibility.read().expect("read");
+        let shadowed = cpu.iter().filter(|&&v| v == 0.0).count();
+        assert!(
+            shadowed > cpu.len() / 20,
+            "the scene has shadows ({shadowed})"
+        );
+        let differ = gpu.iter().zip(&cpu).filter(|(g, c)| g != c).count();
+        // Grazing rays may round either way on different hardware: allow 0.2 %.
+        assert!(
+            differ * 500 <= cpu.len(),
+            "out of {} texels, {differ} differed",
+            cpu.len()
+        );
+    });
+}

@@ -1,6 +1,7 @@
 //! Pure CPU models: deterministic, seeded, unit-tested without a GPU. Models never
 //! touch Vulkan.
 
+pub mod dune_shadow;
 pub mod mesh;
 pub mod noise;
 pub mod normal_map;

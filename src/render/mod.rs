@@ -1,6 +1,7 @@
 //! One module per GPU pass. Passes know nothing of the CLI; they take models and
 //! parameters and record commands through `gpu`.
 
+pub mod dune_shadow;
 pub mod lit_mesh;
 pub mod ring_growth;
 pub mod ripple_maps;
@@ -23,6 +24,7 @@ pub struct RenderedFrame {
 /// its SPIR-V and checks that no non-geometry module is left undeclared.
 pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
     vec![
+        &dune_shadow::INTERFACE,
         &lit_mesh::VERTEX_INTERFACE,
         &lit_mesh::FRAGMENT_INTERFACE,
         &ripple_maps::NORMAL_MIP_INTERFACE,

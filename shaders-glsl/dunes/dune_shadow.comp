@@ -1,0 +1,95 @@
+#version 450
+// Dune shadows (Onoue & Nishita 3.4) into a shadow map: from every texel's surface
+// point a ray toward the sun, sampled where it crosses the grid lines (found
+// incrementally); shadowed if the heightfield there rises above the ray. The CPU twin
+// is `visibility` / `shadow_map` in src/model/dune_shadow.rs.
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+const float NEVER = 3.0e38;
+
+layout(set = 0, binding = 0, std430) readonly buffer Heights {
+    float h[];
+} heights;
+
+layout(set = 0, binding = 1, std430) buffer Shadow {
+    float visibility[];
+} shadow;
+
+layout(push_constant) uniform Params {
+    vec4 sun;   // xy: horizontal unit direction toward the sun (x, z); z: rise per unit; w unused
+    uint n;     // grid vertices per side
+    uint res;   // shadow map texels per side
+    uint unused0;
+    uint unused1;
+} pc;
+
+float at(uint x, uint z) {
+    return heights.h[z * pc.n + x];
+}
+
+float sample_height(float x, float z) {
+    float m = float(pc.n - 1u);
+    x = clamp(x, 0.0, m);
+    z = clamp(z, 0.0, m);
+    uint x0 = min(uint(floor(x)), pc.n - 2u);
+    uint z0 = min(uint(floor(z)), pc.n - 2u);
+    float fx = x - float(x0);
+    float fz = z - float(z0);
+    float a = at(x0, z0) + (at(x0 + 1u, z0) - at(x0, z0)) * fx;
+    float b = at(x0, z0 + 1u) + (at(x0 + 1u, z0 + 1u) - at(x0, z0 + 1u)) * fx;
+    return a + (b - a) * fz;
+}
+
+// Distance along the ray to the next grid line of one axis, and between lines.
+vec2 first_step(float p, float d) {
+    if (d > 1e-6) {
+        return vec2((floor(p) + 1.0 - p) / d, 1.0 / d);
+    } else if (d < -1e-6) {
+        return vec2((p - (ceil(p) - 1.0)) / -d, -1.0 / d);
+    }
+    // Parallel to this axis's lines: never crosses one (a large finite stand-in for
+    // infinity, which naga rejects as a literal).
+    return vec2(NEVER, NEVER);
+}
+
+void main() {
+    uvec2 id = gl_GlobalInvocationID.xy;
+    if (id.x >= pc.res || id.y >= pc.res) {
+        return;
+    }
+    float m = float(pc.n - 1u);
+    float scale = m / float(pc.res);
+    float x = (float(id.x) + 0.5) * scale;
+    float z = (float(id.y) + 0.5) * scale;
+    float y = sample_height(x, z) + 1e-3;
+    vec2 dir = pc.sun.xy;
+    float rise = pc.sun.z;
+    vec2 sx = first_step(x, dir.x);
+    vec2 sz = first_step(z, dir.y);
+    float tx = sx.x;
+    float tz = sz.x;
+    float lit = 1.0;
+    // At most one crossing per grid line of each axis.
+    for (uint i = 0u; i < 2u * pc.n + 2u; ++i) {
+        float t = min(tx, tz);
+        if (t >= NEVER) {
+            break;
+        }
+        float px = x + dir.x * t;
+        float pz = z + dir.y * t;
+        if (px < 0.0 || pz < 0.0 || px > m || pz > m) {
+            break;
+        }
+        if (sample_height(px, pz) > y + rise * t) {
+            lit = 0.0;
+            break;
+        }
+        if (tx <= tz) {
+            tx += sx.y;
+        } else {
+            tz += sz.y;
+        }
+    }
+    shadow.visibility[id.y * pc.res + id.x] = lit;
+}

@@ -1,0 +1,97 @@
+//! The dune shadow map, computed on the GPU whenever the light changes
+//! (`shaders-glsl/dunes/dune_shadow.comp`; CPU twin `model::dune_shadow`).
+
+use std::sync::Arc;
+
+use glam::Vec4;
+
+use crate::error::Result;
+use crate::gpu::{
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, Pipeline, PipelineLayout, Pod, vk,
+};
+use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
+
+/// Push constants of `dune_shadow.comp`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowPush {
+    /// xy: horizontal unit direction toward the sun (x, z); z: rise per unit distance.
+    pub sun: Vec4,
+    pub n: u32,
+    pub res: u32,
+    pub unused: [u32; 2],
+}
+// SAFETY: repr(C), a Vec4 and four u32, no padding.
+unsafe impl Pod for ShadowPush {}
+
+pub static INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::DUNES_DUNE_SHADOW_COMP,
+    bindings: &[
+        DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer),
+        DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer),
+    ],
+    push_constant_bytes: size_of::<ShadowPush>() as u32,
+};
+
+/// The shadow-map compute pass and its buffers.
+pub struct DuneShadowPass {
+    set: DescriptorSet,
+    /// `res` x `res` visibilities (1 lit, 0 shadow).
+    pub visibility: Buffer,
+    _heights: Buffer,
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+    n: u32,
+    pub res: u32,
+}
+
+impl DuneShadowPass {
+    /// For an `n` x `n` grid of heights (in cell units) and a `res` x `res` map.
+    pub fn new(ctx: &Arc<Context>, n: u32, heights: &[f32], res: u32) -> Result<Self> {
+        let layout = PipelineLayout::new(ctx, "dune shadow layout", &[&INTERFACE])?;
+        let pipeline = Pipeline::compute(ctx, "dune shadow", INTERFACE.shader, &layout)?;
+        let heights_buffer = Buffer::with_data(
+            ctx,
+            "dune heights",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            heights,
+        )?;
+        let visibility = Buffer::new(
+            ctx,
+            "dune shadow map",
+            BufferDesc::readback(
+                u64::from(res * res) * 4,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            ),
+        )?;
+        let set = layout.allocate_set("dune shadow set", 0)?;
+        set.write_buffer(0, &heights_buffer)?;
+        set.write_buffer(1, &visibility)?;
+        Ok(Self {
+            set,
+            visibility,
+            _heights: heights_buffer,
+            pipeline,
+            layout,
+            n,
+            res,
+        })
+    }
+
+    /// Records the map for the sun at horizontal direction `dir` (unit, toward the sun)
+    /// rising `rise` per unit distance.
+    pub fn record(&self, cmd: &Commands<'_>, dir: [f32; 2], rise: f32) -> Result<()> {
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
+        cmd.push_constants(
+            &self.layout,
+            &ShadowPush {
+                sun: Vec4::new(dir[0], dir[1], rise, 0.0),
+                n: self.n,
+                res: self.res,
+                unused: [0; 2],
+            },
+        )?;
+        cmd.dispatch(self.res.div_ceil(8), self.res.div_ceil(8), 1);
+        Ok(())
+    }
+}
