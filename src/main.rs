@@ -9,6 +9,7 @@ use clap::{Parser, Subcommand};
 use sediment::gpu::{Context, ContextOptions};
 use sediment::model::speleothem::plan::StepMode;
 use sediment::scene::Size;
+use sediment::scene::dunes;
 use sediment::scene::file::{SceneFile, parse_mode};
 use sediment::scene::grow::{self, GrowthScene};
 
@@ -60,6 +61,89 @@ enum Command {
     /// then the scene file, then these options. Lengths are in scene units (the cave
     /// is 2.4 units high).
     Grow(Box<GrowArgs>),
+    /// Simulate dunes and wind ripples (Nishimori–Ouchi) and render the desert with
+    /// bump-mapped ripples, LOD, culling, dune and ripple shadows (Onoue & Nishita).
+    /// Values come from the preset, then these options.
+    Dunes(Box<DunesArgs>),
+}
+
+#[derive(clap::Args, Debug)]
+struct DunesArgs {
+    /// A reproduction of one of the paper's figures: fig12 (no ripples), fig13
+    /// (ripples), fig14/fig15 (low sun without/with dune shadows), fig16/fig17 (dune
+    /// shadows without/with ripple shadows).
+    #[arg(long, value_name = "NAME")]
+    preset: Option<String>,
+    /// Ripple tile side in texels: a power of two in 16..=1024 (paper: 256).
+    #[arg(long, value_name = "N")]
+    ripple_size: Option<usize>,
+    /// Ripple simulation steps, 0..=100000.
+    #[arg(long, value_name = "N")]
+    ripple_steps: Option<u32>,
+    /// Dune grid side in vertices, 8..=512 (paper: 64).
+    #[arg(long, value_name = "N")]
+    dune_size: Option<usize>,
+    /// Dune simulation steps, 0..=100000.
+    #[arg(long, value_name = "N")]
+    dune_steps: Option<u32>,
+    /// Ripple saltation length L0 in texels (paper 7.3).
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    ripple_l0: Option<f64>,
+    /// Ripple saltation amount q (paper 0.6).
+    #[arg(long, value_name = "Q", allow_negative_numbers = true)]
+    ripple_q: Option<f64>,
+    /// Ripple hop growth with height b (paper 2.0).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    ripple_b: Option<f64>,
+    /// Creep diffusion D for both simulations, 0..=1 (default 0.2).
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    diffusion: Option<f64>,
+    /// Angle of repose for dune avalanching in degrees, or "off" (default 33).
+    #[arg(long, value_name = "DEG|off")]
+    repose: Option<String>,
+    /// World metres per dune cell, > 0 (default 4).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    cell: Option<f32>,
+    /// World metres covered by one ripple tile, > 0 (default 5).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    ripple_tile: Option<f32>,
+    /// Ripple bump strength, 0..=4 (default 1).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    ripple_strength: Option<f32>,
+    /// Ripple orientation relative to the dune field's wind (+x), degrees.
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    wind_direction: Option<f32>,
+    /// Sun elevation above the horizon, 0.5..=89.5 degrees.
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    sun_elevation: Option<f32>,
+    /// Sun azimuth, degrees from +x toward +z.
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    sun_azimuth: Option<f32>,
+    /// Level of detail over the ripple normal chain: on, or off (level 0 everywhere).
+    #[arg(long, value_name = "on|off")]
+    lod: Option<String>,
+    /// Back-face and frustum culling of dune quads: on or off.
+    #[arg(long, value_name = "on|off")]
+    cull: Option<String>,
+    /// Shadows: none, dune, or dune+ripple.
+    #[arg(long, value_name = "none|dune|dune+ripple")]
+    shadows: Option<String>,
+    /// Camera position x,y,z in metres (the field spans 0..(dune-size - 1) x cell).
+    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
+    eye: Option<String>,
+    /// Point the camera looks at, x,y,z in metres.
+    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
+    target: Option<String>,
+    /// The frame as PNG (default dunes.png).
+    #[arg(short = 'o', long = "output", value_name = "FILE.png")]
+    output: Option<PathBuf>,
+    /// The dune field as a 16-bit greyscale PNG; the ripple tile goes beside it as
+    /// FILE-ripples.png.
+    #[arg(long, value_name = "FILE.png")]
+    heightmap: Option<PathBuf>,
+    /// The dune mesh as .glb or .obj.
+    #[arg(long, value_name = "FILE.glb|FILE.obj")]
+    mesh: Option<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]
@@ -167,6 +251,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Info => info(),
         Command::Demo { out } => demo(&cli, out),
         Command::Grow(args) => grow(&cli, args),
+        Command::Dunes(args) => dunes(&cli, args),
     }
 }
 
@@ -376,6 +461,174 @@ fn grow(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
             .collect::<Vec<_>>()
             .join(", "),
         grown.frame.wall_ms
+    );
+    Ok(())
+}
+
+fn on_off(name: &str, v: &str) -> anyhow::Result<bool> {
+    match v.trim().to_ascii_lowercase().as_str() {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        other => bail!(sediment::Error::invalid(
+            name,
+            format!("\"{other}\" is not on or off")
+        )),
+    }
+}
+
+fn vec3_arg(name: &str, v: &str) -> anyhow::Result<glam::Vec3> {
+    let parts: Vec<f32> = v
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| sediment::Error::invalid(name, format!("\"{v}\" is not X,Y,Z in metres")))?;
+    match parts.as_slice() {
+        [x, y, z] if parts.iter().all(|c| c.is_finite()) => Ok(glam::Vec3::new(*x, *y, *z)),
+        _ => bail!(sediment::Error::invalid(
+            name,
+            format!("\"{v}\" is not X,Y,Z in metres")
+        )),
+    }
+}
+
+fn dunes_scene(cli: &Cli, a: &DunesArgs) -> anyhow::Result<dunes::DunesScene> {
+    let mut s = match &a.preset {
+        Some(name) => dunes::preset(name)?,
+        None => dunes::DunesScene::default(),
+    };
+    s.seed = cli.seed;
+    macro_rules! set {
+        ($field:expr, $value:expr) => {
+            if let Some(v) = $value {
+                $field = v;
+            }
+        };
+    }
+    set!(s.ripple_size, a.ripple_size);
+    set!(s.ripple_steps, a.ripple_steps);
+    set!(s.dune_size, a.dune_size);
+    set!(s.dune_steps, a.dune_steps);
+    if let sediment::model::sand::Saltation::Ripple { l0, q, b } = &mut s.ripple.saltation {
+        set!(*l0, a.ripple_l0);
+        set!(*q, a.ripple_q);
+        set!(*b, a.ripple_b);
+    }
+    if let Some(d) = a.diffusion {
+        s.ripple.diffusion = d;
+        s.dune.diffusion = d;
+    }
+    if let Some(r) = &a.repose {
+        s.dune.repose_degrees = if r.trim().eq_ignore_ascii_case("off") {
+            None
+        } else {
+            Some(r.trim().parse::<f64>().map_err(|_| {
+                sediment::Error::invalid("--repose", format!("\"{r}\" is not degrees or off"))
+            })?)
+        };
+    }
+    set!(s.cell, a.cell);
+    set!(s.ripple_tile, a.ripple_tile);
+    set!(s.ripple_strength, a.ripple_strength);
+    set!(s.wind_degrees, a.wind_direction);
+    set!(s.sun_elevation_degrees, a.sun_elevation);
+    set!(s.sun_azimuth_degrees, a.sun_azimuth);
+    if let Some(v) = &a.lod {
+        s.lod = on_off("--lod", v)?;
+    }
+    if let Some(v) = &a.cull {
+        s.cull = on_off("--cull", v)?;
+    }
+    if let Some(v) = &a.shadows {
+        s.shadows = v.parse()?;
+    }
+    s.validate()?;
+    Ok(s)
+}
+
+fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
+    let mut scene = dunes_scene(cli, a)?;
+    let eye = a.eye.as_deref().map(|v| vec3_arg("--eye", v)).transpose()?;
+    let target = a
+        .target
+        .as_deref()
+        .map(|v| vec3_arg("--target", v))
+        .transpose()?;
+    for (path, what) in [(&a.heightmap, "--heightmap"), (&a.output, "-o")] {
+        if let Some(p) = path {
+            if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+                bail!(sediment::Error::invalid(
+                    what,
+                    format!("{} must end in .png", p.display())
+                ));
+            }
+        }
+    }
+    if let Some(m) = &a.mesh {
+        let ext = m.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if !ext.eq_ignore_ascii_case("glb") && !ext.eq_ignore_ascii_case("obj") {
+            bail!(sediment::Error::invalid(
+                "--mesh",
+                format!("{} must end in .glb or .obj", m.display())
+            ));
+        }
+    }
+    let ctx = open_context(cli)?;
+    let terrain = dunes::simulate(&scene, &mut |d, t| {
+        progress(d as usize, t as usize, "simulation steps")
+    })?;
+    eprintln!();
+    if eye.is_some() || target.is_some() {
+        let mut camera = dunes::default_camera(&scene, &terrain);
+        if let Some(e) = eye {
+            camera.eye = e;
+        }
+        if let Some(t) = target {
+            camera.target = t;
+        }
+        scene.camera = Some(camera);
+    }
+    let out = dunes::render(&ctx, &scene, &terrain, cli.size)?;
+    let errors = ctx.take_validation_errors();
+    if !errors.is_empty() {
+        bail!(
+            "the validation layer reported {} error(s), printed above; nothing was written",
+            errors.len()
+        );
+    }
+    let output = a
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("dunes.png"));
+    sediment::export::png::write_png(&output, &out.frame.image)?;
+    println!("wrote {}", output.display());
+    if let Some(path) = &a.heightmap {
+        sediment::export::png::write_heightmap16(path, &terrain.dune_field)?;
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let ripples = path.with_file_name(format!("{stem}-ripples.png"));
+        sediment::export::png::write_heightmap16(&ripples, &terrain.ripples)?;
+        println!("wrote {} and {}", path.display(), ripples.display());
+    }
+    if let Some(path) = &a.mesh {
+        let soup = sediment::export::mesh::TriangleSoup::from_indexed(&out.mesh, [0.72, 0.5, 0.3]);
+        sediment::export::mesh::write_mesh(path, &soup)?;
+        println!("wrote {}", path.display());
+    }
+    let spans = |s: &[sediment::gpu::Span]| {
+        s.iter()
+            .map(|s| format!("{} {:.2} ms", s.name, s.milliseconds))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    println!(
+        "{}/{} dune triangles drawn; GPU frame: {}; precompute: {}; wall {:.1} ms",
+        out.visible_triangles,
+        out.total_triangles,
+        spans(&out.frame.gpu_spans),
+        spans(&out.precompute),
+        out.frame.wall_ms
     );
     Ok(())
 }

@@ -15,6 +15,19 @@ pub struct TriangleSoup {
     pub colors: Vec<[f32; 3]>,
 }
 
+impl TriangleSoup {
+    /// An indexed mesh unrolled into triangles, in one colour.
+    pub fn from_indexed(mesh: &crate::model::mesh::Mesh, color: [f32; 3]) -> Self {
+        let mut soup = Self::default();
+        for &i in &mesh.indices {
+            soup.positions.push(mesh.positions[i as usize].to_array());
+            soup.normals.push(mesh.normals[i as usize].to_array());
+            soup.colors.push(color);
+        }
+        soup
+    }
+}
+
 /// Writes `mesh` as `.glb` or `.obj` according to `path`'s extension.
 pub fn write_mesh(path: &Path, mesh: &TriangleSoup) -> Result<()> {
     let n = mesh.positions.len();

@@ -154,23 +154,53 @@ impl Image {
                 ),
             ));
         }
-        let image = Image::new(
-            ctx,
-            name,
-            ImageDesc::new_2d(
-                width,
-                height,
-                vk::Format::R8G8B8A8_UNORM,
-                vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
-            ),
-        )?;
         let staging = super::Buffer::with_data(
             ctx,
             &format!("{name} staging"),
             vk::BufferUsageFlags::TRANSFER_SRC,
             rgba,
         )?;
+        Self::sampled_from_buffer(
+            ctx,
+            name,
+            ImageDesc::new_2d(
+                width,
+                height,
+                vk::Format::R8G8B8A8_UNORM,
+                vk::ImageUsageFlags::SAMPLED,
+            ),
+            &staging,
+            &[0],
+        )
+    }
+
+    /// A sampled texture whose mip level `k` is copied from `buffer` at byte offset
+    /// `level_offsets[k]` (tightly packed rows), left in SHADER_READ_ONLY_OPTIMAL. The
+    /// buffer needs TRANSFER_SRC usage.
+    pub fn sampled_from_buffer(
+        ctx: &Arc<Context>,
+        name: &str,
+        desc: ImageDesc,
+        buffer: &super::Buffer,
+        level_offsets: &[u64],
+    ) -> Result<Self> {
+        let desc = ImageDesc {
+            mip_levels: level_offsets.len().max(1) as u32,
+            usage: desc.usage | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            ..desc
+        };
+        let image = Image::new(ctx, name, desc)?;
         let range = image.full_range();
+        let regions: Vec<vk::BufferImageCopy> = level_offsets
+            .iter()
+            .enumerate()
+            .map(|(k, &offset)| {
+                let mut r = color_copy_region((desc.width >> k).max(1), (desc.height >> k).max(1));
+                r.buffer_offset = offset;
+                r.image_subresource.mip_level = k as u32;
+                r
+            })
+            .collect();
         ctx.submit_and_wait(&format!("upload {name}"), |cmd| {
             super::barrier::images(
                 ctx,
@@ -190,16 +220,17 @@ impl Image {
                     ),
                 }],
             );
-            let region = [color_copy_region(width, height)];
-            // SAFETY: the image is in TRANSFER_DST_OPTIMAL and the staging buffer holds
-            // exactly width * height texels.
+            // Writes of earlier submissions to the buffer (compute passes) are visible.
+            cmd.full_barrier();
+            // SAFETY: the image is in TRANSFER_DST_OPTIMAL; each region lies inside the
+            // buffer (validation checks it in tests) and inside its mip level.
             unsafe {
                 ctx.device.cmd_copy_buffer_to_image(
                     cmd.raw,
-                    staging.raw(),
+                    buffer.raw(),
                     image.raw,
                     vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &region,
+                    &regions,
                 )
             };
             super::barrier::images(

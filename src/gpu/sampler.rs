@@ -33,6 +33,25 @@ impl Sampler {
         })
     }
 
+    /// Bilinear filtering clamped to the edge (maps over a bounded field).
+    pub fn linear_clamp(ctx: &Arc<Context>, name: &str) -> Result<Self> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .max_lod(0.0);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { ctx.device.create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        ctx.name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+
     pub fn raw(&self) -> vk::Sampler {
         self.raw
     }

@@ -1,6 +1,7 @@
 //! Pure CPU models: deterministic, seeded, unit-tested without a GPU. Models never
 //! touch Vulkan.
 
+pub mod dune_mesh;
 pub mod dune_shadow;
 pub mod mesh;
 pub mod noise;
@@ -9,4 +10,5 @@ pub mod random;
 pub mod ripple_maps;
 pub mod rock;
 pub mod sand;
+pub mod sand_grain;
 pub mod speleothem;

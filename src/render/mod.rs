@@ -2,9 +2,11 @@
 //! parameters and record commands through `gpu`.
 
 pub mod dune_shadow;
+pub mod dune_surface;
 pub mod lit_mesh;
 pub mod ring_growth;
 pub mod ripple_maps;
+pub mod sky;
 pub mod speleothem_surface;
 pub mod xfb_selftest;
 
@@ -25,6 +27,10 @@ pub struct RenderedFrame {
 pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
     vec![
         &dune_shadow::INTERFACE,
+        &dune_surface::VERTEX_INTERFACE,
+        &dune_surface::FRAGMENT_INTERFACE,
+        &sky::VERTEX_INTERFACE,
+        &sky::FRAGMENT_INTERFACE,
         &lit_mesh::VERTEX_INTERFACE,
         &lit_mesh::FRAGMENT_INTERFACE,
         &ripple_maps::NORMAL_MIP_INTERFACE,

@@ -102,7 +102,10 @@ impl RippleMaps {
         let mut levels = Buffer::new(
             ctx,
             "ripple normal chain",
-            BufferDesc::upload(u64::from(total) * 16, vk::BufferUsageFlags::STORAGE_BUFFER),
+            BufferDesc::upload(
+                u64::from(total) * 16,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            ),
         )?;
         levels.write(0, &normal_level0(field, height_scale))?;
         let heights: Vec<f32> = field.data.iter().map(|&h| h as f32).collect();
@@ -117,7 +120,7 @@ impl RippleMaps {
             "ripple horizon map",
             BufferDesc::readback(
                 u64::from(size * size) * 32,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
             ),
         )?;
 

@@ -1,0 +1,90 @@
+#version 450
+// Onoue & Nishita section 3: ripples bump mapped onto every dune quad (normals from our
+// own LOD chain, tilted into the dune surface's frame), sand grain under the bump map,
+// dune shadows from the precomputed shadow map (3.4), ripple shadows from the horizon
+// map (3.5), sun and sky light, ACES tone mapping.
+#extension GL_GOOGLE_include_directive : require
+#include "sky.glsl"
+#include "tonemap.glsl"
+
+layout(set = 0, binding = 0) uniform Frame {
+    mat4 view_proj;
+    vec4 camera_pos;
+    vec4 sun_dir;      // xyz unit direction toward the sun
+    vec4 sun_color;
+    vec4 sky_color;
+    vec4 ground_color;
+    vec4 params;       // x exposure
+} frame;
+
+layout(set = 0, binding = 1) uniform texture2D ripple_normals;  // our LOD chain as mips
+layout(set = 0, binding = 2) uniform texture2D horizon_a;       // horizon slopes, dirs 0-3
+layout(set = 0, binding = 3) uniform texture2D horizon_b;       // dirs 4-7
+layout(set = 0, binding = 4) uniform texture2D dune_shadow;     // 1 lit, 0 shadowed
+layout(set = 0, binding = 5) uniform texture2D sand_grain;
+layout(set = 0, binding = 6) uniform sampler repeat_sampler;
+layout(set = 0, binding = 7) uniform sampler clamp_sampler;
+
+layout(push_constant) uniform Dune {
+    vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field size
+    vec4 wind;     // xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0)
+    vec4 shadows;  // x dune shadows on, y ripple shadows on, z shadow softness
+    vec4 albedo;   // rgb sand albedo
+} dune;
+
+layout(location = 0) in vec3 in_world;
+layout(location = 1) in vec3 in_normal;
+layout(location = 0) out vec4 out_color;
+
+const float TAU = 6.28318530717958647692;
+
+void main() {
+    vec3 nd = normalize(in_normal);
+    // The dune's tangent frame: T along world +x in the surface, B toward world +z.
+    vec3 t = normalize(vec3(1.0, 0.0, 0.0) - nd * nd.x);
+    vec3 b = cross(t, nd);
+
+    // Ripple tile coordinates: the tile's +x (the simulation's wind) along the wind.
+    vec2 c = dune.wind.xy;
+    vec2 xz = in_world.xz / dune.tile.x;
+    vec2 uv = vec2(c.x * xz.x + c.y * xz.y, -c.y * xz.x + c.x * xz.y);
+    // LOD: the sampler's derivative-based level selection over our own chain (the
+    // GPU equivalent of choosing a level from each quad's projected area); off: level 0.
+    vec3 r = dune.wind.z > 0.5
+        ? texture(sampler2D(ripple_normals, repeat_sampler), uv).xyz
+        : textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0).xyz;
+    r = normalize(vec3(r.xy * dune.tile.y, max(r.z, 1e-3)));
+    // Back from tile to world orientation, then into the dune frame (tilted normal).
+    vec2 rxy = vec2(c.x * r.x - c.y * r.y, c.y * r.x + c.x * r.y);
+    vec3 n = normalize(t * rxy.x + b * rxy.y + nd * r.z);
+
+    vec3 l = normalize(frame.sun_dir.xyz);
+    float lit = 1.0;
+    if (dune.shadows.x > 0.5) {
+        vec2 suv = in_world.xz / dune.tile.w;
+        lit *= texture(sampler2D(dune_shadow, clamp_sampler), suv).r;
+    }
+    if (dune.shadows.y > 0.5 && lit > 0.0) {
+        // The light in the ripple tile's frame: azimuth and elevation slope.
+        vec3 lt = vec3(dot(l, t), dot(l, b), dot(l, nd));
+        vec2 ltile = vec2(c.x * lt.x + c.y * lt.y, -c.y * lt.x + c.x * lt.y);
+        float horizontal = max(length(ltile), 1e-4);
+        float elevation = lt.z / horizontal;
+        float phi = atan(ltile.y, ltile.x);
+        float sector = mod(phi, TAU) / (TAU / 8.0);
+        int i = int(floor(sector)) % 8;
+        float f = fract(sector);
+        vec4 ha = texture(sampler2D(horizon_a, repeat_sampler), uv);
+        vec4 hb = texture(sampler2D(horizon_b, repeat_sampler), uv);
+        float hs[8] = float[8](ha.x, ha.y, ha.z, ha.w, hb.x, hb.y, hb.z, hb.w);
+        float horizon = mix(hs[i], hs[(i + 1) % 8], f);
+        float soft = dune.shadows.z;
+        lit *= smoothstep(horizon - soft, horizon + soft, elevation);
+    }
+
+    float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z).r;
+    vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain);
+    vec3 sky = sky_radiance(normalize(n + vec3(0.0, 1.0, 0.0)), l);
+    vec3 hdr = albedo * (frame.sun_color.rgb * max(dot(n, l), 0.0) * lit + 0.35 * sky * (0.5 + 0.5 * n.y));
+    out_color = vec4(tonemap_aces(hdr, frame.params.x), 1.0);
+}

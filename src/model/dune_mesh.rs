@@ -1,0 +1,99 @@
+//! The dune heightfield as a mesh of quads, and the per-quad culling Onoue & Nishita
+//! use before bump mapping (3.3.1): quads facing away from the eye and quads outside
+//! the view frustum are not drawn.
+
+use glam::{Mat4, Vec3, Vec4};
+
+use super::mesh::Mesh;
+
+/// An `n` x `n` vertex grid over [0, (n-1) cell] in x and z, `heights` in world units.
+pub fn dune_mesh(n: usize, cell: f32, heights: &[f32]) -> Mesh {
+    let mut mesh = Mesh::height_grid(
+        0.5 * (n - 1) as f32 * cell,
+        0.0,
+        (n - 1) as u32,
+        true,
+        |_, _| 0.0,
+    );
+    for (p, &h) in mesh.positions.iter_mut().zip(heights) {
+        // height_grid is centred; move it to start at the origin.
+        p.x += 0.5 * (n - 1) as f32 * cell;
+        p.z += 0.5 * (n - 1) as f32 * cell;
+        p.y = h;
+    }
+    mesh.recompute_normals();
+    mesh
+}
+
+/// Indices of the quads to draw (6 per quad, as `Mesh::height_grid` lays them out):
+/// with `cull`, a quad is dropped when both its triangles face away from `eye` or all
+/// four corners lie outside one plane of the frustum of `view_proj`.
+pub fn visible_quads(mesh: &Mesh, eye: Vec3, view_proj: Mat4, cull: bool) -> Vec<u32> {
+    if !cull {
+        return mesh.indices.clone();
+    }
+    let mut out = Vec::with_capacity(mesh.indices.len());
+    for quad in mesh.indices.chunks_exact(6) {
+        let p = |i: u32| mesh.positions[i as usize];
+        let facing = |t: &[u32]| {
+            let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+            (b - a).cross(c - a).dot(eye - a) > 0.0
+        };
+        if !facing(&quad[0..3]) && !facing(&quad[3..6]) {
+            continue;
+        }
+        let clip: Vec<Vec4> = quad.iter().map(|&i| view_proj * p(i).extend(1.0)).collect();
+        let outside = |f: &dyn Fn(Vec4) -> bool| clip.iter().all(|&c| f(c));
+        if outside(&|c| c.x < -c.w)
+            || outside(&|c| c.x > c.w)
+            || outside(&|c| c.y < -c.w)
+            || outside(&|c| c.y > c.w)
+            || outside(&|c| c.z < 0.0)
+            || outside(&|c| c.z > c.w)
+        {
+            continue;
+        }
+        out.extend_from_slice(quad);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera(eye: Vec3, target: Vec3) -> Mat4 {
+        glam::camera::rh::proj::vulkan::perspective(1.0, 1.5, 0.1, 500.0)
+            * glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y)
+    }
+
+    #[test]
+    fn culling_drops_back_faces_and_quads_outside_the_view() {
+        let n = 16;
+        // A ridge along z at x = 7.5: its +x flank faces +x.
+        let heights: Vec<f32> = (0..n * n)
+            .map(|i| (6.0 - 1.5 * ((i % n) as f32 - 7.5).abs()).max(0.0))
+            .collect();
+        let mesh = dune_mesh(n, 1.0, &heights);
+        assert_eq!(
+            mesh.positions[n * 3 + 2],
+            Vec3::new(2.0, heights[n * 3 + 2], 3.0)
+        );
+        // Everything in view, eye low on the -x side: the +x flank faces away.
+        let eye = Vec3::new(-30.0, 2.0, 7.5);
+        let vp = camera(eye, Vec3::new(7.5, 0.0, 7.5));
+        let all = visible_quads(&mesh, eye, vp, false);
+        assert_eq!(all.len(), mesh.indices.len());
+        let kept = visible_quads(&mesh, eye, vp, true);
+        assert!(kept.len() < all.len(), "back faces culled");
+        let back_flank = (n - 1) * 9 + 9; // a quad on the +x flank (x = 9)
+        let quad = &mesh.indices[back_flank * 6..back_flank * 6 + 6];
+        assert!(
+            !kept.windows(6).step_by(6).any(|w| w == quad),
+            "back-facing flank quad kept"
+        );
+        // Looking away from the field: nothing survives the frustum test.
+        let away = camera(Vec3::new(-30.0, 10.0, 7.5), Vec3::new(-60.0, 10.0, 7.5));
+        assert!(visible_quads(&mesh, Vec3::new(-30.0, 10.0, 7.5), away, true).is_empty());
+    }
+}

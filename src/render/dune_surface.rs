@@ -1,0 +1,261 @@
+//! The dune surface pass (Onoue & Nishita section 3, the design card's fragment path):
+//! the dune mesh, ripples bump mapped from our normal-map chain, sand grain, dune and
+//! ripple shadows. Textures are made once per scene/light; the culled quad list per
+//! frame.
+
+use std::sync::Arc;
+
+use glam::Vec4;
+
+use super::lit_mesh::{FrameUniforms, LitVertex};
+use super::ripple_maps::RippleMaps;
+use crate::error::Result;
+use crate::gpu::{
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
+    Pipeline, PipelineLayout, Pod, Sampler, VertexLayout, vk,
+};
+use crate::model::mesh::Mesh;
+use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
+
+/// Push constants of `dunes/surface.frag`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DunePush {
+    /// x ripple tile size (world), y ripple strength, z grain tile size, w field size.
+    pub tile: Vec4,
+    /// xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0).
+    pub wind: Vec4,
+    /// x dune shadows, y ripple shadows (1 on), z ripple-shadow softness (slope units).
+    pub shadows: Vec4,
+    /// rgb sand albedo.
+    pub albedo: Vec4,
+}
+// SAFETY: repr(C), four Vec4.
+unsafe impl Pod for DunePush {}
+
+const FRAME: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
+const NORMALS: DescriptorBinding = DescriptorBinding::new(0, 1, DescriptorKind::SampledImage);
+const HORIZON_A: DescriptorBinding = DescriptorBinding::new(0, 2, DescriptorKind::SampledImage);
+const HORIZON_B: DescriptorBinding = DescriptorBinding::new(0, 3, DescriptorKind::SampledImage);
+const SHADOW: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKind::SampledImage);
+const GRAIN: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::SampledImage);
+const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::Sampler);
+const CLAMP: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::Sampler);
+
+pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::DUNES_SURFACE_VERT,
+    bindings: &[FRAME],
+    push_constant_bytes: 0,
+};
+
+pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::DUNES_SURFACE_FRAG,
+    bindings: &[
+        FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT, CLAMP,
+    ],
+    push_constant_bytes: size_of::<DunePush>() as u32,
+};
+
+/// What the pass samples, made once per scene (and per light for the shadow map).
+pub struct DuneTextures {
+    pub normals: Image,
+    pub horizon_a: Image,
+    pub horizon_b: Image,
+    pub shadow: Image,
+    pub grain: Image,
+}
+
+impl DuneTextures {
+    /// Copies the GPU-built ripple maps and dune shadow map into sampled images.
+    pub fn new(
+        ctx: &Arc<Context>,
+        maps: &RippleMaps,
+        shadow: &Buffer,
+        shadow_res: u32,
+        grain_rgba: &[u8],
+        grain_size: u32,
+    ) -> Result<Self> {
+        let float4 = |w, h| {
+            ImageDesc::new_2d(
+                w,
+                h,
+                vk::Format::R32G32B32A32_SFLOAT,
+                vk::ImageUsageFlags::SAMPLED,
+            )
+        };
+        let s = maps.size;
+        let offsets: Vec<u64> = maps
+            .level_offsets
+            .iter()
+            .map(|&o| u64::from(o) * 16)
+            .collect();
+        Ok(Self {
+            normals: Image::sampled_from_buffer(
+                ctx,
+                "ripple normal chain",
+                float4(s, s),
+                &maps.levels,
+                &offsets,
+            )?,
+            horizon_a: Image::sampled_from_buffer(
+                ctx,
+                "horizon 0-3",
+                float4(s, s),
+                &maps.horizon,
+                &[0],
+            )?,
+            horizon_b: Image::sampled_from_buffer(
+                ctx,
+                "horizon 4-7",
+                float4(s, s),
+                &maps.horizon,
+                &[u64::from(s * s) * 16],
+            )?,
+            shadow: Image::sampled_from_buffer(
+                ctx,
+                "dune shadow",
+                ImageDesc::new_2d(
+                    shadow_res,
+                    shadow_res,
+                    vk::Format::R32_SFLOAT,
+                    vk::ImageUsageFlags::SAMPLED,
+                ),
+                shadow,
+                &[0],
+            )?,
+            grain: Image::upload_rgba8(ctx, "sand grain", grain_size, grain_size, grain_rgba)?,
+        })
+    }
+}
+
+/// The dune mesh in GPU buffers: vertices once, visible-quad indices per frame.
+pub struct DuneGeometry {
+    vertices: Buffer,
+    indices: Buffer,
+    index_count: u32,
+}
+
+impl DuneGeometry {
+    pub fn new(ctx: &Arc<Context>, mesh: &Mesh) -> Result<Self> {
+        let vertices: Vec<LitVertex> = mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .map(|(p, n)| LitVertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+            })
+            .collect();
+        Ok(Self {
+            vertices: Buffer::with_data(
+                ctx,
+                "dune vertices",
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+                &vertices,
+            )?,
+            indices: Buffer::new(
+                ctx,
+                "dune visible quads",
+                BufferDesc::upload(
+                    (mesh.indices.len().max(1) * 4) as u64,
+                    vk::BufferUsageFlags::INDEX_BUFFER,
+                ),
+            )?,
+            index_count: 0,
+        })
+    }
+
+    /// Sets the quads to draw (a subset of the mesh's indices).
+    pub fn set_visible(&mut self, indices: &[u32]) -> Result<()> {
+        if !indices.is_empty() {
+            self.indices.write(0, indices)?;
+        }
+        self.index_count = indices.len() as u32;
+        Ok(())
+    }
+
+    pub fn visible_triangles(&self) -> u32 {
+        self.index_count / 3
+    }
+}
+
+pub struct DuneSurfacePass {
+    set: DescriptorSet,
+    _samplers: [Sampler; 2],
+    frame: Buffer,
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+}
+
+impl DuneSurfacePass {
+    pub fn new(
+        ctx: &Arc<Context>,
+        color: vk::Format,
+        depth: vk::Format,
+        textures: &DuneTextures,
+    ) -> Result<Self> {
+        let layout = PipelineLayout::new(
+            ctx,
+            "dune surface layout",
+            &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
+        )?;
+        let mut desc = GraphicsPipelineDesc::new("dune surface", VERTEX_INTERFACE.shader)
+            .fragment(FRAGMENT_INTERFACE.shader)
+            .vertex_layout(VertexLayout {
+                stride: size_of::<LitVertex>() as u32,
+                attributes: vec![
+                    (0, vk::Format::R32G32B32_SFLOAT, 0),
+                    (1, vk::Format::R32G32B32_SFLOAT, 12),
+                ],
+            })
+            .targets(&[color], Some(depth));
+        // Back faces are dropped per quad on the CPU when culling is on (the paper's
+        // comparison needs them drawn when it is off).
+        desc.cull_mode = vk::CullModeFlags::NONE;
+        let pipeline = desc.build(ctx, &layout)?;
+        let frame = Buffer::new(
+            ctx,
+            "dune frame uniforms",
+            BufferDesc::upload(
+                size_of::<FrameUniforms>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+        )?;
+        let repeat = Sampler::linear_repeat(ctx, "dune repeat sampler")?;
+        let clamp = Sampler::linear_clamp(ctx, "dune clamp sampler")?;
+        let set = layout.allocate_set("dune surface set", 0)?;
+        let ro = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        set.write_buffer(FRAME.binding, &frame)?;
+        set.write_image(NORMALS.binding, textures.normals.view(), ro)?;
+        set.write_image(HORIZON_A.binding, textures.horizon_a.view(), ro)?;
+        set.write_image(HORIZON_B.binding, textures.horizon_b.view(), ro)?;
+        set.write_image(SHADOW.binding, textures.shadow.view(), ro)?;
+        set.write_image(GRAIN.binding, textures.grain.view(), ro)?;
+        set.write_sampler(REPEAT.binding, &repeat)?;
+        set.write_sampler(CLAMP.binding, &clamp)?;
+        Ok(Self {
+            set,
+            _samplers: [repeat, clamp],
+            frame,
+            pipeline,
+            layout,
+        })
+    }
+
+    pub fn set_frame(&mut self, frame: &FrameUniforms) -> Result<()> {
+        self.frame.write(0, std::slice::from_ref(frame))
+    }
+
+    /// Draws the visible dune quads inside an open rendering scope.
+    pub fn draw(&self, cmd: &Commands<'_>, geometry: &DuneGeometry, push: &DunePush) -> Result<()> {
+        if geometry.index_count == 0 {
+            return Ok(());
+        }
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
+        cmd.push_constants(&self.layout, push)?;
+        cmd.bind_vertex_buffer(&geometry.vertices, 0);
+        cmd.bind_index_buffer(&geometry.indices);
+        cmd.draw_indexed(geometry.index_count, 1);
+        Ok(())
+    }
+}

@@ -1,0 +1,80 @@
+//! The sky behind the dunes: a full-screen pass with an analytic gradient and sun glow
+//! (`shaders-glsl/dunes/sky.frag`). Also the simplest full-screen pass sediment has.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3, Vec4};
+
+use crate::error::Result;
+use crate::gpu::{Commands, Context, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pod, vk};
+use crate::shaders::{ShaderInterface, compiled};
+
+/// Push constants of the sky shaders.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct SkyPush {
+    pub inverse_view_proj: Mat4,
+    /// xyz: unit direction toward the sun.
+    pub sun: Vec4,
+    /// xyz: eye; w: exposure.
+    pub camera: Vec4,
+}
+// SAFETY: repr(C), Mat4 + two Vec4.
+unsafe impl Pod for SkyPush {}
+
+pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::DUNES_SKY_VERT,
+    bindings: &[],
+    push_constant_bytes: 0,
+};
+
+pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::DUNES_SKY_FRAG,
+    bindings: &[],
+    push_constant_bytes: size_of::<SkyPush>() as u32,
+};
+
+pub struct SkyPass {
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+}
+
+impl SkyPass {
+    pub fn new(ctx: &Arc<Context>, color: vk::Format, depth: vk::Format) -> Result<Self> {
+        let layout =
+            PipelineLayout::new(ctx, "sky layout", &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE])?;
+        let mut desc = GraphicsPipelineDesc::new("sky", VERTEX_INTERFACE.shader)
+            .fragment(FRAGMENT_INTERFACE.shader)
+            .targets(&[color], Some(depth));
+        desc.cull_mode = vk::CullModeFlags::NONE;
+        // Drawn first at the far plane: it neither tests nor writes depth.
+        desc.depth_test = false;
+        desc.depth_write = false;
+        Ok(Self {
+            pipeline: desc.build(ctx, &layout)?,
+            layout,
+        })
+    }
+
+    /// Draws the sky over the whole target inside an open rendering scope.
+    pub fn draw(
+        &self,
+        cmd: &Commands<'_>,
+        view_proj: Mat4,
+        eye: Vec3,
+        sun: Vec3,
+        exposure: f32,
+    ) -> Result<()> {
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[]);
+        cmd.push_constants(
+            &self.layout,
+            &SkyPush {
+                inverse_view_proj: view_proj.inverse(),
+                sun: sun.normalize_or(Vec3::Y).extend(0.0),
+                camera: eye.extend(exposure),
+            },
+        )?;
+        cmd.draw(3, 1);
+        Ok(())
+    }
+}

@@ -1,0 +1,439 @@
+//! The desert scene (Onoue & Nishita): a dune field and a ripple tile simulated with
+//! Nishimori–Ouchi, the ripple maps and the dune shadow map built on the GPU, the sky,
+//! and the bump-mapped dunes; presets for the paper's Figures 12–17.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::camera::{Camera, Lighting};
+use super::size::Size;
+use crate::error::{Error, Result};
+use crate::gpu::{COLOR_FORMAT, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
+use crate::model::dune_mesh::{dune_mesh, visible_quads};
+use crate::model::mesh::Mesh;
+use crate::model::sand::{Heightfield, SandParams, SandSim};
+use crate::model::sand_grain::grain_texture;
+use crate::render::RenderedFrame;
+use crate::render::dune_shadow::DuneShadowPass;
+use crate::render::dune_surface::{DuneGeometry, DunePush, DuneSurfacePass, DuneTextures};
+use crate::render::ripple_maps::RippleMaps;
+use crate::render::sky::SkyPass;
+
+/// Which shadows are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shadows {
+    None,
+    Dune,
+    DuneAndRipple,
+}
+
+impl std::str::FromStr for Shadows {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "none" => Ok(Shadows::None),
+            "dune" => Ok(Shadows::Dune),
+            "dune+ripple" => Ok(Shadows::DuneAndRipple),
+            other => Err(Error::invalid(
+                "--shadows",
+                format!("\"{other}\" is not one of: none, dune, dune+ripple"),
+            )),
+        }
+    }
+}
+
+/// Everything that fixes a desert frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DunesScene {
+    pub seed: u64,
+    /// Ripple tile side in texels (power of two, 16..=1024) and simulation steps.
+    pub ripple_size: usize,
+    pub ripple_steps: u32,
+    pub ripple: SandParams,
+    /// Dune grid side in vertices (8..=512) and simulation steps.
+    pub dune_size: usize,
+    pub dune_steps: u32,
+    pub dune: SandParams,
+    /// Initial sand thickness of the dune field (model units).
+    pub dune_sand: f64,
+    /// World metres per dune cell.
+    pub cell: f32,
+    /// World metres one ripple tile covers.
+    pub ripple_tile: f32,
+    /// Ripple surface height per unit of H, in texels (sets ripple steepness).
+    pub ripple_height_scale: f32,
+    /// Bump strength, 0..=4 (1: the simulated slopes as they are).
+    pub ripple_strength: f32,
+    /// Ripple orientation relative to the dune field's wind (+x), degrees.
+    pub wind_degrees: f32,
+    pub sun_elevation_degrees: f32,
+    /// Degrees from +x toward +z.
+    pub sun_azimuth_degrees: f32,
+    pub lod: bool,
+    pub cull: bool,
+    pub shadows: Shadows,
+    /// Bump mapping of ripples at all (the paper's Fig. 12 has none).
+    pub ripples: bool,
+    pub camera: Option<Camera>,
+}
+
+impl Default for DunesScene {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            ripple_size: 256,
+            ripple_steps: 1200,
+            ripple: SandParams::paper_ripples(),
+            dune_size: 64,
+            dune_steps: 1500,
+            dune: SandParams::paper_dunes(),
+            dune_sand: 8.0,
+            cell: 4.0,
+            ripple_tile: 5.0,
+            ripple_height_scale: 0.35,
+            ripple_strength: 1.0,
+            wind_degrees: 0.0,
+            sun_elevation_degrees: 30.0,
+            sun_azimuth_degrees: 200.0,
+            lod: true,
+            cull: true,
+            shadows: Shadows::DuneAndRipple,
+            ripples: true,
+            camera: None,
+        }
+    }
+}
+
+/// Figures 12–17 of the paper: the dune field without and with ripples, without and
+/// with shadows (low sun), without and with ripple shadows.
+pub const PRESETS: &[(&str, &str)] = &[
+    ("fig12", "dunes without wind ripples"),
+    ("fig13", "dunes with wind ripples (bump mapped, LOD)"),
+    ("fig14", "low sun, no shadows"),
+    ("fig15", "low sun, dune shadows"),
+    ("fig16", "dune shadows without ripple shadows"),
+    ("fig17", "dune shadows and ripple shadows"),
+];
+
+pub fn preset(name: &str) -> Result<DunesScene> {
+    let base = DunesScene::default();
+    let low_sun = DunesScene {
+        sun_elevation_degrees: 12.0,
+        ..base.clone()
+    };
+    Ok(match name {
+        "fig12" => DunesScene {
+            ripples: false,
+            shadows: Shadows::None,
+            ..base
+        },
+        "fig13" => DunesScene {
+            shadows: Shadows::None,
+            ..base
+        },
+        "fig14" => DunesScene {
+            shadows: Shadows::None,
+            ..low_sun
+        },
+        "fig15" => DunesScene {
+            shadows: Shadows::Dune,
+            ..low_sun
+        },
+        "fig16" => DunesScene {
+            shadows: Shadows::Dune,
+            sun_elevation_degrees: 18.0,
+            ..base
+        },
+        "fig17" => DunesScene {
+            shadows: Shadows::DuneAndRipple,
+            sun_elevation_degrees: 18.0,
+            ..base
+        },
+        other => {
+            return Err(Error::invalid(
+                "--preset",
+                format!(
+                    "\"{other}\" is not one of: {}",
+                    PRESETS.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
+                ),
+            ));
+        }
+    })
+}
+
+impl DunesScene {
+    pub fn validate(&self) -> Result<()> {
+        let check = |ok: bool, what: &str, range: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(Error::invalid(what, format!("must be in {range}")))
+            }
+        };
+        check(
+            self.ripple_size.is_power_of_two() && (16..=1024).contains(&self.ripple_size),
+            "--ripple-size",
+            "16..=1024, a power of two",
+        )?;
+        check(
+            (8..=512).contains(&self.dune_size),
+            "--dune-size",
+            "8..=512",
+        )?;
+        check(self.ripple_steps <= 100_000, "--ripple-steps", "0..=100000")?;
+        check(self.dune_steps <= 100_000, "--dune-steps", "0..=100000")?;
+        check(
+            self.cell > 0.0 && self.cell.is_finite(),
+            "--cell",
+            "(0, inf) metres",
+        )?;
+        check(
+            self.ripple_tile > 0.0 && self.ripple_tile.is_finite(),
+            "--ripple-tile",
+            "(0, inf) metres",
+        )?;
+        check(
+            (0.0..=4.0).contains(&self.ripple_strength),
+            "--ripple-strength",
+            "0..=4",
+        )?;
+        check(
+            (0.5..=89.5).contains(&self.sun_elevation_degrees),
+            "--sun-elevation",
+            "0.5..=89.5 degrees",
+        )?;
+        check(
+            self.sun_azimuth_degrees.is_finite(),
+            "--sun-azimuth",
+            "finite degrees",
+        )?;
+        check(
+            self.wind_degrees.is_finite(),
+            "--wind-direction",
+            "finite degrees",
+        )?;
+        self.ripple.validate()?;
+        self.dune.validate()
+    }
+
+    /// Unit vector toward the sun.
+    pub fn sun_direction(&self) -> Vec3 {
+        let (e, a) = (
+            self.sun_elevation_degrees.to_radians(),
+            self.sun_azimuth_degrees.to_radians(),
+        );
+        Vec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin())
+    }
+
+    /// The field's side in metres.
+    pub fn field_size(&self) -> f32 {
+        (self.dune_size - 1) as f32 * self.cell
+    }
+}
+
+/// The simulated terrain: dune heights (world metres) and the ripple tile.
+pub struct Terrain {
+    pub dune_heights: Vec<f32>,
+    pub ripples: Heightfield,
+    pub dune_field: Heightfield,
+}
+
+/// Runs both simulations; `progress(done, total)` over all steps.
+pub fn simulate(scene: &DunesScene, progress: &mut dyn FnMut(u32, u32)) -> Result<Terrain> {
+    scene.validate()?;
+    let total = scene.ripple_steps + scene.dune_steps;
+    let mut ripples = SandSim::new(
+        Heightfield::random(scene.ripple_size, scene.ripple_size, 0.0, 1.0, scene.seed),
+        scene.ripple.clone(),
+    )?;
+    ripples.run(scene.ripple_steps, &mut |d| progress(d, total));
+    let mut dunes = SandSim::new(
+        Heightfield::random(
+            scene.dune_size,
+            scene.dune_size,
+            scene.dune_sand,
+            1.0,
+            scene.seed ^ 0xD0E5,
+        ),
+        scene.dune.clone(),
+    )?;
+    dunes.run(scene.dune_steps, &mut |d| {
+        progress(scene.ripple_steps + d, total)
+    });
+    let dune_field = dunes.into_field();
+    let scale = scene.dune.vertical_scale as f32 * scene.cell;
+    let min = dune_field.data.iter().copied().fold(f64::MAX, f64::min);
+    let dune_heights = dune_field
+        .data
+        .iter()
+        .map(|&h| (h - min) as f32 * scale)
+        .collect();
+    Ok(Terrain {
+        dune_heights,
+        ripples: ripples.into_field(),
+        dune_field,
+    })
+}
+
+/// The default camera: low over one edge of the field, looking across it.
+pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
+    let s = scene.field_size();
+    let top = terrain.dune_heights.iter().copied().fold(0.0, f32::max);
+    Camera {
+        eye: Vec3::new(0.5 * s, top + 0.06 * s, 1.02 * s),
+        target: Vec3::new(0.5 * s, 0.2 * top, 0.35 * s),
+        up: Vec3::Y,
+        fov_y_degrees: 50.0,
+        near: 0.5,
+        far: 4.0 * s,
+    }
+}
+
+/// A rendered desert frame and what it cost.
+pub struct DunesFrame {
+    pub frame: RenderedFrame,
+    /// GPU time of the precomputations (ripple maps, dune shadow map).
+    pub precompute: Vec<Span>,
+    pub visible_triangles: u32,
+    pub total_triangles: u32,
+    pub mesh: Mesh,
+}
+
+/// Renders `scene` from simulated `terrain`.
+pub fn render(
+    ctx: &Arc<Context>,
+    scene: &DunesScene,
+    terrain: &Terrain,
+    size: Size,
+) -> Result<DunesFrame> {
+    scene.validate()?;
+    let start = Instant::now();
+    let n = scene.dune_size;
+    let mesh = dune_mesh(n, scene.cell, &terrain.dune_heights);
+    let camera = scene
+        .camera
+        .clone()
+        .unwrap_or_else(|| default_camera(scene, terrain));
+    let sun = scene.sun_direction();
+    let lighting = Lighting {
+        sun_direction: sun,
+        point: false,
+        sun_color: Vec3::new(3.0, 2.75, 2.4),
+        sky_color: Vec3::new(0.3, 0.4, 0.6),
+        ground_color: Vec3::new(0.3, 0.25, 0.2),
+        exposure: 1.0,
+    };
+    let frame_uniforms = lighting.frame_uniforms(&camera, size.aspect());
+
+    let maps = RippleMaps::build(
+        ctx,
+        &terrain.ripples,
+        scene.ripple_height_scale,
+        (scene.ripple_size - 1) as u32,
+    )?;
+    let mut precompute = maps.spans.clone();
+    let shadow_res = 256u32;
+    let heights_cells: Vec<f32> = terrain
+        .dune_heights
+        .iter()
+        .map(|h| h / scene.cell)
+        .collect();
+    let shadow = DuneShadowPass::new(ctx, n as u32, &heights_cells, shadow_res)?;
+    let horizontal = Vec3::new(sun.x, 0.0, sun.z);
+    let rise = sun.y / horizontal.length().max(1e-6);
+    let dir = horizontal.normalize_or(Vec3::X);
+    let mut timer = GpuTimer::new(ctx, "dunes timer", 2)?;
+    ctx.submit_and_wait("dune shadow map", |cmd| {
+        timer.reset(cmd);
+        let span = timer.begin(cmd, "dune shadow map")?;
+        shadow.record(cmd, [dir.x, dir.z], rise)?;
+        timer.end(cmd, span);
+        Ok(())
+    })?;
+    precompute.extend(timer.read()?);
+    let grain_size = 128u32;
+    let textures = DuneTextures::new(
+        ctx,
+        &maps,
+        &shadow.visibility,
+        shadow_res,
+        &grain_texture(scene.seed ^ 0x6A11, grain_size as usize),
+        grain_size,
+    )?;
+
+    let target = OffscreenTarget::new(ctx, size.width, size.height)?;
+    let sky = SkyPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?;
+    let mut surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
+    surface.set_frame(&frame_uniforms)?;
+    let mut geometry = DuneGeometry::new(ctx, &mesh)?;
+    geometry.set_visible(&visible_quads(
+        &mesh,
+        camera.eye,
+        frame_uniforms.view_proj,
+        scene.cull,
+    ))?;
+    let wind = scene.wind_degrees.to_radians();
+    let push = DunePush {
+        tile: glam::Vec4::new(
+            scene.ripple_tile,
+            if scene.ripples {
+                scene.ripple_strength
+            } else {
+                0.0
+            },
+            0.35,
+            scene.field_size(),
+        ),
+        wind: glam::Vec4::new(
+            wind.cos(),
+            wind.sin(),
+            if scene.lod { 1.0 } else { 0.0 },
+            0.0,
+        ),
+        shadows: glam::Vec4::new(
+            if scene.shadows != Shadows::None {
+                1.0
+            } else {
+                0.0
+            },
+            if scene.shadows == Shadows::DuneAndRipple && scene.ripples {
+                1.0
+            } else {
+                0.0
+            },
+            0.04,
+            0.0,
+        ),
+        albedo: glam::Vec4::new(0.72, 0.5, 0.3, 1.0),
+    };
+    ctx.submit_and_wait("dunes frame", |cmd| {
+        timer.reset(cmd);
+        let span = timer.begin(cmd, "dunes")?;
+        target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+        sky.draw(
+            cmd,
+            frame_uniforms.view_proj,
+            camera.eye,
+            sun,
+            lighting.exposure,
+        )?;
+        surface.draw(cmd, &geometry, &push)?;
+        target.end(cmd);
+        timer.end(cmd, span);
+        target.copy_out(cmd);
+        Ok(())
+    })?;
+    Ok(DunesFrame {
+        frame: RenderedFrame {
+            image: target.read_image()?,
+            gpu_spans: timer.read()?,
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+        },
+        precompute,
+        visible_triangles: geometry.visible_triangles(),
+        total_triangles: (mesh.indices.len() / 3) as u32,
+        mesh,
+    })
+}
