@@ -24,20 +24,21 @@ layout(push_constant) uniform Params {
     uint unused1;
 } pc;
 
-float at(uint x, uint z) {
-    return heights.h[z * pc.n + x];
+// The field is periodic (the simulation's boundary condition).
+float at(int x, int z) {
+    int n = int(pc.n);
+    return heights.h[((z % n + n) % n) * n + (x % n + n) % n];
 }
 
 float sample_height(float x, float z) {
-    float m = float(pc.n - 1u);
-    x = clamp(x, 0.0, m);
-    z = clamp(z, 0.0, m);
-    uint x0 = min(uint(floor(x)), pc.n - 2u);
-    uint z0 = min(uint(floor(z)), pc.n - 2u);
-    float fx = x - float(x0);
-    float fz = z - float(z0);
-    float a = at(x0, z0) + (at(x0 + 1u, z0) - at(x0, z0)) * fx;
-    float b = at(x0, z0 + 1u) + (at(x0 + 1u, z0 + 1u) - at(x0, z0 + 1u)) * fx;
+    float x0 = floor(x);
+    float z0 = floor(z);
+    float fx = x - x0;
+    float fz = z - z0;
+    int xi = int(x0);
+    int zi = int(z0);
+    float a = at(xi, zi) + (at(xi + 1, zi) - at(xi, zi)) * fx;
+    float b = at(xi, zi + 1) + (at(xi + 1, zi + 1) - at(xi, zi + 1)) * fx;
     return a + (b - a) * fz;
 }
 
@@ -58,8 +59,9 @@ void main() {
     if (id.x >= pc.res || id.y >= pc.res) {
         return;
     }
-    float m = float(pc.n - 1u);
-    float scale = m / float(pc.res);
+    // Rays are followed one period: beyond it they have cleared every crest.
+    float reach = float(pc.n);
+    float scale = reach / float(pc.res);
     float x = (float(id.x) + 0.5) * scale;
     float z = (float(id.y) + 0.5) * scale;
     float y = sample_height(x, z) + 1e-3;
@@ -76,11 +78,11 @@ void main() {
         if (t >= NEVER) {
             break;
         }
-        float px = x + dir.x * t;
-        float pz = z + dir.y * t;
-        if (px < 0.0 || pz < 0.0 || px > m || pz > m) {
+        if (t > reach) {
             break;
         }
+        float px = x + dir.x * t;
+        float pz = z + dir.y * t;
         if (sample_height(px, pz) > y + rise * t) {
             lit = 0.0;
             break;

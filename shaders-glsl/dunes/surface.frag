@@ -23,10 +23,9 @@ layout(set = 0, binding = 3) uniform texture2D horizon_b;       // dirs 4-7
 layout(set = 0, binding = 4) uniform texture2D dune_shadow;     // 1 lit, 0 shadowed
 layout(set = 0, binding = 5) uniform texture2D sand_grain;
 layout(set = 0, binding = 6) uniform sampler repeat_sampler;
-layout(set = 0, binding = 7) uniform sampler clamp_sampler;
 
 layout(push_constant) uniform Dune {
-    vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field size
+    vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
     vec4 wind;     // xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0)
     vec4 shadows;  // x dune shadows on, y ripple shadows on, z shadow softness
     vec4 albedo;   // rgb sand albedo
@@ -62,9 +61,12 @@ void main() {
     float lit = 1.0;
     if (dune.shadows.x > 0.5) {
         vec2 suv = in_world.xz / dune.tile.w;
-        lit *= texture(sampler2D(dune_shadow, clamp_sampler), suv).r;
+        // The map covers one period of the field and tiles with it.
+        lit *= texture(sampler2D(dune_shadow, repeat_sampler), suv).r;
     }
-    if (dune.shadows.y > 0.5 && lit > 0.0) {
+    // A uniform branch: implicit-LOD sampling inside per-pixel control flow is slow on
+    // CPU rasterisers.
+    if (dune.shadows.y > 0.5) {
         // The light in the ripple tile's frame: azimuth and elevation slope.
         vec3 lt = vec3(dot(l, t), dot(l, b), dot(l, nd));
         vec2 ltile = vec2(c.x * lt.x + c.y * lt.y, -c.y * lt.x + c.x * lt.y);
@@ -72,19 +74,31 @@ void main() {
         float elevation = lt.z / horizontal;
         float phi = atan(ltile.y, ltile.x);
         float sector = mod(phi, TAU) / (TAU / 8.0);
-        int i = int(floor(sector)) % 8;
-        float f = fract(sector);
+        // Linear interpolation between the two nearest of the 8 directions, as weights
+        // (dynamic array indexing is slow on CPU rasterisers): direction k gets
+        // max(0, 1 - |sector - k|), and direction 0 also wraps around from 8.
+        vec4 wa = max(vec4(0.0), 1.0 - abs(vec4(sector) - vec4(0.0, 1.0, 2.0, 3.0)));
+        wa.x += max(0.0, 1.0 - abs(sector - 8.0));
+        vec4 wb = max(vec4(0.0), 1.0 - abs(vec4(sector) - vec4(4.0, 5.0, 6.0, 7.0)));
         vec4 ha = texture(sampler2D(horizon_a, repeat_sampler), uv);
         vec4 hb = texture(sampler2D(horizon_b, repeat_sampler), uv);
-        float hs[8] = float[8](ha.x, ha.y, ha.z, ha.w, hb.x, hb.y, hb.z, hb.w);
-        float horizon = mix(hs[i], hs[(i + 1) % 8], f);
-        float soft = dune.shadows.z;
+        float horizon = dot(ha, wa) + dot(hb, wb);
+        // Where ripples are smaller than a pixel the horizon changes faster than the
+        // pixel grid: widen the transition by that change, so sub-pixel ripple shadows
+        // darken partially instead of flipping from pixel to pixel.
+        float soft = dune.shadows.z + 2.0 * fwidth(horizon);
         lit *= smoothstep(horizon - soft, horizon + soft, elevation);
     }
 
     float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z).r;
     vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain);
-    vec3 sky = sky_radiance(normalize(n + vec3(0.0, 1.0, 0.0)), l);
-    vec3 hdr = albedo * (frame.sun_color.rgb * max(dot(n, l), 0.0) * lit + 0.35 * sky * (0.5 + 0.5 * n.y));
+    // Sky light: the hemisphere's zenith and ground colours (per frame, not per pixel).
+    vec3 ambient = mix(frame.ground_color.rgb, frame.sky_color.rgb, 0.5 + 0.5 * n.y);
+    vec3 hdr = albedo * (frame.sun_color.rgb * max(dot(n, l), 0.0) * lit + ambient);
+    // Haze toward the horizon colour of the sky (which the sky shader also shows below
+    // the horizon), so the field fades out with distance instead of ending.
+    float dist = length(in_world - frame.camera_pos.xyz);
+    float haze = 1.0 - exp(-dist / (2.5 * dune.tile.w));
+    hdr = mix(hdr, horizon_haze(l), haze);
     out_color = vec4(tonemap_aces(hdr, frame.params.x), 1.0);
 }

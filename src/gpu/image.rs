@@ -135,14 +135,15 @@ impl Image {
         Ok(image)
     }
 
-    /// A sampled RGBA8 (UNORM) texture of one mip level filled with `rgba` (row-major,
-    /// 4 bytes per texel), left in SHADER_READ_ONLY_OPTIMAL.
+    /// A sampled RGBA8 (UNORM) texture filled with `rgba` (row-major, 4 bytes per
+    /// texel), left in SHADER_READ_ONLY_OPTIMAL; with `mips`, a full blitted mip chain.
     pub fn upload_rgba8(
         ctx: &Arc<Context>,
         name: &str,
         width: u32,
         height: u32,
         rgba: &[u8],
+        mips: bool,
     ) -> Result<Self> {
         let expected = width as usize * height as usize * 4;
         if rgba.len() != expected {
@@ -160,7 +161,7 @@ impl Image {
             vk::BufferUsageFlags::TRANSFER_SRC,
             rgba,
         )?;
-        Self::sampled_from_buffer(
+        Self::sampled_from_buffer_with_mips(
             ctx,
             name,
             ImageDesc::new_2d(
@@ -171,12 +172,15 @@ impl Image {
             ),
             &staging,
             &[0],
+            mips,
         )
     }
 
     /// A sampled texture whose mip level `k` is copied from `buffer` at byte offset
     /// `level_offsets[k]` (tightly packed rows), left in SHADER_READ_ONLY_OPTIMAL. The
-    /// buffer needs TRANSFER_SRC usage.
+    /// buffer needs TRANSFER_SRC usage. With `blit_mips`, levels after the given ones
+    /// down to 1x1 are made by linear blits (a box filter: fine for maps whose mips
+    /// need no special rule; the ripple normal chain is built by sediment instead).
     pub fn sampled_from_buffer(
         ctx: &Arc<Context>,
         name: &str,
@@ -184,9 +188,26 @@ impl Image {
         buffer: &super::Buffer,
         level_offsets: &[u64],
     ) -> Result<Self> {
+        Self::sampled_from_buffer_with_mips(ctx, name, desc, buffer, level_offsets, false)
+    }
+
+    /// `sampled_from_buffer`, optionally completing the mip chain with blits.
+    pub fn sampled_from_buffer_with_mips(
+        ctx: &Arc<Context>,
+        name: &str,
+        desc: ImageDesc,
+        buffer: &super::Buffer,
+        level_offsets: &[u64],
+        blit_mips: bool,
+    ) -> Result<Self> {
+        let given = level_offsets.len().max(1) as u32;
+        let full = 32 - desc.width.max(desc.height).leading_zeros();
         let desc = ImageDesc {
-            mip_levels: level_offsets.len().max(1) as u32,
-            usage: desc.usage | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            mip_levels: if blit_mips { full.max(given) } else { given },
+            usage: desc.usage
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_DST
+                | vk::ImageUsageFlags::TRANSFER_SRC,
             ..desc
         };
         let image = Image::new(ctx, name, desc)?;
@@ -233,24 +254,106 @@ impl Image {
                     &regions,
                 )
             };
-            super::barrier::images(
-                ctx,
-                cmd.raw,
-                &[super::barrier::ImageTransition {
-                    image: image.raw,
-                    range,
-                    from: (
+            let level_range = |k: u32| vk::ImageSubresourceRange {
+                base_mip_level: k,
+                level_count: 1,
+                ..range
+            };
+            for k in given..desc.mip_levels {
+                // Level k-1 becomes a blit source.
+                super::barrier::images(
+                    ctx,
+                    cmd.raw,
+                    &[super::barrier::ImageTransition {
+                        image: image.raw,
+                        range: level_range(k - 1),
+                        from: (
+                            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                            vk::PipelineStageFlags2::ALL_TRANSFER,
+                            vk::AccessFlags2::TRANSFER_WRITE,
+                        ),
+                        to: (
+                            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                            vk::PipelineStageFlags2::ALL_TRANSFER,
+                            vk::AccessFlags2::TRANSFER_READ,
+                        ),
+                    }],
+                );
+                let extent = |k: u32| vk::Offset3D {
+                    x: (desc.width >> k).max(1) as i32,
+                    y: (desc.height >> k).max(1) as i32,
+                    z: 1,
+                };
+                let layers = |k: u32| vk::ImageSubresourceLayers {
+                    aspect_mask: range.aspect_mask,
+                    mip_level: k,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                };
+                let blit = [vk::ImageBlit {
+                    src_subresource: layers(k - 1),
+                    src_offsets: [vk::Offset3D::default(), extent(k - 1)],
+                    dst_subresource: layers(k),
+                    dst_offsets: [vk::Offset3D::default(), extent(k)],
+                }];
+                // SAFETY: level k-1 is in TRANSFER_SRC and level k in TRANSFER_DST; the
+                // format supports linear blits (checked by validation in tests).
+                unsafe {
+                    ctx.device.cmd_blit_image(
+                        cmd.raw,
+                        image.raw,
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        image.raw,
                         vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::PipelineStageFlags2::COPY,
-                        vk::AccessFlags2::TRANSFER_WRITE,
+                        &blit,
+                        vk::Filter::LINEAR,
+                    )
+                };
+            }
+            // Every level to shader reads: blit sources from TRANSFER_SRC, the last
+            // written level(s) from TRANSFER_DST.
+            let blitted = desc.mip_levels > given;
+            let sources = vk::ImageSubresourceRange {
+                base_mip_level: 0,
+                level_count: if blitted { desc.mip_levels - 1 } else { 0 },
+                ..range
+            };
+            let written = if blitted {
+                level_range(desc.mip_levels - 1)
+            } else {
+                range
+            };
+            let mut transitions = vec![super::barrier::ImageTransition {
+                image: image.raw,
+                range: written,
+                from: (
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    vk::PipelineStageFlags2::ALL_TRANSFER,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                ),
+                to: (
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                    vk::AccessFlags2::SHADER_SAMPLED_READ,
+                ),
+            }];
+            if blitted {
+                transitions.push(super::barrier::ImageTransition {
+                    image: image.raw,
+                    range: sources,
+                    from: (
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        vk::PipelineStageFlags2::ALL_TRANSFER,
+                        vk::AccessFlags2::TRANSFER_READ,
                     ),
                     to: (
                         vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                         vk::PipelineStageFlags2::FRAGMENT_SHADER,
                         vk::AccessFlags2::SHADER_SAMPLED_READ,
                     ),
-                }],
-            );
+                });
+            }
+            super::barrier::images(ctx, cmd.raw, &transitions);
             Ok(())
         })?;
         Ok(image)

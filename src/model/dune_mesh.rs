@@ -25,6 +25,24 @@ pub fn dune_mesh(n: usize, cell: f32, heights: &[f32]) -> Mesh {
     mesh
 }
 
+/// The periodic field repeated `tiles` x `tiles` times (odd; the middle copy covers
+/// [0, n cell]): `tiles * n + 1` vertices per side, heights wrapping every `n` samples,
+/// so the seam is invisible and the field reaches toward the horizon.
+pub fn dune_mesh_tiled(n: usize, cell: f32, heights: &[f32], tiles: usize) -> Mesh {
+    let side = tiles * n;
+    let half = 0.5 * side as f32 * cell;
+    let origin = -(((tiles / 2) * n) as f32) * cell;
+    let mut mesh = Mesh::height_grid(half, 0.0, side as u32, true, |_, _| 0.0);
+    for (k, p) in mesh.positions.iter_mut().enumerate() {
+        let (i, j) = (k % (side + 1), k / (side + 1));
+        p.x = origin + i as f32 * cell;
+        p.z = origin + j as f32 * cell;
+        p.y = heights[(j % n) * n + i % n];
+    }
+    mesh.recompute_normals();
+    mesh
+}
+
 /// Indices of the quads to draw (6 per quad, as `Mesh::height_grid` lays them out):
 /// with `cull`, a quad is dropped when both its triangles face away from `eye` or all
 /// four corners lie outside one plane of the frustum of `view_proj`.
@@ -87,6 +105,12 @@ mod tests {
         let kept = visible_quads(&mesh, eye, vp, true);
         assert!(kept.len() < all.len(), "back faces culled");
         let back_flank = (n - 1) * 9 + 9; // a quad on the +x flank (x = 9)
+        let tiled = dune_mesh_tiled(n, 1.0, &heights, 3);
+        assert_eq!(tiled.positions.len(), (3 * n + 1) * (3 * n + 1));
+        // Periodic: the same height one period apart, and the middle copy at the origin.
+        let at = |i: usize, j: usize| tiled.positions[j * (3 * n + 1) + i];
+        assert_eq!(at(n + 3, n + 5), Vec3::new(3.0, heights[5 * n + 3], 5.0));
+        assert_eq!(at(3, 5).y, at(2 * n + 3, 5).y);
         let quad = &mesh.indices[back_flank * 6..back_flank * 6 + 6];
         assert!(
             !kept.windows(6).step_by(6).any(|w| w == quad),

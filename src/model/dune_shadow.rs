@@ -43,7 +43,9 @@ const NEVER: f32 = 3.0e38;
 /// unit direction toward the sun, `rise` the ray's climb per unit of horizontal
 /// distance (tan of the sun's elevation). Returns 1 (lit) or 0 (shadowed).
 pub fn visibility(grid: &DuneGrid<'_>, x: f32, z: f32, y: f32, dir: [f32; 2], rise: f32) -> f32 {
-    let max = (grid.n - 1) as f32;
+    // Rays are followed one period (`n` cells): a sun higher than the field's relief
+    // over one period clears every crest beyond.
+    let reach = grid.n as f32;
     // Distance along the ray to the next vertical (x = i) and horizontal (z = j) grid
     // line, and between successive ones.
     let step = |p: f32, d: f32| -> (f32, f32) {
@@ -62,10 +64,10 @@ pub fn visibility(grid: &DuneGrid<'_>, x: f32, z: f32, y: f32, dir: [f32; 2], ri
         if t >= NEVER {
             return 1.0;
         }
-        let (px, pz) = (x + dir[0] * t, z + dir[1] * t);
-        if px < 0.0 || pz < 0.0 || px > max || pz > max {
+        if t > reach {
             return 1.0;
         }
+        let (px, pz) = (x + dir[0] * t, z + dir[1] * t);
         // On a grid line the bilinear sample is the linear interpolation along it.
         if grid.sample(px, pz) > y + rise * t {
             return 0.0;
@@ -78,9 +80,10 @@ pub fn visibility(grid: &DuneGrid<'_>, x: f32, z: f32, y: f32, dir: [f32; 2], ri
     }
 }
 
-/// The shadow map: `res` x `res` texels over the grid (texel centres), 1 lit, 0 shadow.
+/// The shadow map: `res` x `res` texels over one period (texel centres), 1 lit,
+/// 0 shadow; it tiles like the field.
 pub fn shadow_map(grid: &DuneGrid<'_>, res: usize, dir: [f32; 2], rise: f32) -> Vec<f32> {
-    let scale = (grid.n - 1) as f32 / res as f32;
+    let scale = grid.n as f32 / res as f32;
     let mut out = Vec::with_capacity(res * res);
     for j in 0..res {
         for i in 0..res {
@@ -138,8 +141,8 @@ mod tests {
             (length - expected).abs() < 0.1,
             "shadow {length} vs {expected}"
         );
-        // Sun behind the viewer's side (+x): the lee side toward -x is shadowed by the
-        // same amount, the +x side lit.
+        // Sun toward +x: the flat ground at x = 30 sees it over the ridge's next copy
+        // (the field is periodic: x = 84), which is far enough to clear.
         assert_eq!(visibility(&grid, 30.0, 32.0, 1e-3, [1.0, 0.0], rise), 1.0);
         let map = shadow_map(&grid, 64, [-1.0, 0.0], rise);
         let shadowed = map.iter().filter(|&&v| v == 0.0).count();

@@ -21,7 +21,7 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct DunePush {
-    /// x ripple tile size (world), y ripple strength, z grain tile size, w field size.
+    /// x ripple tile size (world), y ripple strength, z grain tile size, w field period.
     pub tile: Vec4,
     /// xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0).
     pub wind: Vec4,
@@ -40,7 +40,6 @@ const HORIZON_B: DescriptorBinding = DescriptorBinding::new(0, 3, DescriptorKind
 const SHADOW: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKind::SampledImage);
 const GRAIN: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::SampledImage);
 const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::Sampler);
-const CLAMP: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::Sampler);
 
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_VERT,
@@ -50,9 +49,7 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
 
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_FRAG,
-    bindings: &[
-        FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT, CLAMP,
-    ],
+    bindings: &[FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
 
@@ -123,7 +120,14 @@ impl DuneTextures {
                 shadow,
                 &[0],
             )?,
-            grain: Image::upload_rgba8(ctx, "sand grain", grain_size, grain_size, grain_rgba)?,
+            grain: Image::upload_rgba8(
+                ctx,
+                "sand grain",
+                grain_size,
+                grain_size,
+                grain_rgba,
+                true,
+            )?,
         })
     }
 }
@@ -181,7 +185,7 @@ impl DuneGeometry {
 
 pub struct DuneSurfacePass {
     set: DescriptorSet,
-    _samplers: [Sampler; 2],
+    _sampler: Sampler,
     frame: Buffer,
     pipeline: Pipeline,
     layout: PipelineLayout,
@@ -222,7 +226,6 @@ impl DuneSurfacePass {
             ),
         )?;
         let repeat = Sampler::linear_repeat(ctx, "dune repeat sampler")?;
-        let clamp = Sampler::linear_clamp(ctx, "dune clamp sampler")?;
         let set = layout.allocate_set("dune surface set", 0)?;
         let ro = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         set.write_buffer(FRAME.binding, &frame)?;
@@ -232,10 +235,9 @@ impl DuneSurfacePass {
         set.write_image(SHADOW.binding, textures.shadow.view(), ro)?;
         set.write_image(GRAIN.binding, textures.grain.view(), ro)?;
         set.write_sampler(REPEAT.binding, &repeat)?;
-        set.write_sampler(CLAMP.binding, &clamp)?;
         Ok(Self {
             set,
-            _samplers: [repeat, clamp],
+            _sampler: repeat,
             frame,
             pipeline,
             layout,

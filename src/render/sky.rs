@@ -47,8 +47,9 @@ impl SkyPass {
             .fragment(FRAGMENT_INTERFACE.shader)
             .targets(&[color], Some(depth));
         desc.cull_mode = vk::CullModeFlags::NONE;
-        // Drawn first at the far plane: it neither tests nor writes depth.
-        desc.depth_test = false;
+        // Drawn last at the far plane: the depth test (less-or-equal against the cleared
+        // 1.0) keeps it to pixels no surface covered, so it is shaded only there.
+        desc.depth_test = true;
         desc.depth_write = false;
         Ok(Self {
             pipeline: desc.build(ctx, &layout)?,

@@ -112,6 +112,7 @@ impl SpeleothemSurfacePass {
             MAP_SIZE,
             MAP_SIZE,
             &calcite_normal_map(seed, MAP_SIZE, 5.0),
+            false,
         )?;
         let sampler = Sampler::linear_repeat(ctx, "calcite normal sampler")?;
         let set = layout.allocate_set("speleothem surface set", 0)?;

@@ -11,7 +11,7 @@ use super::camera::{Camera, Lighting};
 use super::size::Size;
 use crate::error::{Error, Result};
 use crate::gpu::{COLOR_FORMAT, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
-use crate::model::dune_mesh::{dune_mesh, visible_quads};
+use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, visible_quads};
 use crate::model::mesh::Mesh;
 use crate::model::sand::{Heightfield, SandParams, SandSim};
 use crate::model::sand_grain::grain_texture;
@@ -227,9 +227,9 @@ impl DunesScene {
         Vec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin())
     }
 
-    /// The field's side in metres.
+    /// The field's period in metres (it repeats: the simulation is periodic).
     pub fn field_size(&self) -> f32 {
-        (self.dune_size - 1) as f32 * self.cell
+        self.dune_size as f32 * self.cell
     }
 }
 
@@ -282,8 +282,8 @@ pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
     let s = scene.field_size();
     let top = terrain.dune_heights.iter().copied().fold(0.0, f32::max);
     Camera {
-        eye: Vec3::new(0.5 * s, top + 0.06 * s, 1.02 * s),
-        target: Vec3::new(0.5 * s, 0.2 * top, 0.35 * s),
+        eye: Vec3::new(0.5 * s, top + 0.05 * s, 1.0 * s),
+        target: Vec3::new(0.5 * s, 0.3 * top, 0.3 * s),
         up: Vec3::Y,
         fov_y_degrees: 50.0,
         near: 0.5,
@@ -298,6 +298,7 @@ pub struct DunesFrame {
     pub precompute: Vec<Span>,
     pub visible_triangles: u32,
     pub total_triangles: u32,
+    /// One period of the dune field (for export).
     pub mesh: Mesh,
 }
 
@@ -311,7 +312,8 @@ pub fn render(
     scene.validate()?;
     let start = Instant::now();
     let n = scene.dune_size;
-    let mesh = dune_mesh(n, scene.cell, &terrain.dune_heights);
+    // Three periods each way: the field reaches toward the horizon without a seam.
+    let mesh = dune_mesh_tiled(n, scene.cell, &terrain.dune_heights, 3);
     let camera = scene
         .camera
         .clone()
@@ -321,8 +323,8 @@ pub fn render(
         sun_direction: sun,
         point: false,
         sun_color: Vec3::new(3.0, 2.75, 2.4),
-        sky_color: Vec3::new(0.3, 0.4, 0.6),
-        ground_color: Vec3::new(0.3, 0.25, 0.2),
+        sky_color: Vec3::new(0.42, 0.5, 0.68),
+        ground_color: Vec3::new(0.45, 0.36, 0.27),
         exposure: 1.0,
     };
     let frame_uniforms = lighting.frame_uniforms(&camera, size.aspect());
@@ -434,6 +436,6 @@ pub fn render(
         precompute,
         visible_triangles: geometry.visible_triangles(),
         total_triangles: (mesh.indices.len() / 3) as u32,
-        mesh,
+        mesh: dune_mesh(n, scene.cell, &terrain.dune_heights),
     })
 }
