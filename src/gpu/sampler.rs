@@ -16,6 +16,11 @@ pub struct Sampler {
 impl Sampler {
     /// Trilinear filtering, repeating in both directions (tiling textures).
     pub fn linear_repeat(ctx: &Arc<Context>, name: &str) -> Result<Self> {
+        Self::linear_repeat_max_lod(ctx, name, vk::LOD_CLAMP_NONE)
+    }
+
+    /// Trilinear repeating filtering using mip levels 0..=`max_lod` only.
+    pub fn linear_repeat_max_lod(ctx: &Arc<Context>, name: &str, max_lod: f32) -> Result<Self> {
         let info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::LINEAR)
             .min_filter(vk::Filter::LINEAR)
@@ -23,7 +28,7 @@ impl Sampler {
             .address_mode_u(vk::SamplerAddressMode::REPEAT)
             .address_mode_v(vk::SamplerAddressMode::REPEAT)
             .address_mode_w(vk::SamplerAddressMode::REPEAT)
-            .max_lod(vk::LOD_CLAMP_NONE);
+            .max_lod(max_lod);
         // SAFETY: valid device and create info.
         let raw = unsafe { ctx.device.create_sampler(&info, None) }.vk("vkCreateSampler")?;
         ctx.name(raw, name);

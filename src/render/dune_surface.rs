@@ -225,7 +225,9 @@ impl DuneSurfacePass {
                 vk::BufferUsageFlags::UNIFORM_BUFFER,
             ),
         )?;
-        let repeat = Sampler::linear_repeat(ctx, "dune repeat sampler")?;
+        // The paper's LOD has four levels (e.g. 256, 128, 64, 32): levels 0..=3 only,
+        // so far ripples keep their coarse relief instead of fading to a flat 1x1.
+        let repeat = Sampler::linear_repeat_max_lod(ctx, "dune repeat sampler", 3.0)?;
         let set = layout.allocate_set("dune surface set", 0)?;
         let ro = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         set.write_buffer(FRAME.binding, &frame)?;

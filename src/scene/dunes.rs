@@ -91,9 +91,14 @@ impl Default for DunesScene {
             dune: SandParams::paper_dunes(),
             dune_sand: 8.0,
             cell: 4.0,
-            ripple_tile: 5.0,
+            // The paper maps up to 64x64 ripple texels onto each dune quad: a 256-texel
+            // tile over 4 cells of 4 m.
+            ripple_tile: 16.0,
             ripple_height_scale: 0.35,
-            ripple_strength: 1.0,
+            // The paper prints no bump contrast. Ripples of this model at full strength
+            // reach ~13 degrees; 0.65 gives ~8.5 degrees. The LOD-vs-level-0 difference
+            // grows with it (measured at 720x480: 0.65 -> ~3.7/255, 1.0 -> ~5.2/255).
+            ripple_strength: 0.65,
             wind_degrees: 0.0,
             sun_elevation_degrees: 30.0,
             sun_azimuth_degrees: 200.0,

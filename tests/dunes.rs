@@ -1,0 +1,136 @@
+//! The desert scene on a validated device: golden images of the paper's Figures 12–17
+//! (small sizes), LOD against no LOD (held to the paper's 3.92/255), culling.
+
+mod common;
+
+use common::Tolerance;
+use sediment::scene::Size;
+use sediment::scene::dunes::{self, DunesScene, Terrain};
+
+// Set on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, where these frames reproduce
+// exactly; the margin absorbs rasterisation and code-generation differences of other
+// lavapipe builds.
+const DUNES_TOLERANCE: Tolerance = Tolerance { mean: 1.5, p99: 20 };
+
+/// A preset with small simulations, so the test suite stays quick.
+fn small(name: &str) -> DunesScene {
+    DunesScene {
+        ripple_size: 64,
+        ripple_steps: 400,
+        dune_size: 32,
+        dune_steps: 600,
+        // 64 ripple texels per dune quad, as in the paper.
+        ripple_tile: 4.0,
+        ..dunes::preset(name).expect("preset")
+    }
+}
+
+fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    common::difference(a, b).1.mean
+}
+
+#[test]
+fn figures_12_to_17_match_their_goldens() {
+    common::with_gpu(|ctx| {
+        let terrain: Terrain = dunes::simulate(&small("fig12"), &mut |_, _| {}).expect("simulate");
+        for (name, _) in dunes::PRESETS {
+            let scene = small(name);
+            let out = dunes::render(ctx, &scene, &terrain, Size::new(240, 160)).expect("render");
+            common::assert_golden(
+                &format!("dunes-{name}-240x160"),
+                &out.frame.image,
+                DUNES_TOLERANCE,
+            );
+        }
+    });
+}
+
+#[test]
+fn effects_change_the_picture_where_they_should() {
+    common::with_gpu(|ctx| {
+        let terrain = dunes::simulate(&small("fig12"), &mut |_, _| {}).expect("simulate");
+        let size = Size::new(240, 160);
+        let render = |name: &str| {
+            dunes::render(ctx, &small(name), &terrain, size)
+                .expect("render")
+                .frame
+                .image
+        };
+        let (f14, f15, f16, f17) = (
+            render("fig14"),
+            render("fig15"),
+            render("fig16"),
+            render("fig17"),
+        );
+        // Dune shadows darken: fig15 is fig14 plus shadows.
+        let brightness =
+            |img: &image::RgbaImage| img.pixels().map(|p| u64::from(p[0])).sum::<u64>();
+        assert!(
+            brightness(&f15) < brightness(&f14),
+            "dune shadows darken the frame"
+        );
+        // Ripple shadows add darkening on top of dune shadows.
+        assert!(
+            brightness(&f17) < brightness(&f16),
+            "ripple shadows darken the frame"
+        );
+        // The sky is untouched by either (top rows).
+        let top = |img: &image::RgbaImage| image::imageops::crop_imm(img, 0, 0, 240, 20).to_image();
+        assert_eq!(top(&f14).as_raw(), top(&f15).as_raw());
+    });
+}
+
+#[test]
+fn lod_against_level_0_stays_within_the_papers_difference() {
+    common::with_gpu(|ctx| {
+        // The paper's setting: 720x480, the full-size ripple tile and dune grid.
+        let scene = DunesScene {
+            shadows: dunes::Shadows::None,
+            ..dunes::preset("fig13").expect("preset")
+        };
+        let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
+        let size = Size::new(720, 480);
+        let on = dunes::render(ctx, &scene, &terrain, size).expect("LOD on");
+        let off = dunes::render(
+            ctx,
+            &DunesScene {
+                lod: false,
+                ..scene.clone()
+            },
+            &terrain,
+            size,
+        )
+        .expect("LOD off");
+        let diff = mean_abs_diff(&on.frame.image, &off.frame.image);
+        eprintln!("mean absolute difference, LOD on vs off, 720x480: {diff:.3}/255 (paper: 3.92)");
+        assert!(diff > 0.0, "LOD changes something");
+        assert!(
+            diff <= 3.92,
+            "LOD vs level 0 differs by {diff:.3}/255, more than the paper's 3.92"
+        );
+    });
+}
+
+#[test]
+fn culling_drops_quads_without_changing_the_picture() {
+    common::with_gpu(|ctx| {
+        let scene = small("fig13");
+        let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
+        let size = Size::new(240, 160);
+        let culled = dunes::render(ctx, &scene, &terrain, size).expect("cull on");
+        let all = dunes::render(
+            ctx,
+            &DunesScene {
+                cull: false,
+                ..scene.clone()
+            },
+            &terrain,
+            size,
+        )
+        .expect("cull off");
+        assert!(culled.visible_triangles < all.visible_triangles);
+        assert_eq!(all.visible_triangles, all.total_triangles);
+        let diff = mean_abs_diff(&culled.frame.image, &all.frame.image);
+        assert!(diff < 0.05, "culling changed the picture by {diff}");
+    });
+}
