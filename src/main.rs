@@ -573,10 +573,20 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         }
     }
     let ctx = open_context(cli)?;
+    let sim_start = std::time::Instant::now();
     let terrain = dunes::simulate(&scene, &mut |d, t| {
         progress(d as usize, t as usize, "simulation steps")
     })?;
+    let sim_s = sim_start.elapsed().as_secs_f64();
     eprintln!();
+    let cell_steps = (scene.ripple_size * scene.ripple_size) as f64 * f64::from(scene.ripple_steps)
+        + (scene.dune_size * scene.dune_size) as f64 * f64::from(scene.dune_steps);
+    println!(
+        "simulated {:.1} M cell-steps in {sim_s:.2} s ({:.0} M cell-steps/s on {} threads)",
+        cell_steps / 1e6,
+        cell_steps / 1e6 / sim_s.max(1e-9),
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    );
     if eye.is_some() || target.is_some() {
         let mut camera = dunes::default_camera(&scene, &terrain);
         if let Some(e) = eye {

@@ -1,0 +1,115 @@
+//! `sediment dunes` as a person runs it: the frame, a 16-bit heightmap and its ripple
+//! tile, a valid glTF mesh; bad input refused before anything is written.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn sediment(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .args(args)
+        .output()
+        .expect("run the sediment binary")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sediment-dunes-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+const SMALL: [&str; 8] = [
+    "--ripple-size",
+    "64",
+    "--ripple-steps",
+    "100",
+    "--dune-size",
+    "32",
+    "--dune-steps",
+    "200",
+];
+
+#[test]
+fn frame_heightmaps_and_mesh_are_written() {
+    let dir = scratch("outputs");
+    let s = |p: PathBuf| p.to_string_lossy().into_owned();
+    let (png, hm, glb) = (
+        s(dir.join("d.png")),
+        s(dir.join("h.png")),
+        s(dir.join("d.glb")),
+    );
+    let mut args = vec![
+        "dunes",
+        "--preset",
+        "fig17",
+        "-o",
+        &png,
+        "--heightmap",
+        &hm,
+        "--mesh",
+        &glb,
+        "--size",
+        "160x120",
+        "--validate",
+    ];
+    args.extend(SMALL);
+    let out = sediment(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let frame = image::open(&png).expect("frame");
+    assert_eq!((frame.width(), frame.height()), (160, 120));
+    let height = image::open(&hm).expect("heightmap");
+    assert_eq!(height.color(), image::ColorType::L16, "16-bit greyscale");
+    assert_eq!((height.width(), height.height()), (32, 32));
+    let samples = height.to_luma16();
+    let (lo, hi) = samples
+        .pixels()
+        .fold((u16::MAX, 0), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
+    assert_eq!((lo, hi), (0, 65535), "the range is stretched to 16 bits");
+    let ripples = image::open(dir.join("h-ripples.png")).expect("ripple tile");
+    assert_eq!((ripples.width(), ripples.height()), (64, 64));
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join(".ci/gltf/validate.js");
+    let check = Command::new("node")
+        .arg(&script)
+        .arg(&glb)
+        .output()
+        .expect("node (run sh .ci/setup)");
+    assert!(
+        check.status.success(),
+        "glTF validator: {}",
+        String::from_utf8_lossy(&check.stdout)
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn bad_input_is_named_and_nothing_is_written() {
+    let dir = scratch("bad");
+    let png = dir.join("x.png").to_string_lossy().into_owned();
+    for (args, expected) in [
+        (vec!["--shadows", "soft"], "--shadows"),
+        (vec!["--lod", "maybe"], "--lod"),
+        (vec!["--ripple-size", "100"], "--ripple-size"),
+        (vec!["--sun-elevation", "95"], "--sun-elevation"),
+        (vec!["--preset", "fig99"], "fig99"),
+        (vec!["--eye", "1,2"], "--eye"),
+        (vec!["--repose", "steep"], "--repose"),
+        (vec!["--heightmap", "h.tif"], "--heightmap"),
+    ] {
+        let mut all = vec!["dunes", "-o", png.as_str()];
+        all.extend(args.iter().copied());
+        let out = sediment(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} must fail");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+    assert!(
+        std::fs::read_dir(&dir).expect("dir").next().is_none(),
+        "nothing written"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
