@@ -272,8 +272,8 @@ impl SandSim {
                         mid[x] + d * (nn / 6.0 + nnn / 12.0 - mid[x])
                     };
                     row_out[0] = cell(0, w - 1, 1);
-                    for x in 1..w - 1 {
-                        row_out[x] = cell(x, x - 1, x + 1);
+                    for (x, out) in row_out.iter_mut().enumerate().take(w - 1).skip(1) {
+                        *out = cell(x, x - 1, x + 1);
                     }
                     row_out[w - 1] = cell(w - 1, w - 2, 0);
                 }
