@@ -128,6 +128,12 @@ struct DunesArgs {
     /// Shadows: none, dune, or dune+ripple.
     #[arg(long, value_name = "none|dune|dune+ripple")]
     shadows: Option<String>,
+    /// Sand dust blobs drifting with the wind (paper eq. 7).
+    #[arg(long)]
+    dust: bool,
+    /// Time step at which the dust is shown, 0..=100000 (default 40).
+    #[arg(long, value_name = "N")]
+    dust_step: Option<u32>,
     /// Camera position x,y,z in metres (the field spans 0..(dune-size - 1) x cell).
     #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
     eye: Option<String>,
@@ -541,6 +547,10 @@ fn dunes_scene(cli: &Cli, a: &DunesArgs) -> anyhow::Result<dunes::DunesScene> {
     if let Some(v) = &a.shadows {
         s.shadows = v.parse()?;
     }
+    if a.dust && s.dust.is_none() {
+        s.dust = Some(sediment::model::dust::DustParams::default());
+    }
+    set!(s.dust_step, a.dust_step);
     s.validate()?;
     Ok(s)
 }

@@ -1,4 +1,4 @@
-//! The desert scene on a validated device: golden images of the paper's Figures 12–17
+//! The desert scene on a validated device: golden images of the paper's Figures 12–18
 //! (small sizes), LOD against no LOD (held to the paper's 3.92/255), culling.
 
 mod common;
@@ -30,7 +30,7 @@ fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
 }
 
 #[test]
-fn figures_12_to_17_match_their_goldens() {
+fn figures_12_to_18_match_their_goldens() {
     common::with_gpu(|ctx| {
         let terrain: Terrain = dunes::simulate(&small("fig12"), &mut |_, _| {}).expect("simulate");
         for (name, _) in dunes::PRESETS {

@@ -3,6 +3,7 @@
 
 pub mod dune_mesh;
 pub mod dune_shadow;
+pub mod dust;
 pub mod mesh;
 pub mod noise;
 pub mod normal_map;

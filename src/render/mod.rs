@@ -3,6 +3,7 @@
 
 pub mod dune_shadow;
 pub mod dune_surface;
+pub mod dust;
 pub mod lit_mesh;
 pub mod ring_growth;
 pub mod ripple_maps;
@@ -29,6 +30,9 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &dune_shadow::INTERFACE,
         &dune_surface::VERTEX_INTERFACE,
         &dune_surface::FRAGMENT_INTERFACE,
+        &dust::VERTEX_INTERFACE,
+        &dust::GEOMETRY_INTERFACE,
+        &dust::FRAGMENT_INTERFACE,
         &sky::VERTEX_INTERFACE,
         &sky::FRAGMENT_INTERFACE,
         &lit_mesh::VERTEX_INTERFACE,

@@ -12,12 +12,15 @@ use super::size::Size;
 use crate::error::{Error, Result};
 use crate::gpu::{COLOR_FORMAT, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
 use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, visible_quads};
+use crate::model::dune_shadow::DuneGrid;
+use crate::model::dust::{DustParams, dust_at};
 use crate::model::mesh::Mesh;
 use crate::model::sand::{Heightfield, SandParams, SandSim};
 use crate::model::sand_grain::grain_texture;
 use crate::render::RenderedFrame;
 use crate::render::dune_shadow::DuneShadowPass;
 use crate::render::dune_surface::{DuneGeometry, DunePush, DuneSurfacePass, DuneTextures};
+use crate::render::dust::DustPass;
 use crate::render::ripple_maps::RippleMaps;
 use crate::render::sky::SkyPass;
 
@@ -76,6 +79,9 @@ pub struct DunesScene {
     pub shadows: Shadows,
     /// Bump mapping of ripples at all (the paper's Fig. 12 has none).
     pub ripples: bool,
+    /// Sand dust blobs, and the time step they are shown at.
+    pub dust: Option<DustParams>,
+    pub dust_step: u32,
     pub camera: Option<Camera>,
 }
 
@@ -106,6 +112,8 @@ impl Default for DunesScene {
             cull: true,
             shadows: Shadows::DuneAndRipple,
             ripples: true,
+            dust: None,
+            dust_step: 40,
             camera: None,
         }
     }
@@ -120,6 +128,10 @@ pub const PRESETS: &[(&str, &str)] = &[
     ("fig15", "low sun, dune shadows"),
     ("fig16", "dune shadows without ripple shadows"),
     ("fig17", "dune shadows and ripple shadows"),
+    (
+        "fig18",
+        "dune and ripple shadows with sand dust (no footprints)",
+    ),
 ];
 
 pub fn preset(name: &str) -> Result<DunesScene> {
@@ -154,6 +166,12 @@ pub fn preset(name: &str) -> Result<DunesScene> {
         "fig17" => DunesScene {
             shadows: Shadows::DuneAndRipple,
             sun_elevation_degrees: 18.0,
+            ..base
+        },
+        "fig18" => DunesScene {
+            shadows: Shadows::DuneAndRipple,
+            sun_elevation_degrees: 18.0,
+            dust: Some(DustParams::default()),
             ..base
         },
         other => {
@@ -374,6 +392,25 @@ pub fn render(
     let sky = SkyPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?;
     let mut surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
     surface.set_frame(&frame_uniforms)?;
+    let blobs = match &scene.dust {
+        Some(params) => {
+            let grid = DuneGrid {
+                n,
+                heights: &terrain.dune_heights,
+            };
+            let cell = scene.cell;
+            dust_at(
+                params,
+                &terrain.ripples,
+                scene.field_size(),
+                &|x, z| grid.sample(x / cell, z / cell),
+                scene.seed,
+                scene.dust_step,
+            )
+        }
+        None => Vec::new(),
+    };
+    let dust = DustPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &blobs)?;
     let mut geometry = DuneGeometry::new(ctx, &mesh)?;
     geometry.set_visible(&visible_quads(
         &mesh,
@@ -419,6 +456,9 @@ pub fn render(
         timer.reset(cmd);
         let span = timer.begin(cmd, "dunes")?;
         target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+        // Dunes first, then the sky where no dune covers (the depth test keeps it
+        // there), then the dust, translucent over both.
+        surface.draw(cmd, &geometry, &push)?;
         sky.draw(
             cmd,
             frame_uniforms.view_proj,
@@ -426,7 +466,14 @@ pub fn render(
             sun,
             lighting.exposure,
         )?;
-        surface.draw(cmd, &geometry, &push)?;
+        let dust_color = glam::Vec4::new(0.86, 0.72, 0.55, 0.5);
+        dust.draw(
+            cmd,
+            frame_uniforms.view_proj,
+            camera.eye,
+            camera.target,
+            dust_color,
+        )?;
         target.end(cmd);
         timer.end(cmd, span);
         target.copy_out(cmd);
