@@ -8,29 +8,26 @@
 //! twin), which the dune shader then samples with one bilinear fetch: marching per
 //! pixel would cost up to two fetches per crossed grid line for every pixel.
 
-/// A dune heightfield as the renderer sees it: `n` x `n` vertices, heights in the
-/// same unit as the grid spacing (cells).
+/// A periodic dune heightfield as the renderer sees it: `n` x `n` samples repeating
+/// every `n` cells (the simulation's boundary condition), heights in cell units.
 pub struct DuneGrid<'a> {
     pub n: usize,
     pub heights: &'a [f32],
 }
 
 impl DuneGrid<'_> {
-    fn at(&self, x: usize, z: usize) -> f32 {
-        self.heights[z * self.n + x]
+    fn at(&self, x: i64, z: i64) -> f32 {
+        let n = self.n as i64;
+        self.heights[(z.rem_euclid(n) * n + x.rem_euclid(n)) as usize]
     }
 
-    /// Bilinear height at (x, z) in cell units, clamped to the grid.
+    /// Bilinear height at (x, z) in cell units, periodic.
     pub fn sample(&self, x: f32, z: f32) -> f32 {
-        let max = (self.n - 1) as f32;
-        let (x, z) = (x.clamp(0.0, max), z.clamp(0.0, max));
-        let (x0, z0) = (
-            (x.floor() as usize).min(self.n - 2),
-            (z.floor() as usize).min(self.n - 2),
-        );
-        let (fx, fz) = (x - x0 as f32, z - z0 as f32);
-        let a = self.at(x0, z0) + (self.at(x0 + 1, z0) - self.at(x0, z0)) * fx;
-        let b = self.at(x0, z0 + 1) + (self.at(x0 + 1, z0 + 1) - self.at(x0, z0 + 1)) * fx;
+        let (x0, z0) = (x.floor(), z.floor());
+        let (fx, fz) = (x - x0, z - z0);
+        let (xi, zi) = (x0 as i64, z0 as i64);
+        let a = self.at(xi, zi) + (self.at(xi + 1, zi) - self.at(xi, zi)) * fx;
+        let b = self.at(xi, zi + 1) + (self.at(xi + 1, zi + 1) - self.at(xi, zi + 1)) * fx;
         a + (b - a) * fz
     }
 }
