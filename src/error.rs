@@ -112,7 +112,28 @@ impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
     }
 }
 
+/// `Ok` when `ok`, else the error that `argument` must be in `range` (a range or a
+/// description of the allowed values, with units).
+pub fn ensure_in_range(ok: bool, argument: &str, range: &str) -> Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::invalid(argument, format!("must be in {range}")))
+    }
+}
+
 impl Error {
+    /// An unknown preset name, listing the known ones.
+    pub fn unknown_preset(name: &str, presets: &[(&str, &str)]) -> Self {
+        Error::invalid(
+            "--preset",
+            format!(
+                "\"{name}\" is not one of: {}",
+                presets.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
+            ),
+        )
+    }
+
     /// Shorthand for an out-of-range or malformed user argument.
     pub fn invalid(argument: impl Into<String>, message: impl Into<String>) -> Self {
         Error::InvalidArgument {

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::mesh::Mesh;
 use super::noise::fbm;
-use crate::error::{Error, Result};
+use crate::error::Result;
 
 /// Shape parameters of the rock.
 #[derive(Clone, Debug, PartialEq)]
@@ -45,13 +45,7 @@ impl Default for RockParams {
 
 impl RockParams {
     pub fn validate(&self) -> Result<()> {
-        let check = |ok: bool, argument: &str, range: &str| {
-            if ok {
-                Ok(())
-            } else {
-                Err(Error::invalid(argument, format!("must be in {range}")))
-            }
-        };
+        let check = crate::error::ensure_in_range;
         check(self.subdivisions <= 7, "rock subdivisions", "0..=7")?;
         check(
             self.radius > 0.0 && self.radius.is_finite(),

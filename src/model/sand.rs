@@ -137,13 +137,7 @@ impl SandParams {
     }
 
     pub fn validate(&self) -> Result<()> {
-        let check = |ok: bool, what: &str, range: &str| {
-            if ok {
-                Ok(())
-            } else {
-                Err(Error::invalid(what, format!("must be in {range}")))
-            }
-        };
+        let check = crate::error::ensure_in_range;
         check(
             (0.0..=1.0).contains(&self.diffusion),
             "diffusion D",

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::Vec4;
 
-use super::lit_mesh::{FrameUniforms, LitVertex};
+use super::lit_mesh::{FrameUniforms, LitVertex, lit_vertices};
 use super::ripple_maps::RippleMaps;
 use crate::error::Result;
 use crate::gpu::{
@@ -141,15 +141,7 @@ pub struct DuneGeometry {
 
 impl DuneGeometry {
     pub fn new(ctx: &Arc<Context>, mesh: &Mesh) -> Result<Self> {
-        let vertices: Vec<LitVertex> = mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .map(|(p, n)| LitVertex {
-                position: p.to_array(),
-                normal: n.to_array(),
-            })
-            .collect();
+        let vertices = lit_vertices(mesh);
         Ok(Self {
             vertices: Buffer::with_data(
                 ctx,

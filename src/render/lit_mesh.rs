@@ -68,6 +68,18 @@ pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<ObjectPush>() as u32,
 };
 
+/// The mesh's vertices in the lit-mesh layout.
+pub fn lit_vertices(mesh: &Mesh) -> Vec<LitVertex> {
+    mesh.positions
+        .iter()
+        .zip(&mesh.normals)
+        .map(|(p, n)| LitVertex {
+            position: p.to_array(),
+            normal: n.to_array(),
+        })
+        .collect()
+}
+
 /// A mesh in GPU buffers.
 pub struct GpuMesh {
     vertices: Buffer,
@@ -77,15 +89,7 @@ pub struct GpuMesh {
 
 impl GpuMesh {
     pub fn upload(ctx: &Arc<Context>, name: &str, mesh: &Mesh) -> Result<Self> {
-        let vertices: Vec<LitVertex> = mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .map(|(p, n)| LitVertex {
-                position: p.to_array(),
-                normal: n.to_array(),
-            })
-            .collect();
+        let vertices = lit_vertices(mesh);
         Ok(Self {
             vertices: Buffer::with_data(
                 ctx,

@@ -174,27 +174,13 @@ pub fn preset(name: &str) -> Result<DunesScene> {
             dust: Some(DustParams::default()),
             ..base
         },
-        other => {
-            return Err(Error::invalid(
-                "--preset",
-                format!(
-                    "\"{other}\" is not one of: {}",
-                    PRESETS.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
-                ),
-            ));
-        }
+        other => return Err(Error::unknown_preset(other, PRESETS)),
     })
 }
 
 impl DunesScene {
     pub fn validate(&self) -> Result<()> {
-        let check = |ok: bool, what: &str, range: &str| {
-            if ok {
-                Ok(())
-            } else {
-                Err(Error::invalid(what, format!("must be in {range}")))
-            }
-        };
+        let check = crate::error::ensure_in_range;
         check(
             self.ripple_size.is_power_of_two() && (16..=1024).contains(&self.ripple_size),
             "--ripple-size",

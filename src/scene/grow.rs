@@ -89,15 +89,7 @@ pub fn preset(name: &str) -> Result<GrowthScene> {
         },
         "fig9g" => random(Pil::Dripping, Mineral::Iron, 12),
         "fig9h" => random(Pil::Dripping, Mineral::Malachite, 9),
-        other => {
-            return Err(Error::invalid(
-                "--preset",
-                format!(
-                    "\"{other}\" is not one of: {}",
-                    PRESETS.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
-                ),
-            ));
-        }
+        other => return Err(Error::unknown_preset(other, PRESETS)),
     })
 }
 

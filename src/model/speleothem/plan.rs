@@ -11,7 +11,7 @@
 use glam::{Vec3, Vec4};
 
 use super::table2::{Co2, DripInterval, Mineral, Pil, stalactite_steps, stalagmite_steps};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::model::random::{Rng, mix64};
 
 /// Which way a speleothem grows.
@@ -280,13 +280,7 @@ struct Front {
 
 impl GrowthScene {
     pub fn validate(&self) -> Result<()> {
-        let check = |ok: bool, what: &str, range: &str| {
-            if ok {
-                Ok(())
-            } else {
-                Err(Error::invalid(what, format!("must be in {range}")))
-            }
-        };
+        let check = crate::error::ensure_in_range;
         check((1..=256).contains(&self.count), "--count", "1..=256")?;
         check((1..=512).contains(&self.passes), "--passes", "1..=512")?;
         check((3..=128).contains(&self.segments), "--segments", "3..=128")?;
