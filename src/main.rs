@@ -143,6 +143,25 @@ struct DunesArgs {
     /// The frame as PNG (default dunes.png).
     #[arg(short = 'o', long = "output", value_name = "FILE.png")]
     output: Option<PathBuf>,
+    /// The ripples and dunes forming over time as an animated GIF (each frame
+    /// renders the simulation part of the way through).
+    #[arg(long, value_name = "FILE.gif")]
+    gif: Option<PathBuf>,
+    /// GIF frames, 2..=120 (default 12).
+    #[arg(long, value_name = "N", default_value_t = 12)]
+    gif_frames: u32,
+    /// Dune saltation length L0 in cells (paper 7.0).
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    dune_l0: Option<f64>,
+    /// Dune saltation base amount q0 (paper 1.5).
+    #[arg(long, value_name = "Q", allow_negative_numbers = true)]
+    dune_q0: Option<f64>,
+    /// Dune hop shortening with slope b (paper 2.0).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    dune_b: Option<f64>,
+    /// Dune lift increase with slope b' (paper 2.0).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    dune_b_prime: Option<f64>,
     /// The dune field as a 16-bit greyscale PNG; the ripple tile goes beside it as
     /// FILE-ripples.png.
     #[arg(long, value_name = "FILE.png")]
@@ -519,6 +538,12 @@ fn dunes_scene(cli: &Cli, a: &DunesArgs) -> anyhow::Result<dunes::DunesScene> {
         set!(*q, a.ripple_q);
         set!(*b, a.ripple_b);
     }
+    if let sediment::model::sand::Saltation::Dune { l0, q0, b, b_prime } = &mut s.dune.saltation {
+        set!(*l0, a.dune_l0);
+        set!(*q0, a.dune_q0);
+        set!(*b, a.dune_b);
+        set!(*b_prime, a.dune_b_prime);
+    }
     if let Some(d) = a.diffusion {
         s.ripple.diffusion = d;
         s.dune.diffusion = d;
@@ -563,6 +588,20 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         .as_deref()
         .map(|v| vec3_arg("--target", v))
         .transpose()?;
+    if let Some(g) = &a.gif {
+        if !g.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif")) {
+            bail!(sediment::Error::invalid(
+                "--gif",
+                format!("{} must end in .gif", g.display())
+            ));
+        }
+        if !(2..=120).contains(&a.gif_frames) {
+            bail!(sediment::Error::invalid(
+                "--gif-frames",
+                "must be in 2..=120"
+            ));
+        }
+    }
     for (path, what) in [(&a.heightmap, "--heightmap"), (&a.output, "-o")] {
         if let Some(p) = path {
             if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
@@ -608,6 +647,35 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         scene.camera = Some(camera);
     }
     let out = dunes::render(&ctx, &scene, &terrain, cli.size)?;
+    let mut gif_frames = Vec::new();
+    if a.gif.is_some() {
+        // The simulation again in chunks, one frame after each (the same seed gives
+        // the same final terrain).
+        let snapshots = dunes::simulate_frames(&scene, a.gif_frames, &mut |d, t| {
+            progress(d as usize, t as usize, "animation steps")
+        })?;
+        eprintln!();
+        // One camera for every frame: the final frame's.
+        let camera = scene
+            .camera
+            .clone()
+            .unwrap_or_else(|| dunes::default_camera(&scene, &terrain));
+        for (i, terrain) in snapshots.iter().enumerate() {
+            progress(i, snapshots.len(), "animation frames");
+            // Dust drifts on between frames.
+            let frame_scene = dunes::DunesScene {
+                dust_step: scene.dust_step + 4 * i as u32,
+                camera: Some(camera.clone()),
+                ..scene.clone()
+            };
+            gif_frames.push(
+                dunes::render(&ctx, &frame_scene, terrain, cli.size)?
+                    .frame
+                    .image,
+            );
+        }
+        eprintln!();
+    }
     let errors = ctx.take_validation_errors();
     if !errors.is_empty() {
         bail!(
@@ -621,6 +689,10 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| PathBuf::from("dunes.png"));
     sediment::export::png::write_png(&output, &out.frame.image)?;
     println!("wrote {}", output.display());
+    if let Some(path) = &a.gif {
+        sediment::export::gif::write_gif(path, &gif_frames, 150)?;
+        println!("wrote {} ({} frames)", path.display(), gif_frames.len());
+    }
     if let Some(path) = &a.heightmap {
         sediment::export::png::write_heightmap16(path, &terrain.dune_field)?;
         let stem = path

@@ -86,6 +86,45 @@ fn frame_heightmaps_and_mesh_are_written() {
 }
 
 #[test]
+fn the_forming_dunes_animate() {
+    let dir = scratch("gif");
+    let gif = dir.join("d.gif").to_string_lossy().into_owned();
+    let png = dir.join("d.png").to_string_lossy().into_owned();
+    let mut args = vec![
+        "dunes",
+        "-o",
+        &png,
+        "--gif",
+        &gif,
+        "--gif-frames",
+        "3",
+        "--size",
+        "96x64",
+    ];
+    args.extend(SMALL);
+    let out = sediment(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(&gif).expect("GIF written"),
+    ))
+    .expect("GIF decodes");
+    let frames: Vec<image::Frame> = image::AnimationDecoder::into_frames(decoder)
+        .collect::<Result<_, _>>()
+        .expect("frames");
+    assert_eq!(frames.len(), 3);
+    assert_ne!(
+        frames[0].buffer().as_raw(),
+        frames[2].buffer().as_raw(),
+        "the sand moves"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
 fn bad_input_is_named_and_nothing_is_written() {
     let dir = scratch("bad");
     let png = dir.join("x.png").to_string_lossy().into_owned();
@@ -98,6 +137,7 @@ fn bad_input_is_named_and_nothing_is_written() {
         (vec!["--eye", "1,2"], "--eye"),
         (vec!["--repose", "steep"], "--repose"),
         (vec!["--heightmap", "h.tif"], "--heightmap"),
+        (vec!["--gif", "a.gif", "--gif-frames", "1"], "--gif-frames"),
     ] {
         let mut all = vec!["dunes", "-o", png.as_str()];
         all.extend(args.iter().copied());

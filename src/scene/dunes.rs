@@ -251,13 +251,26 @@ pub struct Terrain {
 
 /// Runs both simulations; `progress(done, total)` over all steps.
 pub fn simulate(scene: &DunesScene, progress: &mut dyn FnMut(u32, u32)) -> Result<Terrain> {
+    let mut frames = simulate_frames(scene, 1, progress)?;
+    frames
+        .pop()
+        .ok_or_else(|| Error::invalid("simulation", "produced no terrain"))
+}
+
+/// Runs both simulations in `frames` equal chunks and keeps the terrain after each
+/// (the ripples and dunes forming over time, for an animation).
+pub fn simulate_frames(
+    scene: &DunesScene,
+    frames: u32,
+    progress: &mut dyn FnMut(u32, u32),
+) -> Result<Vec<Terrain>> {
     scene.validate()?;
+    let frames = frames.max(1);
     let total = scene.ripple_steps + scene.dune_steps;
     let mut ripples = SandSim::new(
         Heightfield::random(scene.ripple_size, scene.ripple_size, 0.0, 1.0, scene.seed),
         scene.ripple.clone(),
     )?;
-    ripples.run(scene.ripple_steps, &mut |d| progress(d, total));
     let mut dunes = SandSim::new(
         Heightfield::random(
             scene.dune_size,
@@ -268,10 +281,28 @@ pub fn simulate(scene: &DunesScene, progress: &mut dyn FnMut(u32, u32)) -> Resul
         ),
         scene.dune.clone(),
     )?;
-    dunes.run(scene.dune_steps, &mut |d| {
-        progress(scene.ripple_steps + d, total)
-    });
-    let dune_field = dunes.into_field();
+    let (mut ripple_done, mut dune_done) = (0u32, 0u32);
+    let mut out = Vec::with_capacity(frames as usize);
+    for f in 1..=frames {
+        let ripple_to = (u64::from(scene.ripple_steps) * u64::from(f) / u64::from(frames)) as u32;
+        let dune_to = (u64::from(scene.dune_steps) * u64::from(f) / u64::from(frames)) as u32;
+        let base = ripple_done + dune_done;
+        ripples.run(ripple_to - ripple_done, &mut |d| progress(base + d, total));
+        ripple_done = ripple_to;
+        let base = ripple_done + dune_done;
+        dunes.run(dune_to - dune_done, &mut |d| progress(base + d, total));
+        dune_done = dune_to;
+        out.push(terrain_of(
+            scene,
+            ripples.field().clone(),
+            dunes.field().clone(),
+        ));
+    }
+    Ok(out)
+}
+
+/// World-unit dune heights (lowest at 0) from the simulated fields.
+fn terrain_of(scene: &DunesScene, ripples: Heightfield, dune_field: Heightfield) -> Terrain {
     let scale = scene.dune.vertical_scale as f32 * scene.cell;
     let min = dune_field.data.iter().copied().fold(f64::MAX, f64::min);
     let dune_heights = dune_field
@@ -279,11 +310,11 @@ pub fn simulate(scene: &DunesScene, progress: &mut dyn FnMut(u32, u32)) -> Resul
         .iter()
         .map(|&h| (h - min) as f32 * scale)
         .collect();
-    Ok(Terrain {
+    Terrain {
         dune_heights,
-        ripples: ripples.into_field(),
+        ripples,
         dune_field,
-    })
+    }
 }
 
 /// The default camera: low over one edge of the field, looking across it.
