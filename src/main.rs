@@ -59,7 +59,7 @@ enum Command {
     /// Grow speleothems ring by ring on the geometry-shader / transform-feedback
     /// pipeline (Tortelli & Walter 2009) and render them. Values come from the preset,
     /// then the scene file, then these options. Lengths are in scene units (the cave
-    /// is 2.4 units high).
+    /// is 2.4 units high by default, 3 in the random presets).
     Grow(Box<GrowArgs>),
     /// Simulate dunes and wind ripples (Nishimori–Ouchi) and render the desert with
     /// bump-mapped ripples, LOD, culling, dune and ripple shadows (Onoue & Nishita).
@@ -71,7 +71,7 @@ enum Command {
 struct DunesArgs {
     /// A reproduction of one of the paper's figures: fig12 (no ripples), fig13
     /// (ripples), fig14/fig15 (low sun without/with dune shadows), fig16/fig17 (dune
-    /// shadows without/with ripple shadows).
+    /// shadows without/with ripple shadows), fig18 (with sand dust; no footprints).
     #[arg(long, value_name = "NAME")]
     preset: Option<String>,
     /// Ripple tile side in texels: a power of two in 16..=1024 (paper: 256).
@@ -104,10 +104,12 @@ struct DunesArgs {
     /// World metres per dune cell, > 0 (default 4).
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     cell: Option<f32>,
-    /// World metres covered by one ripple tile, > 0 (default 5).
+    /// World metres covered by one ripple tile, > 0 (default 16: 64 ripple texels per
+    /// 4 m dune cell, as in the paper).
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     ripple_tile: Option<f32>,
-    /// Ripple bump strength, 0..=4 (default 1).
+    /// Ripple bump strength, 0..=4 (default 0.65; 1 uses the simulated slopes as they
+    /// are).
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
     ripple_strength: Option<f32>,
     /// Ripple orientation relative to the dune field's wind (+x), degrees.
@@ -128,6 +130,11 @@ struct DunesArgs {
     /// Shadows: none, dune, or dune+ripple.
     #[arg(long, value_name = "none|dune|dune+ripple")]
     shadows: Option<String>,
+    /// How dune shadows are found: map (the paper's ray march once per light into a
+    /// shadow map, the default) or pixel (the same march in every pixel, slower; for
+    /// comparison).
+    #[arg(long, value_name = "map|pixel")]
+    dune_shadows: Option<String>,
     /// Sand dust blobs drifting with the wind (paper eq. 7).
     #[arg(long)]
     dust: bool,
@@ -571,6 +578,16 @@ fn dunes_scene(cli: &Cli, a: &DunesArgs) -> anyhow::Result<dunes::DunesScene> {
     }
     if let Some(v) = &a.shadows {
         s.shadows = v.parse()?;
+    }
+    if let Some(m) = &a.dune_shadows {
+        s.dune_shadows_per_pixel = match m.trim().to_ascii_lowercase().as_str() {
+            "map" => false,
+            "pixel" => true,
+            other => bail!(sediment::Error::invalid(
+                "--dune-shadows",
+                format!("\"{other}\" is not map or pixel")
+            )),
+        };
     }
     if a.dust && s.dust.is_none() {
         s.dust = Some(sediment::model::dust::DustParams::default());

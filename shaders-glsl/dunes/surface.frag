@@ -23,11 +23,12 @@ layout(set = 0, binding = 3) uniform texture2D horizon_b;       // dirs 4-7
 layout(set = 0, binding = 4) uniform texture2D dune_shadow;     // 1 lit, 0 shadowed
 layout(set = 0, binding = 5) uniform texture2D sand_grain;
 layout(set = 0, binding = 6) uniform sampler repeat_sampler;
+layout(set = 0, binding = 7) uniform texture2D dune_heights;    // one period, cell units
 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
     vec4 wind;     // xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0)
-    vec4 shadows;  // x dune shadows on, y ripple shadows on, z shadow softness
+    vec4 shadows;  // x dune shadows on, y ripple shadows on, z softness, w per-pixel march (1) or map (0)
     vec4 albedo;   // rgb sand albedo
 } dune;
 
@@ -36,6 +37,50 @@ layout(location = 1) in vec3 in_normal;
 layout(location = 0) out vec4 out_color;
 
 const float TAU = 6.28318530717958647692;
+const float NEVER = 3.0e38;
+
+// The paper's dune-shadow march (3.4) per pixel, for comparison with the precomputed
+// map: crossings of the grid lines toward the sun, the periodic heightfield sampled
+// there (bilinear, in cell units) against the ray's height.
+float march_dune_shadow(vec3 world, vec3 l) {
+    float n = float(textureSize(sampler2D(dune_heights, repeat_sampler), 0).x);
+    float cell = dune.tile.w / n;
+    vec2 p = world.xz / cell;
+    float y = world.y / cell + 1e-3;
+    vec2 h = vec2(l.x, l.z);
+    float len = max(length(h), 1e-6);
+    vec2 dir = h / len;
+    float rise = l.y / len;
+    vec2 next = vec2(NEVER);
+    vec2 delta = vec2(NEVER);
+    for (int a = 0; a < 2; ++a) {
+        float d = dir[a];
+        if (d > 1e-6) {
+            next[a] = (floor(p[a]) + 1.0 - p[a]) / d;
+            delta[a] = 1.0 / d;
+        } else if (d < -1e-6) {
+            next[a] = (p[a] - (ceil(p[a]) - 1.0)) / -d;
+            delta[a] = -1.0 / d;
+        }
+    }
+    for (int i = 0; i < 2 * int(n) + 2; ++i) {
+        float t = min(next.x, next.y);
+        if (t >= NEVER || t > n) {
+            return 1.0;
+        }
+        vec2 q = p + dir * t;
+        float ground = textureLod(sampler2D(dune_heights, repeat_sampler), (q + 0.5) / n, 0.0).r;
+        if (ground > y + rise * t) {
+            return 0.0;
+        }
+        if (next.x <= next.y) {
+            next.x += delta.x;
+        } else {
+            next.y += delta.y;
+        }
+    }
+    return 1.0;
+}
 
 void main() {
     vec3 nd = normalize(in_normal);
@@ -59,7 +104,9 @@ void main() {
 
     vec3 l = normalize(frame.sun_dir.xyz);
     float lit = 1.0;
-    if (dune.shadows.x > 0.5) {
+    if (dune.shadows.x > 0.5 && dune.shadows.w > 0.5) {
+        lit *= march_dune_shadow(in_world, l);
+    } else if (dune.shadows.x > 0.5) {
         vec2 suv = in_world.xz / dune.tile.w;
         // The map covers one period of the field and tiles with it.
         lit *= texture(sampler2D(dune_shadow, repeat_sampler), suv).r;

@@ -38,10 +38,12 @@ pub struct DuneShadowPass {
     set: DescriptorSet,
     /// `res` x `res` visibilities (1 lit, 0 shadow).
     pub visibility: Buffer,
-    _heights: Buffer,
+    /// The heights it marches over (cell units), also sampled by the per-pixel variant.
+    pub heights: Buffer,
     pipeline: Pipeline,
     layout: PipelineLayout,
-    n: u32,
+    /// Grid side (vertices per period) and shadow-map side.
+    pub n: u32,
     pub res: u32,
 }
 
@@ -53,7 +55,7 @@ impl DuneShadowPass {
         let heights_buffer = Buffer::with_data(
             ctx,
             "dune heights",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
             heights,
         )?;
         let visibility = Buffer::new(
@@ -70,7 +72,7 @@ impl DuneShadowPass {
         Ok(Self {
             set,
             visibility,
-            _heights: heights_buffer,
+            heights: heights_buffer,
             pipeline,
             layout,
             n,

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use glam::Vec4;
 
+use super::dune_shadow::DuneShadowPass;
 use super::lit_mesh::{FrameUniforms, LitVertex, lit_vertices};
 use super::ripple_maps::RippleMaps;
 use crate::error::Result;
@@ -25,7 +26,8 @@ pub struct DunePush {
     pub tile: Vec4,
     /// xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0).
     pub wind: Vec4,
-    /// x dune shadows, y ripple shadows (1 on), z ripple-shadow softness (slope units).
+    /// x dune shadows, y ripple shadows (1 on), z ripple-shadow softness (slope units),
+    /// w dune shadows marched per pixel (1) instead of read from the map (0).
     pub shadows: Vec4,
     /// rgb sand albedo.
     pub albedo: Vec4,
@@ -40,6 +42,7 @@ const HORIZON_B: DescriptorBinding = DescriptorBinding::new(0, 3, DescriptorKind
 const SHADOW: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKind::SampledImage);
 const GRAIN: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::SampledImage);
 const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::Sampler);
+const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::SampledImage);
 
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_VERT,
@@ -49,7 +52,9 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
 
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_FRAG,
-    bindings: &[FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT],
+    bindings: &[
+        FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT, HEIGHTS,
+    ],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
 
@@ -60,6 +65,8 @@ pub struct DuneTextures {
     pub horizon_b: Image,
     pub shadow: Image,
     pub grain: Image,
+    /// One period of dune heights in cell units (the per-pixel shadow march reads it).
+    pub heights: Image,
 }
 
 impl DuneTextures {
@@ -67,8 +74,7 @@ impl DuneTextures {
     pub fn new(
         ctx: &Arc<Context>,
         maps: &RippleMaps,
-        shadow: &Buffer,
-        shadow_res: u32,
+        shadow: &DuneShadowPass,
         grain_rgba: &[u8],
         grain_size: u32,
     ) -> Result<Self> {
@@ -112,12 +118,12 @@ impl DuneTextures {
                 ctx,
                 "dune shadow",
                 ImageDesc::new_2d(
-                    shadow_res,
-                    shadow_res,
+                    shadow.res,
+                    shadow.res,
                     vk::Format::R32_SFLOAT,
                     vk::ImageUsageFlags::SAMPLED,
                 ),
-                shadow,
+                &shadow.visibility,
                 &[0],
             )?,
             grain: Image::upload_rgba8(
@@ -127,6 +133,18 @@ impl DuneTextures {
                 grain_size,
                 grain_rgba,
                 true,
+            )?,
+            heights: Image::sampled_from_buffer(
+                ctx,
+                "dune heights",
+                ImageDesc::new_2d(
+                    shadow.n,
+                    shadow.n,
+                    vk::Format::R32_SFLOAT,
+                    vk::ImageUsageFlags::SAMPLED,
+                ),
+                &shadow.heights,
+                &[0],
             )?,
         })
     }
@@ -229,6 +247,7 @@ impl DuneSurfacePass {
         set.write_image(SHADOW.binding, textures.shadow.view(), ro)?;
         set.write_image(GRAIN.binding, textures.grain.view(), ro)?;
         set.write_sampler(REPEAT.binding, &repeat)?;
+        set.write_image(HEIGHTS.binding, textures.heights.view(), ro)?;
         Ok(Self {
             set,
             _sampler: repeat,
