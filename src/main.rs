@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context as _, bail};
 use clap::{Parser, Subcommand};
+use sediment::export::check_extension;
 use sediment::gpu::{Context, ContextOptions};
 use sediment::model::speleothem::plan::StepMode;
 use sediment::scene::Size;
@@ -438,13 +439,7 @@ fn grow(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         (o, _, _) => o.clone(),
     };
     if let Some(mesh) = &a.mesh {
-        let ext = mesh.extension().and_then(|e| e.to_str()).unwrap_or("");
-        if !ext.eq_ignore_ascii_case("glb") && !ext.eq_ignore_ascii_case("obj") {
-            bail!(sediment::Error::invalid(
-                "--mesh",
-                format!("{} must end in .glb or .obj", mesh.display())
-            ));
-        }
+        check_extension(mesh, "--mesh", &["glb", "obj"])?;
     }
     let ctx = open_context(cli)?;
     let outputs = grow::GrowOutputs {
@@ -455,13 +450,7 @@ fn grow(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         progress(done as usize, total as usize, "passes")
     })?;
     eprintln!();
-    let errors = ctx.take_validation_errors();
-    if !errors.is_empty() {
-        bail!(
-            "the validation layer reported {} error(s), printed above; nothing was written",
-            errors.len()
-        );
-    }
+    fail_on_validation_errors(&ctx)?;
     if let Some(path) = &output {
         sediment::export::png::write_png(path, &grown.frame.image)?;
         println!("wrote {}", path.display());
@@ -606,12 +595,7 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         .map(|v| vec3_arg("--target", v))
         .transpose()?;
     if let Some(g) = &a.gif {
-        if !g.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif")) {
-            bail!(sediment::Error::invalid(
-                "--gif",
-                format!("{} must end in .gif", g.display())
-            ));
-        }
+        check_extension(g, "--gif", &["gif"])?;
         if !(2..=120).contains(&a.gif_frames) {
             bail!(sediment::Error::invalid(
                 "--gif-frames",
@@ -621,22 +605,11 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
     }
     for (path, what) in [(&a.heightmap, "--heightmap"), (&a.output, "-o")] {
         if let Some(p) = path {
-            if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
-                bail!(sediment::Error::invalid(
-                    what,
-                    format!("{} must end in .png", p.display())
-                ));
-            }
+            check_extension(p, what, &["png"])?;
         }
     }
     if let Some(m) = &a.mesh {
-        let ext = m.extension().and_then(|e| e.to_str()).unwrap_or("");
-        if !ext.eq_ignore_ascii_case("glb") && !ext.eq_ignore_ascii_case("obj") {
-            bail!(sediment::Error::invalid(
-                "--mesh",
-                format!("{} must end in .glb or .obj", m.display())
-            ));
-        }
+        check_extension(m, "--mesh", &["glb", "obj"])?;
     }
     let ctx = open_context(cli)?;
     let sim_start = std::time::Instant::now();
@@ -693,13 +666,7 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         }
         eprintln!();
     }
-    let errors = ctx.take_validation_errors();
-    if !errors.is_empty() {
-        bail!(
-            "the validation layer reported {} error(s), printed above; nothing was written",
-            errors.len()
-        );
-    }
+    fail_on_validation_errors(&ctx)?;
     let output = a
         .output
         .clone()
@@ -739,6 +706,18 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         spans(&out.precompute),
         out.frame.wall_ms
     );
+    Ok(())
+}
+
+/// With --validate, any validation error fails the run before outputs are written.
+fn fail_on_validation_errors(ctx: &Context) -> anyhow::Result<()> {
+    let errors = ctx.take_validation_errors();
+    if !errors.is_empty() {
+        bail!(
+            "the validation layer reported {} error(s), printed above; nothing was written",
+            errors.len()
+        );
+    }
     Ok(())
 }
 

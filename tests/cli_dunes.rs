@@ -2,21 +2,9 @@
 //! tile, a valid glTF mesh; bad input refused before anything is written.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn sediment(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sediment"))
-        .args(args)
-        .output()
-        .expect("run the sediment binary")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sediment-dunes-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
+use common::cli::{gltf_validate, scratch, sediment};
 
 const SMALL: [&str; 8] = [
     "--ripple-size",
@@ -71,17 +59,7 @@ fn frame_heightmaps_and_mesh_are_written() {
     assert_eq!((lo, hi), (0, 65535), "the range is stretched to 16 bits");
     let ripples = image::open(dir.join("h-ripples.png")).expect("ripple tile");
     assert_eq!((ripples.width(), ripples.height()), (64, 64));
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join(".ci/gltf/validate.js");
-    let check = Command::new("node")
-        .arg(&script)
-        .arg(&glb)
-        .output()
-        .expect("node (run sh .ci/setup)");
-    assert!(
-        check.status.success(),
-        "glTF validator: {}",
-        String::from_utf8_lossy(&check.stdout)
-    );
+    gltf_validate(Path::new(&glb));
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
 

@@ -2,50 +2,15 @@
 //! Khronos validator accepts, and bad input refused before anything is written.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn sediment(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sediment"))
-        .args(args)
-        .output()
-        .expect("run the sediment binary")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sediment-grow-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
+use common::cli::{gltf_validate, scratch, sediment};
 
 fn files_in(dir: &Path) -> Vec<String> {
     std::fs::read_dir(dir)
         .expect("read dir")
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect()
-}
-
-/// Runs the Khronos glTF validator installed by `.ci/setup` on `path`.
-fn gltf_validate(path: &Path) {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join(".ci/gltf/validate.js");
-    let modules =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join(".ci/gltf/node_modules/gltf-validator");
-    assert!(
-        modules.is_dir(),
-        "the glTF validator is not installed: run `sh .ci/setup` (it needs node and npm)"
-    );
-    let out = Command::new("node")
-        .arg(&script)
-        .arg(path)
-        .output()
-        .expect("node runs (install nodejs with `sh .ci/setup`)");
-    let report = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "glTF validator rejected {}: {report}",
-        path.display()
-    );
-    assert!(report.contains("\"errors\":0"), "{report}");
 }
 
 #[test]

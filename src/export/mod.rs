@@ -5,3 +5,29 @@ pub mod atomic;
 pub mod gif;
 pub mod mesh;
 pub mod png;
+
+/// Checks that `path` ends in one of `allowed` (case-insensitive), so a bad output name
+/// is refused before any work is done.
+pub fn check_extension(
+    path: &std::path::Path,
+    argument: &str,
+    allowed: &[&str],
+) -> crate::error::Result<()> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if allowed.iter().any(|a| ext.eq_ignore_ascii_case(a)) {
+        Ok(())
+    } else {
+        Err(crate::error::Error::invalid(
+            argument,
+            format!(
+                "{} must end in {}",
+                path.display(),
+                allowed
+                    .iter()
+                    .map(|a| format!(".{a}"))
+                    .collect::<Vec<_>>()
+                    .join(" or ")
+            ),
+        ))
+    }
+}

@@ -1,0 +1,42 @@
+//! Running the `sediment` binary from tests, in scratch folders of their own.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs the built `sediment` binary with `args`.
+pub fn sediment(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .args(args)
+        .output()
+        .expect("run the sediment binary")
+}
+
+/// An empty folder for one test (emptied if a previous run left it behind).
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sediment-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+/// Runs the Khronos glTF validator installed by `.ci/setup` on `path` and fails the
+/// test on any error or warning.
+pub fn gltf_validate(path: &Path) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join(".ci/gltf");
+    assert!(
+        root.join("node_modules/gltf-validator").is_dir(),
+        "the glTF validator is not installed: run `sh .ci/setup` (it needs node and npm)"
+    );
+    let out = Command::new("node")
+        .arg(root.join("validate.js"))
+        .arg(path)
+        .output()
+        .expect("node runs (install nodejs with `sh .ci/setup`)");
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "glTF validator rejected {}: {report}",
+        path.display()
+    );
+    assert!(report.contains("\"errors\":0"), "{report}");
+}
