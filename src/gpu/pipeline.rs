@@ -266,32 +266,32 @@ impl DescriptorSet {
         view: vk::ImageView,
         layout: vk::ImageLayout,
     ) -> Result<()> {
-        let kind = self.kind_of(binding)?;
-        let info = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: view,
-            image_layout: layout,
-        }];
-        let write = [vk::WriteDescriptorSet::default()
-            .dst_set(self.raw)
-            .dst_binding(binding)
-            .descriptor_type(descriptor_type(kind))
-            .image_info(&info)];
-        // SAFETY: the set is not in use by the GPU while it is updated.
-        unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
-        Ok(())
+        self.write_image_info(
+            binding,
+            vk::DescriptorImageInfo {
+                sampler: vk::Sampler::null(),
+                image_view: view,
+                image_layout: layout,
+            },
+        )
     }
-}
 
-impl DescriptorSet {
     /// Points a sampler binding at `sampler`.
     pub fn write_sampler(&self, binding: u32, sampler: &super::Sampler) -> Result<()> {
+        self.write_image_info(
+            binding,
+            vk::DescriptorImageInfo {
+                sampler: sampler.raw(),
+                image_view: vk::ImageView::null(),
+                image_layout: vk::ImageLayout::UNDEFINED,
+            },
+        )
+    }
+
+    /// One image-info descriptor (image or sampler) written to `binding`.
+    fn write_image_info(&self, binding: u32, info: vk::DescriptorImageInfo) -> Result<()> {
         let kind = self.kind_of(binding)?;
-        let info = [vk::DescriptorImageInfo {
-            sampler: sampler.raw(),
-            image_view: vk::ImageView::null(),
-            image_layout: vk::ImageLayout::UNDEFINED,
-        }];
+        let info = [info];
         let write = [vk::WriteDescriptorSet::default()
             .dst_set(self.raw)
             .dst_binding(binding)

@@ -254,9 +254,7 @@ impl SandSim {
             .for_each(|(band, out)| {
                 for (r, row_out) in out.chunks_exact_mut(w).enumerate() {
                     let y = band * BAND + r;
-                    let up = &src[((y + h - 1) % h) * w..][..w];
-                    let mid = &src[y * w..][..w];
-                    let down = &src[((y + 1) % h) * w..][..w];
+                    let (up, mid, down) = neighbour_rows(src, y, w, h);
                     // Nishimori–Ouchi creep, 1/6 axial + 1/12 diagonal; the periodic
                     // neighbours of the two edge columns are wrapped by hand so the
                     // inner loop has no modulo.
@@ -321,9 +319,7 @@ impl SandSim {
                 let mut worst = 0.0f64;
                 for (r, row_out) in out.chunks_exact_mut(w).enumerate() {
                     let y = band * BAND + r;
-                    let up = &src[((y + h - 1) % h) * w..][..w];
-                    let mid = &src[y * w..][..w];
-                    let down = &src[((y + 1) % h) * w..][..w];
+                    let (up, mid, down) = neighbour_rows(src, y, w, h);
                     for x in 0..w {
                         let c = mid[x];
                         let (l, rr) = (mid[(x + w - 1) % w], mid[(x + 1) % w]);
@@ -342,6 +338,15 @@ impl SandSim {
         std::mem::swap(&mut self.field.data, &mut self.scratch);
         worst
     }
+}
+
+/// Rows `y - 1`, `y` and `y + 1` of a periodic `w` x `h` field.
+fn neighbour_rows(src: &[f64], y: usize, w: usize, h: usize) -> (&[f64], &[f64], &[f64]) {
+    (
+        &src[((y + h - 1) % h) * w..][..w],
+        &src[y * w..][..w],
+        &src[((y + 1) % h) * w..][..w],
+    )
 }
 
 /// Saltation of one row (the wind blows along +x, so sand stays in its row).
