@@ -170,6 +170,15 @@ struct DunesArgs {
     /// Dune lift increase with slope b' (paper 2.0).
     #[arg(long, value_name = "B", allow_negative_numbers = true)]
     dune_b_prime: Option<f64>,
+    /// Dune wind speed-up: extra hop length in cells per unit of sand height above the
+    /// field's mean, >= 0 (default 2; 0 for the paper's law alone).
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    dune_speedup: Option<f64>,
+    /// Lee shadow zone behind dune crests in degrees, 0..90 exclusive, or "off" for the
+    /// paper's law alone (default 15): sand there is not eroded and catches the grains
+    /// flying into it, which makes the steep slip face.
+    #[arg(long, value_name = "DEG|off")]
+    shadow_zone: Option<String>,
     /// The dune field as a 16-bit greyscale PNG; the ripple tile goes beside it as
     /// FILE-ripples.png.
     #[arg(long, value_name = "FILE.png")]
@@ -497,6 +506,21 @@ fn on_off(name: &str, v: &str) -> anyhow::Result<bool> {
     }
 }
 
+/// An angle in degrees, or "off".
+fn degrees_or_off(name: &str, v: &str) -> anyhow::Result<Option<f64>> {
+    let v = v.trim();
+    if v.eq_ignore_ascii_case("off") {
+        return Ok(None);
+    }
+    match v.parse::<f64>() {
+        Ok(d) => Ok(Some(d)),
+        Err(_) => bail!(sediment::Error::invalid(
+            name,
+            format!("\"{v}\" is not degrees or off")
+        )),
+    }
+}
+
 fn vec3_arg(name: &str, v: &str) -> anyhow::Result<glam::Vec3> {
     let parts: Vec<f32> = v
         .split(',')
@@ -534,24 +558,30 @@ fn dunes_scene(cli: &Cli, a: &DunesArgs) -> anyhow::Result<dunes::DunesScene> {
         set!(*q, a.ripple_q);
         set!(*b, a.ripple_b);
     }
-    if let sediment::model::sand::Saltation::Dune { l0, q0, b, b_prime } = &mut s.dune.saltation {
+    if let sediment::model::sand::Saltation::Dune {
+        l0,
+        q0,
+        b,
+        b_prime,
+        speedup,
+        shadow_degrees,
+    } = &mut s.dune.saltation
+    {
         set!(*l0, a.dune_l0);
         set!(*q0, a.dune_q0);
         set!(*b, a.dune_b);
         set!(*b_prime, a.dune_b_prime);
+        set!(*speedup, a.dune_speedup);
+        if let Some(z) = &a.shadow_zone {
+            *shadow_degrees = degrees_or_off("--shadow-zone", z)?;
+        }
     }
     if let Some(d) = a.diffusion {
         s.ripple.diffusion = d;
         s.dune.diffusion = d;
     }
     if let Some(r) = &a.repose {
-        s.dune.repose_degrees = if r.trim().eq_ignore_ascii_case("off") {
-            None
-        } else {
-            Some(r.trim().parse::<f64>().map_err(|_| {
-                sediment::Error::invalid("--repose", format!("\"{r}\" is not degrees or off"))
-            })?)
-        };
+        s.dune.repose_degrees = degrees_or_off("--repose", r)?;
     }
     set!(s.cell, a.cell);
     set!(s.ripple_tile, a.ripple_tile);

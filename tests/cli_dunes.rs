@@ -114,6 +114,9 @@ fn bad_input_is_named_and_nothing_is_written() {
         (vec!["--preset", "fig99"], "fig99"),
         (vec!["--eye", "1,2"], "--eye"),
         (vec!["--repose", "steep"], "--repose"),
+        (vec!["--shadow-zone", "wide"], "--shadow-zone"),
+        (vec!["--shadow-zone", "95"], "shadow zone"),
+        (vec!["--dune-speedup", "-1"], "speed-up"),
         (vec!["--heightmap", "h.tif"], "--heightmap"),
         (vec!["--gif", "a.gif", "--gif-frames", "1"], "--gif-frames"),
     ] {
