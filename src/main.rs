@@ -186,6 +186,12 @@ struct DunesArgs {
     /// The dune mesh as .glb or .obj.
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
+    /// Render the frame this many more times, 0..=1000, and print the median, minimum
+    /// and 95th percentile of their GPU times (the first frame, which includes
+    /// lavapipe's shader compilation, is not counted). `sediment bench` is the full
+    /// instrument; this is the quick look.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    timing_frames: u32,
 }
 
 #[derive(clap::Args, Debug)]
@@ -624,6 +630,12 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         .as_deref()
         .map(|v| vec3_arg("--target", v))
         .transpose()?;
+    if a.timing_frames > 1000 {
+        bail!(sediment::Error::invalid(
+            "--timing-frames",
+            "must be 0..=1000"
+        ));
+    }
     if let Some(g) = &a.gif {
         check_extension(g, "--gif", &["gif"])?;
         if !(2..=120).contains(&a.gif_frames) {
@@ -666,7 +678,7 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         }
         scene.camera = Some(camera);
     }
-    let out = dunes::render(&ctx, &scene, &terrain, cli.size)?;
+    let out = dunes::render_timed(&ctx, &scene, &terrain, cli.size, a.timing_frames)?;
     let mut gif_frames = Vec::new();
     if a.gif.is_some() {
         // The simulation again in chunks, one frame after each (the same seed gives
@@ -736,6 +748,18 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         spans(&out.precompute),
         out.frame.wall_ms
     );
+    if !out.timed_ms.is_empty() {
+        let mut ms = out.timed_ms.clone();
+        ms.sort_by(f64::total_cmp);
+        let at = |q: f64| ms[((ms.len() - 1) as f64 * q).round() as usize];
+        println!(
+            "GPU frame over {} timing frames: median {:.2} ms, min {:.2} ms, p95 {:.2} ms",
+            ms.len(),
+            at(0.5),
+            ms[0],
+            at(0.95)
+        );
+    }
     Ok(())
 }
 

@@ -39,6 +39,8 @@ fn frame_heightmaps_and_mesh_are_written() {
         "--size",
         "160x120",
         "--validate",
+        "--timing-frames",
+        "3",
     ];
     args.extend(SMALL);
     let out = sediment(&args);
@@ -46,6 +48,11 @@ fn frame_heightmaps_and_mesh_are_written() {
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("GPU frame over 3 timing frames: median"),
+        "{stdout}"
     );
     let frame = image::open(&png).expect("frame");
     assert_eq!((frame.width(), frame.height()), (160, 120));

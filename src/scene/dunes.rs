@@ -338,6 +338,8 @@ pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
 /// A rendered desert frame and what it cost.
 pub struct DunesFrame {
     pub frame: RenderedFrame,
+    /// GPU milliseconds of each extra timing frame ([`render_timed`]).
+    pub timed_ms: Vec<f64>,
     /// GPU time of the precomputations (ripple maps, dune shadow map).
     pub precompute: Vec<Span>,
     pub visible_triangles: u32,
@@ -352,6 +354,19 @@ pub fn render(
     scene: &DunesScene,
     terrain: &Terrain,
     size: Size,
+) -> Result<DunesFrame> {
+    render_timed(ctx, scene, terrain, size, 0)
+}
+
+/// As [`render`], then the same frame `extra_frames` more times for timing: their GPU
+/// times land in [`DunesFrame::timed_ms`] (the first frame, which pays for lavapipe's
+/// shader compilation, is not among them).
+pub fn render_timed(
+    ctx: &Arc<Context>,
+    scene: &DunesScene,
+    terrain: &Terrain,
+    size: Size,
+    extra_frames: u32,
 ) -> Result<DunesFrame> {
     scene.validate()?;
     let start = Instant::now();
@@ -476,39 +491,49 @@ pub fn render(
         ),
         albedo: glam::Vec4::new(0.72, 0.5, 0.3, 1.0),
     };
-    ctx.submit_and_wait("dunes frame", |cmd| {
-        timer.reset(cmd);
-        let span = timer.begin(cmd, "dunes")?;
-        target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
-        // Dunes first, then the sky where no dune covers (the depth test keeps it
-        // there), then the dust, translucent over both.
-        surface.draw(cmd, &geometry, &push)?;
-        sky.draw(
-            cmd,
-            frame_uniforms.view_proj,
-            camera.eye,
-            sun,
-            lighting.exposure,
-        )?;
-        let dust_color = glam::Vec4::new(0.86, 0.72, 0.55, 0.5);
-        dust.draw(
-            cmd,
-            frame_uniforms.view_proj,
-            camera.eye,
-            camera.target,
-            dust_color,
-        )?;
-        target.end(cmd);
-        timer.end(cmd, span);
-        target.copy_out(cmd);
-        Ok(())
-    })?;
+    let record_frame = |timer: &mut GpuTimer| {
+        ctx.submit_and_wait("dunes frame", |cmd| {
+            timer.reset(cmd);
+            let span = timer.begin(cmd, "dunes")?;
+            target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+            // Dunes first, then the sky where no dune covers (the depth test keeps it
+            // there), then the dust, translucent over both.
+            surface.draw(cmd, &geometry, &push)?;
+            sky.draw(
+                cmd,
+                frame_uniforms.view_proj,
+                camera.eye,
+                sun,
+                lighting.exposure,
+            )?;
+            let dust_color = glam::Vec4::new(0.86, 0.72, 0.55, 0.5);
+            dust.draw(
+                cmd,
+                frame_uniforms.view_proj,
+                camera.eye,
+                camera.target,
+                dust_color,
+            )?;
+            target.end(cmd);
+            timer.end(cmd, span);
+            target.copy_out(cmd);
+            Ok(())
+        })
+    };
+    record_frame(&mut timer)?;
+    let frame = RenderedFrame {
+        image: target.read_image()?,
+        gpu_spans: timer.read()?,
+        wall_ms: start.elapsed().as_secs_f64() * 1e3,
+    };
+    let mut timed_ms = Vec::with_capacity(extra_frames as usize);
+    for _ in 0..extra_frames {
+        record_frame(&mut timer)?;
+        timed_ms.push(timer.read()?.iter().map(|s| s.milliseconds).sum());
+    }
     Ok(DunesFrame {
-        frame: RenderedFrame {
-            image: target.read_image()?,
-            gpu_spans: timer.read()?,
-            wall_ms: start.elapsed().as_secs_f64() * 1e3,
-        },
+        frame,
+        timed_ms,
         precompute,
         visible_triangles: geometry.visible_triangles(),
         total_triangles: (mesh.indices.len() / 3) as u32,
