@@ -1,0 +1,196 @@
+//! Procedural caves after Cui, Chow & Zhang (2011): noise -> voxel octree -> blocky
+//! cave walls -> crack-free triangle split -> Laplacian smoothing. Pure CPU,
+//! deterministic per seed, parallel (rayon) in the build, extraction and smoothing.
+//!
+//! - `volume`: the density (a walkable passage roughened by fBm noise).
+//! - `octree`: the voxel octree with collapsed uniform leaves.
+//! - `surface`: wall polygons between rock and cave leaves, removal of non-manifold
+//!   voxel configurations, and the T-junction split of section 4.1.
+//! - `smooth`: eq. (1).
+//!
+//! Smoothing after the split is the same as the paper's smoothing then splitting
+//! where cracks open, done in the order that never opens them: the split mesh shares
+//! every edge between exactly two triangles, so moving its vertices keeps it closed.
+
+pub mod octree;
+pub mod smooth;
+pub mod surface;
+pub mod volume;
+
+#[cfg(test)]
+mod tests;
+
+use std::time::Instant;
+
+use glam::Vec3;
+
+use crate::error::{Error, Result, ensure_in_range};
+use crate::model::mesh::Mesh;
+use octree::Octree;
+use smooth::{Neighbours, laplacian};
+use surface::{LatticeMesh, carve_ambiguities, extract, split_t_junctions};
+use volume::VolumeParams;
+
+/// Everything that decides a cave.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CaveParams {
+    pub volume: VolumeParams,
+    /// Maximum octree depth, 5..=9 (the paper's Table 1 range): 2^depth voxels a side.
+    pub depth: u32,
+    /// Side of the cube in metres, 1..=10000.
+    pub size_m: f32,
+    /// Laplacian weight lambda of eq. (1), 0..=1 (paper 0.5).
+    pub lambda: f32,
+    /// Smoothing iterations k, 0..=100.
+    pub iterations: u32,
+}
+
+impl Default for CaveParams {
+    fn default() -> Self {
+        Self {
+            volume: VolumeParams::default(),
+            depth: 7,
+            size_m: 64.0,
+            lambda: 0.5,
+            iterations: 4,
+        }
+    }
+}
+
+impl CaveParams {
+    pub fn validate(&self) -> Result<()> {
+        self.volume.validate()?;
+        ensure_in_range((5..=9).contains(&self.depth), "--depth", "5..=9")?;
+        ensure_in_range(
+            self.size_m.is_finite() && (1.0..=10000.0).contains(&self.size_m),
+            "cave size",
+            "1..=10000 m",
+        )?;
+        ensure_in_range((0.0..=1.0).contains(&self.lambda), "--lambda", "0..=1")?;
+        ensure_in_range(self.iterations <= 100, "--iterations", "0..=100")
+    }
+
+    /// Metres per voxel of the finest level.
+    pub fn voxel_m(&self) -> f32 {
+        self.size_m / (1u32 << self.depth) as f32
+    }
+}
+
+/// Milliseconds per phase.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Timings {
+    pub build_ms: f64,
+    pub extract_ms: f64,
+    pub split_ms: f64,
+    pub smooth_ms: f64,
+}
+
+impl Timings {
+    pub fn total_ms(&self) -> f64 {
+        self.build_ms + self.extract_ms + self.split_ms + self.smooth_ms
+    }
+}
+
+/// A generated cave.
+pub struct Cave {
+    pub params: CaveParams,
+    pub tree: Octree,
+    /// The wall on the voxel lattice after the split (crack-free, not yet smoothed).
+    pub lattice: LatticeMesh,
+    /// Triangles of the blocky wall before the split (Table 1, "before").
+    pub triangles_before_split: usize,
+    /// Voxels carved to remove non-manifold configurations.
+    pub carved_voxels: usize,
+    /// The smoothed wall in metres, winding counter-clockwise seen from the cave.
+    pub mesh: Mesh,
+    pub timings: Timings,
+}
+
+impl Cave {
+    /// Triangles after the split (Table 1, "after").
+    pub fn triangles_after_split(&self) -> usize {
+        self.lattice.triangles.len()
+    }
+
+    /// The blocky (unsmoothed) wall in metres, for `--no-smooth`.
+    pub fn blocky_mesh(&self) -> Mesh {
+        lattice_to_mesh(&self.lattice, self.params.voxel_m())
+    }
+}
+
+/// The phases [`generate`] reports as it goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    Octree,
+    Walls,
+    Split,
+    Smooth,
+}
+
+/// Noise -> octree -> walls -> split -> smoothing.
+pub fn generate(params: &CaveParams, progress: &mut dyn FnMut(Phase)) -> Result<Cave> {
+    params.validate()?;
+    let mut timings = Timings::default();
+    progress(Phase::Octree);
+    let t = Instant::now();
+    let mut tree = Octree::build(&params.volume, params.depth);
+    timings.build_ms = ms(t);
+    if !tree.leaves().iter().any(|l| !l.solid) {
+        return Err(Error::invalid(
+            "--threshold",
+            format!(
+                "{} carves nothing: the whole volume is rock; raise the threshold or the \
+                 passage size",
+                params.volume.threshold
+            ),
+        ));
+    }
+    progress(Phase::Walls);
+    let t = Instant::now();
+    let carved_voxels = carve_ambiguities(&mut tree);
+    let blocky = extract(&tree);
+    timings.extract_ms = ms(t);
+    progress(Phase::Split);
+    let t = Instant::now();
+    let lattice = split_t_junctions(&blocky);
+    timings.split_ms = ms(t);
+    progress(Phase::Smooth);
+    let t = Instant::now();
+    let mut mesh = lattice_to_mesh(&lattice, params.voxel_m());
+    let neighbours = Neighbours::of(mesh.positions.len(), &lattice.triangles);
+    laplacian(
+        &mut mesh.positions,
+        &neighbours,
+        params.lambda,
+        params.iterations,
+    );
+    mesh.recompute_normals();
+    timings.smooth_ms = ms(t);
+    Ok(Cave {
+        params: params.clone(),
+        tree,
+        triangles_before_split: blocky.triangles.len(),
+        lattice,
+        carved_voxels,
+        mesh,
+        timings,
+    })
+}
+
+fn lattice_to_mesh(lattice: &LatticeMesh, voxel_m: f32) -> Mesh {
+    let mut mesh = Mesh {
+        positions: lattice
+            .vertices
+            .iter()
+            .map(|v| Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32) * voxel_m)
+            .collect(),
+        normals: Vec::new(),
+        indices: lattice.triangles.iter().flatten().copied().collect(),
+    };
+    mesh.recompute_normals();
+    mesh
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

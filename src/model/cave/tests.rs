@@ -1,0 +1,210 @@
+//! Caves: the octree against brute force, the wall mesh's invariants at every depth
+//! 5..9, Table 1's bound on the split, determinism.
+
+use glam::Vec3;
+
+use super::*;
+use crate::model::noise::gradient_noise;
+use surface::{ambiguous_block, t_junctions};
+
+fn cave(depth: u32, seed: u64) -> Cave {
+    let params = CaveParams {
+        depth,
+        volume: VolumeParams {
+            seed,
+            ..VolumeParams::default()
+        },
+        ..CaveParams::default()
+    };
+    generate(&params, &mut |_| {}).expect("cave")
+}
+
+#[test]
+fn walls_are_closed_manifold_crack_free_and_non_degenerate_at_every_depth() {
+    for depth in 5..=9 {
+        let c = cave(depth, 1);
+        let (before, after) = (c.triangles_before_split, c.triangles_after_split());
+        eprintln!(
+            "depth {depth}: {before} -> {after} triangles (+{:.1} %), {} voxels carved, {:?}",
+            100.0 * (after - before) as f64 / before as f64,
+            c.carved_voxels,
+            c.timings
+        );
+        c.mesh
+            .check_closed_manifold()
+            .unwrap_or_else(|e| panic!("depth {depth}: {e}"));
+        assert_eq!(
+            t_junctions(&c.lattice),
+            0,
+            "depth {depth}: T-junctions left"
+        );
+        let area = c.mesh.min_triangle_area();
+        assert!(
+            area > 0.0,
+            "depth {depth}: degenerate triangle (area {area})"
+        );
+        // The paper's Table 1: the split adds under 10 %, and it does add some (leaves
+        // of different sizes meet on the floor).
+        assert!(after > before, "depth {depth}: nothing split");
+        assert!(
+            (after - before) * 10 < before,
+            "depth {depth}: {before} -> {after}"
+        );
+    }
+}
+
+#[test]
+fn the_fast_octree_equals_sampling_every_voxel() {
+    for seed in [1, 2] {
+        let volume = VolumeParams {
+            seed,
+            ..VolumeParams::default()
+        };
+        let depth = 6;
+        let n = 1u32 << depth;
+        let fast = Octree::build(&volume, depth);
+        let full = Octree::from_voxels(depth, &|i, j, k| {
+            if [i, j, k].iter().any(|&c| c == 0 || c == n - 1) {
+                return true;
+            }
+            let p = (Vec3::new(i as f32, j as f32, k as f32) + 0.5) / n as f32;
+            !volume.is_empty(p)
+        });
+        assert_eq!(fast, full, "seed {seed}");
+        // Leaves of several sizes: the collapse happened.
+        let per_level = fast.leaves_per_level();
+        assert!(
+            per_level.iter().filter(|&&c| c > 0).count() >= 4,
+            "{per_level:?}"
+        );
+    }
+}
+
+#[test]
+fn noise_and_density_slopes_stay_under_their_bounds() {
+    let e = 1e-3f32;
+    let mut steepest = 0.0f32;
+    for i in 0..20_000 {
+        let p = Vec3::new(
+            (i as f32 * 0.1373).fract() * 9.0,
+            (i as f32 * 0.0711).fract() * 9.0,
+            (i as f32 * 0.2917).fract() * 9.0,
+        );
+        let g = Vec3::new(
+            gradient_noise(3, p + Vec3::X * e) - gradient_noise(3, p - Vec3::X * e),
+            gradient_noise(3, p + Vec3::Y * e) - gradient_noise(3, p - Vec3::Y * e),
+            gradient_noise(3, p + Vec3::Z * e) - gradient_noise(3, p - Vec3::Z * e),
+        ) / (2.0 * e);
+        steepest = steepest.max(g.length());
+    }
+    assert!(
+        steepest * 1.25 < volume::NOISE_GRADIENT_BOUND,
+        "noise slope {steepest}"
+    );
+    let volume = VolumeParams::default();
+    let bound = volume.lipschitz();
+    let mut steepest = 0.0f32;
+    for i in 0..20_000 {
+        let p = Vec3::new(
+            (i as f32 * 0.1373).fract(),
+            (i as f32 * 0.0711).fract(),
+            (i as f32 * 0.2917).fract(),
+        );
+        let q = p + Vec3::new(0.3, -0.7, 0.5).normalize() * 1e-3;
+        steepest = steepest.max((volume.density(q) - volume.density(p)).abs() / 1e-3);
+    }
+    assert!(
+        steepest < bound,
+        "density slope {steepest} vs bound {bound}"
+    );
+}
+
+#[test]
+fn ambiguous_blocks_are_the_edge_and_corner_contacts() {
+    let bits = |cells: &[u8]| cells.iter().fold(0u8, |b, &c| b | 1 << c);
+    // Voxel index x | y << 1 | z << 2.
+    assert!(!ambiguous_block(0), "all cave");
+    assert!(!ambiguous_block(0xFF), "all rock");
+    assert!(!ambiguous_block(bits(&[0])), "one rock voxel");
+    assert!(!ambiguous_block(bits(&[0, 1, 2, 3])), "a floor");
+    assert!(!ambiguous_block(bits(&[0, 1, 2])), "an inner corner");
+    assert!(
+        ambiguous_block(bits(&[0, 3])),
+        "rock touching along an edge"
+    );
+    assert!(ambiguous_block(bits(&[0, 3, 4, 7])), "a full diagonal edge");
+    assert!(ambiguous_block(bits(&[0, 7])), "rock touching at a corner");
+    assert!(ambiguous_block(!bits(&[0, 7])), "cave touching at a corner");
+    assert!(ambiguous_block(bits(&[0, 3, 5, 6])), "checkerboard");
+}
+
+#[test]
+fn a_large_leaf_beside_small_ones_is_split_in_the_papers_order() {
+    // Rock below y = 4 of an 8^3 cube with one rock voxel bump on the floor: the floor
+    // squares around the bump are small, the rest large, so large squares carry the
+    // corners of small ones.
+    let tree = Octree::from_voxels(3, &|i, j, k| {
+        [i, j, k].iter().any(|&c| c == 0 || c == 7) || j < 4 || (i, j, k) == (2, 4, 2)
+    });
+    let blocky = surface::extract(&tree);
+    assert!(t_junctions(&blocky) > 0, "the blocky wall has T-junctions");
+    let split = surface::split_t_junctions(&blocky);
+    assert_eq!(t_junctions(&split), 0);
+    assert!(split.triangles.len() > blocky.triangles.len());
+    let mut mesh = crate::model::mesh::Mesh {
+        positions: split
+            .vertices
+            .iter()
+            .map(|v| Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32))
+            .collect(),
+        normals: Vec::new(),
+        indices: split.triangles.iter().flatten().copied().collect(),
+    };
+    mesh.check_closed_manifold()
+        .expect("closed after the split");
+    // The winding is kept: the floor faces up into the cave.
+    mesh.recompute_normals();
+    let up = split
+        .triangles
+        .iter()
+        .filter(|t| t.iter().all(|&v| split.vertices[v as usize][1] == 4))
+        .all(|t| {
+            let p = t.map(|v| mesh.positions[v as usize]);
+            (p[1] - p[0]).cross(p[2] - p[0]).y > 0.0
+        });
+    assert!(up, "floor triangles face the cave");
+}
+
+#[test]
+fn same_seed_same_mesh_and_bad_input_is_named() {
+    let (a, b) = (cave(6, 4), cave(6, 4));
+    assert_eq!(a.mesh, b.mesh);
+    assert_ne!(a.mesh, cave(6, 5).mesh);
+    let err = |p: CaveParams| {
+        generate(&p, &mut |_| {})
+            .err()
+            .expect("refused")
+            .to_string()
+    };
+    let e = err(CaveParams {
+        depth: 12,
+        ..CaveParams::default()
+    });
+    assert!(e.contains("--depth"), "{e}");
+    let e = err(CaveParams {
+        lambda: 1.5,
+        ..CaveParams::default()
+    });
+    assert!(e.contains("--lambda"), "{e}");
+    let e = err(CaveParams {
+        depth: 5,
+        volume: VolumeParams {
+            threshold: -0.1,
+            half_height: 0.04,
+            half_width: 0.04,
+            ..VolumeParams::default()
+        },
+        ..CaveParams::default()
+    });
+    assert!(e.contains("carves nothing"), "{e}");
+}
