@@ -13,6 +13,8 @@
 //! every edge between exactly two triangles, so moving its vertices keeps it closed.
 
 pub mod octree;
+pub mod placement;
+pub mod short_profile;
 pub mod smooth;
 pub mod surface;
 pub mod volume;

@@ -208,3 +208,127 @@ fn same_seed_same_mesh_and_bad_input_is_named() {
     });
     assert!(e.contains("carves nothing"), "{e}");
 }
+
+mod short {
+    use super::super::short_profile::*;
+    use glam::Vec3;
+
+    #[test]
+    fn the_exact_profile_tends_to_the_corrected_series() {
+        // zeta(p(rho)) - series(rho) -> const, with the difference shrinking like
+        // rho^(-2/3).
+        let diff = |r: f64| zeta(slope_at(r)) - series(r);
+        let (d3, d5, d7) = (diff(1e3), diff(1e5), diff(1e7));
+        assert!((d5 - d7).abs() < (d3 - d5).abs(), "{d3} {d5} {d7}");
+        assert!((d5 - d7).abs() < 0.02, "{d5} vs {d7}");
+        // The printed exponent 3/4 would not: its series falls behind by ~rho^(4/3).
+        let printed = |r: f64| 0.75 * r.powf(0.75) - r.powf(2.0 / 3.0) - r.ln() / 3.0;
+        assert!((zeta(slope_at(1e5)) - printed(1e5)) > 1e5);
+    }
+
+    #[test]
+    fn the_profile_solves_the_growth_law() {
+        // Independently of the closed form: solve cos(theta)^3 rho sin(theta) = 1 for
+        // theta at each rho (bisection) and integrate d zeta = tan(theta) d rho
+        // (Simpson), from rho_min.
+        let theta_at = |r: f64| {
+            let (mut lo, mut hi) = (std::f64::consts::FRAC_PI_6, std::f64::consts::FRAC_PI_2);
+            for _ in 0..100 {
+                let mid = 0.5 * (lo + hi);
+                // cos^3 sin rho decreases in theta above 30 degrees.
+                if mid.cos().powi(3) * mid.sin() * r > 1.0 {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            0.5 * (lo + hi)
+        };
+        let r0 = rho_min();
+        assert!((r0 - 16.0 * 3f64.sqrt() / 9.0).abs() < 1e-12);
+        let mut integral = 0.0;
+        let n = 20_000;
+        let r_end = 60.0;
+        let h = (r_end - r0) / n as f64;
+        for i in 0..n {
+            let (a, b) = (r0 + i as f64 * h, r0 + (i + 1) as f64 * h);
+            let f = |r: f64| theta_at(r.max(r0)).tan();
+            integral += h / 6.0 * (f(a) + 4.0 * f(0.5 * (a + b)) + f(b));
+        }
+        let exact = zeta(slope_at(r_end)) - zeta(P_MIN);
+        assert!(
+            (integral - exact).abs() < 1e-3 * exact,
+            "{integral} vs {exact}"
+        );
+    }
+
+    #[test]
+    fn speleothem_meshes_are_closed_with_a_round_tip_and_outward_normals() {
+        for (r, s) in [(7.0, 10.0), (15.0, 1.0), (35.0, 0.5)] {
+            let shape = ShortShape { r, s };
+            // A stalactite: the body rises from the tip to the ceiling.
+            let m = mesh(shape, 0.02, shape.length() * 0.02, 0.3, Vec3::Y, 24);
+            m.check_closed_manifold().expect("closed");
+            assert!(m.min_triangle_area() > 0.0);
+            // Normals point away from the axis on the body.
+            let outward = m
+                .positions
+                .iter()
+                .zip(&m.normals)
+                .filter(|(p, _)| p.x.hypot(p.z) > 1e-3)
+                .all(|(p, n)| Vec3::new(p.x, 0.0, p.z).dot(*n) > 0.0);
+            assert!(outward, "r {r} s {s}");
+            // The tip hangs lowest, the base is r units wide.
+            let lowest = m.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+            assert!(lowest.abs() < 1e-6, "{lowest}");
+            let widest = m.positions.iter().map(|p| p.x.hypot(p.z)).fold(0.0, f32::max);
+            assert!((widest - r * 0.02).abs() < 1e-3 * r, "{widest}");
+        }
+        // Slender, medium, stocky: length over base radius falls with the class.
+        let ratio = |r: f32, s: f32| ShortShape { r, s }.length() / r;
+        assert!(ratio(7.0, 10.0) > ratio(15.0, 1.0) && ratio(15.0, 1.0) > ratio(35.0, 0.5));
+    }
+}
+
+#[test]
+fn speleothems_hang_from_the_ceiling_over_their_stalagmites_with_bases_in_rock() {
+    use placement::*;
+    let c = cave(7, 1);
+    let rays = VerticalRays::new(&c.mesh, 4.0 * c.params.voxel_m());
+    let params = PlacementParams {
+        seed: 3,
+        count: 16,
+        unit_m: 0.02,
+        growth_ratio: 1.5,
+    };
+    let sites = place(&c.mesh, &rays, &params);
+    assert!(sites.len() >= 8, "{} sites", sites.len());
+    assert_eq!(sites, place(&c.mesh, &rays, &params), "deterministic");
+    for (i, s) in sites.iter().enumerate() {
+        assert!(s.ceiling.y > s.floor.y);
+        assert_eq!((s.ceiling.x, s.ceiling.z), (s.floor.x, s.floor.z));
+        if s.column {
+            let reach = s.stalactite_m + s.stalagmite_m;
+            assert!(reach >= s.ceiling.y - s.floor.y, "site {i}: the column meets");
+        } else {
+            assert!((s.stalagmite_m / s.stalactite_m - 1.5).abs() < 1e-4, "site {i}");
+        }
+        for (mesh, (centre, radius)) in site_meshes(s, params.unit_m)
+            .iter()
+            .zip(base_rings(s, params.unit_m))
+        {
+            mesh.check_closed_manifold().expect("closed speleothem");
+            // The base ring as the mesh has it: the vertices at the base height.
+            let ring: Vec<Vec3> = mesh
+                .positions
+                .iter()
+                .copied()
+                .filter(|p| (p.y - centre.y).abs() < 1e-4 && (p.with_y(0.0) - centre.with_y(0.0)).length() > 0.5 * radius)
+                .collect();
+            assert_eq!(ring.len(), placement::SEGMENTS as usize, "site {i}");
+            for p in ring {
+                assert!(rays.in_rock(p), "site {i}: base vertex {p} is in the cave");
+            }
+        }
+    }
+}
