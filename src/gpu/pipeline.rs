@@ -336,6 +336,9 @@ pub struct GraphicsPipelineDesc<'a> {
     pub depth_test: bool,
     pub depth_write: bool,
     pub alpha_blend: bool,
+    /// Constant and slope depth bias (pushes filled faces back behind lines drawn
+    /// over them), or none.
+    pub depth_bias: Option<(f32, f32)>,
 }
 
 impl<'a> GraphicsPipelineDesc<'a> {
@@ -358,6 +361,7 @@ impl<'a> GraphicsPipelineDesc<'a> {
             depth_test: true,
             depth_write: true,
             alpha_blend: false,
+            depth_bias: None,
         }
     }
 
@@ -439,7 +443,10 @@ impl<'a> GraphicsPipelineDesc<'a> {
             .polygon_mode(self.polygon_mode)
             .cull_mode(self.cull_mode)
             .front_face(self.front_face)
-            .line_width(1.0);
+            .line_width(1.0)
+            .depth_bias_enable(self.depth_bias.is_some())
+            .depth_bias_constant_factor(self.depth_bias.map_or(0.0, |b| b.0))
+            .depth_bias_slope_factor(self.depth_bias.map_or(0.0, |b| b.1));
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()

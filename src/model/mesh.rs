@@ -105,6 +105,26 @@ impl Mesh {
         Ok(())
     }
 
+    /// Every undirected edge once, as index pairs (a line list), sorted.
+    pub fn edge_indices(&self) -> Vec<u32> {
+        let mut edges: Vec<(u32, u32)> = self
+            .triangles()
+            .flat_map(|[a, b, c]| [(a, b), (b, c), (c, a)])
+            .map(|(u, v)| (u.min(v), u.max(v)))
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        edges.into_iter().flat_map(|(u, v)| [u, v]).collect()
+    }
+
+    /// Appends `other`'s vertices and triangles.
+    pub fn append(&mut self, other: &Mesh) {
+        let base = self.positions.len() as u32;
+        self.positions.extend_from_slice(&other.positions);
+        self.normals.extend_from_slice(&other.normals);
+        self.indices.extend(other.indices.iter().map(|i| i + base));
+    }
+
     /// Smallest triangle area (0 means a degenerate triangle).
     pub fn min_triangle_area(&self) -> f32 {
         self.triangles()

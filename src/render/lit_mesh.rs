@@ -89,6 +89,20 @@ pub struct GpuMesh {
 
 impl GpuMesh {
     pub fn upload(ctx: &Arc<Context>, name: &str, mesh: &Mesh) -> Result<Self> {
+        Self::upload_indexed(ctx, name, mesh, &mesh.indices)
+    }
+
+    /// The mesh's unique edges as a line list (for wireframe pipelines).
+    pub fn upload_edges(ctx: &Arc<Context>, name: &str, mesh: &Mesh) -> Result<Self> {
+        Self::upload_indexed(ctx, name, mesh, &mesh.edge_indices())
+    }
+
+    fn upload_indexed(
+        ctx: &Arc<Context>,
+        name: &str,
+        mesh: &Mesh,
+        indices: &[u32],
+    ) -> Result<Self> {
         let vertices = lit_vertices(mesh);
         Ok(Self {
             vertices: Buffer::with_data(
@@ -101,10 +115,17 @@ impl GpuMesh {
                 ctx,
                 &format!("{name} indices"),
                 vk::BufferUsageFlags::INDEX_BUFFER,
-                &mesh.indices,
+                indices,
             )?,
-            index_count: mesh.indices.len() as u32,
+            index_count: indices.len() as u32,
         })
+    }
+
+    /// Binds the buffers and draws every index (the pipeline is bound by the caller).
+    pub fn record_draw(&self, cmd: &Commands<'_>) {
+        cmd.bind_vertex_buffer(&self.vertices, 0);
+        cmd.bind_index_buffer(&self.indices);
+        cmd.draw_indexed(self.index_count, 1);
     }
 }
 
@@ -161,9 +182,7 @@ impl LitMeshPass {
     pub fn draw(&self, cmd: &Commands<'_>, mesh: &GpuMesh, object: &ObjectPush) -> Result<()> {
         cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.frame_set]);
         cmd.push_constants(&self.layout, object)?;
-        cmd.bind_vertex_buffer(&mesh.vertices, 0);
-        cmd.bind_index_buffer(&mesh.indices);
-        cmd.draw_indexed(mesh.index_count, 1);
+        mesh.record_draw(cmd);
         Ok(())
     }
 }

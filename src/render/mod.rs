@@ -1,6 +1,7 @@
 //! One module per GPU pass. Passes know nothing of the CLI; they take models and
 //! parameters and record commands through `gpu`.
 
+pub mod cave_wall;
 pub mod dune_shadow;
 pub mod dune_surface;
 pub mod dust;
@@ -27,6 +28,7 @@ pub struct RenderedFrame {
 /// its SPIR-V and checks that no non-geometry module is left undeclared.
 pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
     vec![
+        &cave_wall::FRAGMENT_INTERFACE,
         &dune_shadow::INTERFACE,
         &dune_surface::VERTEX_INTERFACE,
         &dune_surface::FRAGMENT_INTERFACE,

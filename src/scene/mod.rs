@@ -1,6 +1,7 @@
 //! Scenes: what to show (models, camera, lights) and how to render it offscreen.
 
 pub mod camera;
+pub mod cave;
 pub mod dunes;
 pub mod file;
 pub mod grow;

@@ -32,8 +32,14 @@ impl<'a> VerticalRays<'a> {
         let mut buckets = vec![Vec::new(); nx * nz];
         for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
             let p = [0, 1, 2].map(|i| mesh.positions[tri[i] as usize]);
-            let (x0, x1) = (p[0].x.min(p[1].x).min(p[2].x), p[0].x.max(p[1].x).max(p[2].x));
-            let (z0, z1) = (p[0].z.min(p[1].z).min(p[2].z), p[0].z.max(p[1].z).max(p[2].z));
+            let (x0, x1) = (
+                p[0].x.min(p[1].x).min(p[2].x),
+                p[0].x.max(p[1].x).max(p[2].x),
+            );
+            let (z0, z1) = (
+                p[0].z.min(p[1].z).min(p[2].z),
+                p[0].z.max(p[1].z).max(p[2].z),
+            );
             let ix = |x: f32| (((x - lo.x) / cell) as usize).min(nx - 1);
             let iz = |z: f32| (((z - lo.z) / cell) as usize).min(nz - 1);
             for gz in iz(z0)..=iz(z1) {
@@ -66,7 +72,8 @@ impl<'a> VerticalRays<'a> {
                 let p = [0, 1, 2].map(|k| self.mesh.positions[self.mesh.indices[i + k] as usize]);
                 // Barycentric coordinates of (x, z) in the triangle's x-z shadow; the
                 // half-open edge rule counts a line through a shared edge once.
-                let d = (p[1].x - p[0].x) * (p[2].z - p[0].z) - (p[2].x - p[0].x) * (p[1].z - p[0].z);
+                let d =
+                    (p[1].x - p[0].x) * (p[2].z - p[0].z) - (p[2].x - p[0].x) * (p[1].z - p[0].z);
                 if d.abs() < 1e-12 {
                     return None;
                 }
@@ -85,7 +92,12 @@ impl<'a> VerticalRays<'a> {
     /// Whether `p` is in the rock (outside the closed cave surface): an even number of
     /// crossings above it.
     pub fn in_rock(&self, p: Vec3) -> bool {
-        self.crossings(p.x, p.z).iter().filter(|&&y| y > p.y).count() % 2 == 0
+        self.crossings(p.x, p.z)
+            .iter()
+            .filter(|&&y| y > p.y)
+            .count()
+            % 2
+            == 0
     }
 }
 
@@ -99,12 +111,32 @@ pub struct PlacementParams {
     pub unit_m: f32,
     /// Stalagmite growth relative to its stalactite (paper 1.5).
     pub growth_ratio: f32,
+    /// A walkway kept free: no site within `clear_radius_m` (horizontally) of this
+    /// polyline, so a camera can travel the passage.
+    pub clear_path: Vec<Vec3>,
+    pub clear_radius_m: f32,
+}
+
+/// Horizontal distance from `p` to the polyline `path`.
+fn distance_to_path(p: Vec3, path: &[Vec3]) -> f32 {
+    let p = p.with_y(0.0);
+    path.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0].with_y(0.0), w[1].with_y(0.0));
+            let ab = b - a;
+            let t = ((p - a).dot(ab) / ab.length_squared().max(1e-12)).clamp(0.0, 1.0);
+            (a + ab * t - p).length()
+        })
+        .fold(f32::INFINITY, f32::min)
 }
 
 /// The three shape classes of the paper's Fig. 6 (r range, s), combined at random
 /// as in Fig. 6d.
-pub const SHAPE_CLASSES: [((f32, f32), f32); 3] =
-    [((5.0, 10.0), 10.0), ((10.0, 20.0), 1.0), ((20.0, 50.0), 0.5)];
+pub const SHAPE_CLASSES: [((f32, f32), f32); 3] = [
+    ((5.0, 10.0), 10.0),
+    ((10.0, 20.0), 1.0),
+    ((20.0, 50.0), 0.5),
+];
 
 /// One site: a stalactite on the ceiling and its stalagmite on the floor below.
 #[derive(Clone, Debug, PartialEq)]
@@ -160,7 +192,9 @@ pub fn place(mesh: &Mesh, rays: &VerticalRays<'_>, params: &PlacementParams) -> 
             break;
         }
         let pick = rng.next_f32() * total;
-        let at = ceiling.partition_point(|(c, _)| *c < pick).min(ceiling.len() - 1);
+        let at = ceiling
+            .partition_point(|(c, _)| *c < pick)
+            .min(ceiling.len() - 1);
         let p = ceiling[at].1;
         let (mut u, mut v) = (rng.next_f32(), rng.next_f32());
         if u + v > 1.0 {
@@ -173,10 +207,13 @@ pub fn place(mesh: &Mesh, rays: &VerticalRays<'_>, params: &PlacementParams) -> 
             s,
         };
         let radius = shape.r * params.unit_m;
-        if sites
-            .iter()
-            .any(|o| (o.ceiling - point).with_y(0.0).length() < 2.0 * (radius + o.base_radius_m(params.unit_m)))
-        {
+        if distance_to_path(point, &params.clear_path) < params.clear_radius_m + radius {
+            continue;
+        }
+        if sites.iter().any(|o| {
+            (o.ceiling - point).with_y(0.0).length()
+                < 2.0 * (radius + o.base_radius_m(params.unit_m))
+        }) {
             continue;
         }
         if let Some(site) = fit(rays, point, shape, params) {
@@ -188,12 +225,23 @@ pub fn place(mesh: &Mesh, rays: &VerticalRays<'_>, params: &PlacementParams) -> 
 
 /// The pair at ceiling point `point`, or `None` where no floor lies below or the base
 /// cannot be sunk into rock.
-fn fit(rays: &VerticalRays<'_>, point: Vec3, shape: ShortShape, params: &PlacementParams) -> Option<Site> {
+fn fit(
+    rays: &VerticalRays<'_>,
+    point: Vec3,
+    shape: ShortShape,
+    params: &PlacementParams,
+) -> Option<Site> {
     let radius = shape.r * params.unit_m;
     let crossings = rays.crossings(point.x, point.z);
     // The ceiling is the crossing at the point; the floor the next one down.
-    let ceiling_y = *crossings.iter().min_by(|a, b| (*a - point.y).abs().total_cmp(&(*b - point.y).abs()))?;
-    let floor_y = crossings.iter().copied().filter(|&y| y < ceiling_y - 1e-4).fold(f32::MIN, f32::max);
+    let ceiling_y = *crossings
+        .iter()
+        .min_by(|a, b| (*a - point.y).abs().total_cmp(&(*b - point.y).abs()))?;
+    let floor_y = crossings
+        .iter()
+        .copied()
+        .filter(|&y| y < ceiling_y - 1e-4)
+        .fold(f32::MIN, f32::max);
     if floor_y == f32::MIN {
         return None;
     }
@@ -242,10 +290,24 @@ fn fit(rays: &VerticalRays<'_>, point: Vec3, shape: ShortShape, params: &Placeme
 pub fn site_meshes(site: &Site, unit_m: f32) -> [Mesh; 2] {
     // The mesh takes its length from the site (the shape's s only sets proportions
     // through it), so both use the site's shape.
-    let mut down = short_profile::mesh(site.shape, unit_m, site.stalactite_m, site.sink_m, Vec3::Y, SEGMENTS);
+    let mut down = short_profile::mesh(
+        site.shape,
+        unit_m,
+        site.stalactite_m,
+        site.sink_m,
+        Vec3::Y,
+        SEGMENTS,
+    );
     let tip = site.ceiling - Vec3::Y * site.stalactite_m;
     down.positions.iter_mut().for_each(|p| *p += tip);
-    let mut up = short_profile::mesh(site.shape, unit_m, site.stalagmite_m, site.sink_m, Vec3::NEG_Y, SEGMENTS);
+    let mut up = short_profile::mesh(
+        site.shape,
+        unit_m,
+        site.stalagmite_m,
+        site.sink_m,
+        Vec3::NEG_Y,
+        SEGMENTS,
+    );
     let tip = site.floor + Vec3::Y * site.stalagmite_m;
     up.positions.iter_mut().for_each(|p| *p += tip);
     [down, up]

@@ -1,7 +1,7 @@
 //! The stalactite shape of Short et al. (PRL 94, 018501, 2005), the paper's eq. (2).
 //!
-//! The paper prints the far-field series `zeta ~ 3/4 rho^(3/4) - rho^(2/3) - 1/3 ln rho
-//! + const`; the first exponent is a misprint of 4/3 (with 3/4 the series would not
+//! The paper prints the far-field series
+//! `zeta ~ 3/4 rho^(3/4) - rho^(2/3) - 1/3 ln rho + const`; the first exponent is a misprint of 4/3 (with 3/4 the series would not
 //! even grow faster than its second term). Short et al. grow the surface along its
 //! normal at a rate proportional to the water film's thickness `h ~ (r sin theta)^(-1/3)`
 //! (theta: the surface's angle to the horizontal). A shape translating steadily
@@ -96,7 +96,14 @@ impl ShortShape {
 /// shorter or longer when it is fitted to meet a partner in a column), radii of
 /// `unit_m` metres per unit, then straight on for `sink_m` metres into the rock,
 /// closed there by a flat disk. `segments` around; rings graded toward the tip.
-pub fn mesh(shape: ShortShape, unit_m: f32, length_m: f32, sink_m: f32, up: Vec3, segments: u32) -> Mesh {
+pub fn mesh(
+    shape: ShortShape,
+    unit_m: f32,
+    length_m: f32,
+    sink_m: f32,
+    up: Vec3,
+    segments: u32,
+) -> Mesh {
     let up = up.normalize_or(Vec3::Y);
     let side = up.any_orthonormal_vector();
     let side2 = up.cross(side);
@@ -136,9 +143,14 @@ pub fn mesh(shape: ShortShape, unit_m: f32, length_m: f32, sink_m: f32, up: Vec3
         rings.push(ring(rho_at * r_scale, h * shape.s * z_scale, &mut mesh));
     }
     let (last_r, last_h) = *profile.last().expect("rings");
-    rings.push(ring(last_r * r_scale, last_h * shape.s * z_scale + sink_m, &mut mesh));
+    rings.push(ring(
+        last_r * r_scale,
+        last_h * shape.s * z_scale + sink_m,
+        &mut mesh,
+    ));
     let top = mesh.positions.len() as u32;
-    mesh.positions.push(up * (last_h * shape.s * z_scale + sink_m));
+    mesh.positions
+        .push(up * (last_h * shape.s * z_scale + sink_m));
     // Outward-facing (counter-clockwise seen from outside): around `up` the ring runs
     // counter-clockwise seen from +up.
     let n = segments;
@@ -148,7 +160,8 @@ pub fn mesh(shape: ShortShape, unit_m: f32, length_m: f32, sink_m: f32, up: Vec3
         mesh.indices.extend([0, first + k1, first + k]);
         for w in rings.windows(2) {
             let (a, b) = (w[0], w[1]);
-            mesh.indices.extend([a + k, a + k1, b + k1, a + k, b + k1, b + k]);
+            mesh.indices
+                .extend([a + k, a + k1, b + k1, a + k, b + k1, b + k]);
         }
         let last = *rings.last().expect("rings");
         mesh.indices.extend([top, last + k, last + k1]);

@@ -281,7 +281,11 @@ mod short {
             // The tip hangs lowest, the base is r units wide.
             let lowest = m.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
             assert!(lowest.abs() < 1e-6, "{lowest}");
-            let widest = m.positions.iter().map(|p| p.x.hypot(p.z)).fold(0.0, f32::max);
+            let widest = m
+                .positions
+                .iter()
+                .map(|p| p.x.hypot(p.z))
+                .fold(0.0, f32::max);
             assert!((widest - r * 0.02).abs() < 1e-3 * r, "{widest}");
         }
         // Slender, medium, stocky: length over base radius falls with the class.
@@ -300,8 +304,14 @@ fn speleothems_hang_from_the_ceiling_over_their_stalagmites_with_bases_in_rock()
         count: 16,
         unit_m: 0.02,
         growth_ratio: 1.5,
+        clear_path: vec![Vec3::new(0.0, 0.0, 32.0), Vec3::new(64.0, 0.0, 32.0)],
+        clear_radius_m: 1.0,
     };
     let sites = place(&c.mesh, &rays, &params);
+    assert!(
+        sites.iter().all(|s| (s.ceiling.z - 32.0).abs() > 1.0),
+        "walkway kept clear"
+    );
     assert!(sites.len() >= 8, "{} sites", sites.len());
     assert_eq!(sites, place(&c.mesh, &rays, &params), "deterministic");
     for (i, s) in sites.iter().enumerate() {
@@ -309,9 +319,15 @@ fn speleothems_hang_from_the_ceiling_over_their_stalagmites_with_bases_in_rock()
         assert_eq!((s.ceiling.x, s.ceiling.z), (s.floor.x, s.floor.z));
         if s.column {
             let reach = s.stalactite_m + s.stalagmite_m;
-            assert!(reach >= s.ceiling.y - s.floor.y, "site {i}: the column meets");
+            assert!(
+                reach >= s.ceiling.y - s.floor.y,
+                "site {i}: the column meets"
+            );
         } else {
-            assert!((s.stalagmite_m / s.stalactite_m - 1.5).abs() < 1e-4, "site {i}");
+            assert!(
+                (s.stalagmite_m / s.stalactite_m - 1.5).abs() < 1e-4,
+                "site {i}"
+            );
         }
         for (mesh, (centre, radius)) in site_meshes(s, params.unit_m)
             .iter()
@@ -323,7 +339,10 @@ fn speleothems_hang_from_the_ceiling_over_their_stalagmites_with_bases_in_rock()
                 .positions
                 .iter()
                 .copied()
-                .filter(|p| (p.y - centre.y).abs() < 1e-4 && (p.with_y(0.0) - centre.with_y(0.0)).length() > 0.5 * radius)
+                .filter(|p| {
+                    (p.y - centre.y).abs() < 1e-4
+                        && (p.with_y(0.0) - centre.with_y(0.0)).length() > 0.5 * radius
+                })
                 .collect();
             assert_eq!(ring.len(), placement::SEGMENTS as usize, "site {i}");
             for p in ring {

@@ -84,7 +84,7 @@ impl VolumeParams {
     }
 
     /// The passage axis (y, z) at `x`.
-    fn axis(&self, x: f32) -> (f32, f32) {
+    pub fn axis(&self, x: f32) -> (f32, f32) {
         let t = x * MEANDER_FREQUENCY;
         let wobble = |k: u64| gradient_noise(self.seed ^ k, Vec3::new(t, 0.37, 0.61));
         (

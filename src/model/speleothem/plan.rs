@@ -137,6 +137,21 @@ pub struct GrowthScene {
     pub ceiling_y: f32,
     /// Sites are spread over [-extent, extent] in x and z.
     pub extent: f32,
+    /// Explicit sites (a cave's ceiling points over its floor) instead of the grid
+    /// over the flat chamber; `count`, `extent`, `floor_y` and `ceiling_y` are then
+    /// unused. At most 256.
+    pub sites: Vec<GrowthSite>,
+}
+
+/// A site given by position: the stalactite's base at `ceiling_y`, its stalagmite's
+/// at `floor_y` below it, and their initial radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GrowthSite {
+    pub x: f32,
+    pub z: f32,
+    pub ceiling_y: f32,
+    pub floor_y: f32,
+    pub radius: f32,
 }
 
 impl Default for GrowthScene {
@@ -153,6 +168,7 @@ impl Default for GrowthScene {
             floor_y: 0.0,
             ceiling_y: 2.4,
             extent: 1.2,
+            sites: Vec::new(),
         }
     }
 }
@@ -344,7 +360,16 @@ impl GrowthScene {
             "cave height",
             "ceiling above the floor",
         )?;
-        check(positive(self.extent), "extent", "(0, inf)")
+        check(positive(self.extent), "extent", "(0, inf)")?;
+        check(self.sites.len() <= 256, "sites", "at most 256")?;
+        for s in &self.sites {
+            check(
+                s.ceiling_y > s.floor_y + 4.0 * u.ring_thickness && positive(s.radius),
+                "site",
+                "ceiling above the floor and a positive radius",
+            )?;
+        }
+        Ok(())
     }
 
     /// The parameters in force at `pass` (every change with `pass <= pass` applied in
@@ -380,16 +405,31 @@ impl GrowthScene {
         let mut speleothems = Vec::new();
         // Pairs: (stalactite index, stalagmite index) at the same site.
         let mut pairs = Vec::new();
+        // Per speleothem: the heights it may not grow past (floor, ceiling).
+        let mut bounds = Vec::new();
         let side = (self.count as f32).sqrt().ceil() as u32;
         let cell = 2.0 * self.extent / side as f32;
         let mut rng = Rng::new(mix64(self.seed ^ 0x5E7E_0000));
-        for site in 0..self.count {
-            let (gx, gz) = (site % side, site / side);
-            let x = -self.extent + cell * (gx as f32 + 0.5 + 0.5 * rng.range_f32(-1.0, 1.0));
-            let z = -self.extent + cell * (gz as f32 + 0.5 + 0.5 * rng.range_f32(-1.0, 1.0));
+        let site_count = if self.sites.is_empty() {
+            self.count as usize
+        } else {
+            self.sites.len()
+        };
+        for site in 0..site_count {
+            let (x, z, radius, floor_y, ceiling_y) = match self.sites.get(site) {
+                Some(s) => (s.x, s.z, s.radius, s.floor_y, s.ceiling_y),
+                None => {
+                    let (gx, gz) = (site as u32 % side, site as u32 / side);
+                    let x =
+                        -self.extent + cell * (gx as f32 + 0.5 + 0.5 * rng.range_f32(-1.0, 1.0));
+                    let z =
+                        -self.extent + cell * (gz as f32 + 0.5 + 0.5 * rng.range_f32(-1.0, 1.0));
+                    (x, z, u.initial_radius, self.floor_y, self.ceiling_y)
+                }
+            };
             let radius = match self.mode {
-                StepMode::Manual => u.initial_radius,
-                StepMode::Random { .. } => u.initial_radius * rng.range_f32(0.8, 1.2),
+                StepMode::Manual => radius,
+                StepMode::Random { .. } => radius * rng.range_f32(0.8, 1.2),
             };
             let make = |kind: Kind, y: f32| Speleothem {
                 kind,
@@ -400,9 +440,11 @@ impl GrowthScene {
                 rings: 0,
                 stop: None,
             };
-            speleothems.push(make(Kind::Stalactite, self.ceiling_y));
+            speleothems.push(make(Kind::Stalactite, ceiling_y));
+            bounds.push((floor_y, ceiling_y));
             if any_dripping {
-                speleothems.push(make(Kind::Stalagmite, self.floor_y));
+                speleothems.push(make(Kind::Stalagmite, floor_y));
+                bounds.push((floor_y, ceiling_y));
                 pairs.push((speleothems.len() - 2, speleothems.len() - 1));
             }
         }
@@ -477,9 +519,10 @@ impl GrowthScene {
                     continue;
                 }
                 let new_tip = f.centre + g * (c.height + 2.0 * t0);
+                let (floor_y, ceiling_y) = bounds[i];
                 let outside = match s.kind {
-                    Kind::Stalactite => new_tip.y < self.floor_y,
-                    Kind::Stalagmite => new_tip.y > self.ceiling_y,
+                    Kind::Stalactite => new_tip.y < floor_y,
+                    Kind::Stalagmite => new_tip.y > ceiling_y,
                 };
                 if outside {
                     s.stop = Some((pass, StopReason::CaveBoundary));

@@ -1,0 +1,139 @@
+//! The cave pass: walls and speleothems lit by a directional light, the camera's
+//! lamp and fog (`cave_wall.frag` over `lit_mesh.vert`), or drawn as wireframe over
+//! dark, depth-biased faces (the paper's Fig. 5a/c).
+
+use std::sync::Arc;
+
+use glam::{Vec3, Vec4};
+
+use crate::error::Result;
+use crate::gpu::{
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Pipeline,
+    PipelineLayout, Pod, VertexLayout, vk,
+};
+use crate::render::lit_mesh::{self, FrameUniforms, GpuMesh, LitVertex, ObjectPush};
+use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
+
+/// The `Frame` block of `cave_wall.frag`: the lit-mesh frame, then the lamp and fog.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CaveFrame {
+    pub base: FrameUniforms,
+    /// rgb: the camera lamp's radiance at 1 m.
+    pub lamp: Vec4,
+    /// rgb: fog colour; w: density per metre.
+    pub fog: Vec4,
+}
+// SAFETY: repr(C), FrameUniforms (Pod, 16-byte multiple) then two Vec4, no padding.
+unsafe impl Pod for CaveFrame {}
+
+const FRAME_BINDING: DescriptorBinding =
+    DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
+
+pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::CAVE_CAVE_WALL_FRAG,
+    bindings: &[FRAME_BINDING],
+    push_constant_bytes: size_of::<ObjectPush>() as u32,
+};
+
+/// Pipelines for filled faces, depth-biased faces under wireframe, and lines.
+pub struct CaveWallPass {
+    frame_set: DescriptorSet,
+    frame_buffer: Buffer,
+    fill: Pipeline,
+    fill_under_lines: Pipeline,
+    lines: Pipeline,
+    layout: PipelineLayout,
+}
+
+/// How a mesh is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Style {
+    /// Lit faces with the given albedo, shininess and specular weight.
+    Lit {
+        albedo: Vec3,
+        shininess: f32,
+        specular: f32,
+    },
+    /// Faces in a flat colour, pushed back in depth so lines drawn after win.
+    UnderLines(Vec3),
+    /// Lines in a flat colour (the mesh must be uploaded with `upload_edges`).
+    Lines(Vec3),
+}
+
+impl CaveWallPass {
+    pub fn new(ctx: &Arc<Context>, color: vk::Format, depth: vk::Format) -> Result<Self> {
+        let layout = PipelineLayout::new(
+            ctx,
+            "cave layout",
+            &[&lit_mesh::VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
+        )?;
+        let desc = |name| {
+            GraphicsPipelineDesc::new(name, lit_mesh::VERTEX_INTERFACE.shader)
+                .fragment(FRAGMENT_INTERFACE.shader)
+                .vertex_layout(VertexLayout {
+                    stride: size_of::<LitVertex>() as u32,
+                    attributes: vec![
+                        (0, vk::Format::R32G32B32_SFLOAT, 0),
+                        (1, vk::Format::R32G32B32_SFLOAT, 12),
+                    ],
+                })
+                .targets(&[color], Some(depth))
+        };
+        let fill = desc("cave faces").build(ctx, &layout)?;
+        let mut under = desc("cave faces under lines");
+        under.depth_bias = Some((2.0, 2.0));
+        let fill_under_lines = under.build(ctx, &layout)?;
+        let mut lines = desc("cave lines");
+        lines.topology = vk::PrimitiveTopology::LINE_LIST;
+        lines.cull_mode = vk::CullModeFlags::NONE;
+        let lines = lines.build(ctx, &layout)?;
+        let frame_buffer = Buffer::new(
+            ctx,
+            "cave frame uniforms",
+            BufferDesc::upload(
+                size_of::<CaveFrame>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+        )?;
+        let frame_set = layout.allocate_set("cave frame set", 0)?;
+        frame_set.write_buffer(FRAME_BINDING.binding, &frame_buffer)?;
+        Ok(Self {
+            frame_set,
+            frame_buffer,
+            fill,
+            fill_under_lines,
+            lines,
+            layout,
+        })
+    }
+
+    /// Sets the camera, lights and fog for the next submission.
+    pub fn set_frame(&mut self, frame: &CaveFrame) -> Result<()> {
+        self.frame_buffer.write(0, std::slice::from_ref(frame))
+    }
+
+    /// Draws `mesh` in `style` inside an open rendering scope.
+    pub fn draw(&self, cmd: &Commands<'_>, mesh: &GpuMesh, style: Style) -> Result<()> {
+        let (pipeline, albedo, material) = match style {
+            Style::Lit {
+                albedo,
+                shininess,
+                specular,
+            } => (&self.fill, albedo, Vec4::new(shininess, specular, 0.0, 0.0)),
+            Style::UnderLines(c) => (&self.fill_under_lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
+            Style::Lines(c) => (&self.lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
+        };
+        cmd.bind_pipeline(pipeline, &self.layout, &[&self.frame_set]);
+        cmd.push_constants(
+            &self.layout,
+            &ObjectPush {
+                model: glam::Mat4::IDENTITY,
+                albedo: albedo.extend(1.0),
+                material,
+            },
+        )?;
+        mesh.record_draw(cmd);
+        Ok(())
+    }
+}
