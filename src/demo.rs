@@ -5,10 +5,28 @@ use std::sync::Arc;
 use crate::error::Result;
 use crate::gpu::Context;
 use crate::render::RenderedFrame;
-use crate::scene::{Size, dunes, grow, rock};
+use crate::scene::{Size, cave, dunes, grow, rock};
+
+/// A gallery picture, and optionally an animation written beside it as a GIF.
+pub struct Shot {
+    pub frame: RenderedFrame,
+    pub animation: Vec<image::RgbaImage>,
+}
+
+impl From<RenderedFrame> for Shot {
+    fn from(frame: RenderedFrame) -> Self {
+        Self {
+            frame,
+            animation: Vec::new(),
+        }
+    }
+}
 
 /// Renders one scene at a size with a seed.
-pub type RenderFn = Box<dyn Fn(&Arc<Context>, Size, u64) -> Result<RenderedFrame>>;
+pub type RenderFn = Box<dyn Fn(&Arc<Context>, Size, u64) -> Result<Shot>>;
+
+/// Frames of the cave fly-through GIF.
+pub const FLYTHROUGH_FRAMES: u32 = 24;
 
 /// One picture of the gallery.
 pub struct GalleryEntry {
@@ -19,12 +37,14 @@ pub struct GalleryEntry {
 }
 
 /// Every scene the gallery shows, in order: the foundation's rock, Tortelli &
-/// Walter's Figure 9 panels, then Onoue & Nishita's dune figures.
+/// Walter's Figure 9 panels, Onoue & Nishita's dune figures, then Cui et al.'s caves.
 pub fn gallery() -> Vec<GalleryEntry> {
     let mut entries = vec![GalleryEntry {
         name: "rock",
         description: "foundation test scene: fBm-displaced rock, sun + sky light, ACES tone mapping",
-        render: Box::new(|ctx, size, seed| rock::render(ctx, &rock::RockScene::new(seed), size)),
+        render: Box::new(|ctx, size, seed| {
+            Ok(rock::render(ctx, &rock::RockScene::new(seed), size)?.into())
+        }),
     }];
     for &(name, description) in grow::PRESETS {
         entries.push(GalleryEntry {
@@ -35,7 +55,11 @@ pub fn gallery() -> Vec<GalleryEntry> {
                     seed,
                     ..grow::preset(name)?
                 };
-                Ok(grow::grow(ctx, &scene, size, &Default::default(), &mut |_, _| {})?.frame)
+                Ok(
+                    grow::grow(ctx, &scene, size, &Default::default(), &mut |_, _| {})?
+                        .frame
+                        .into(),
+                )
             }),
         });
     }
@@ -58,7 +82,50 @@ pub fn gallery() -> Vec<GalleryEntry> {
                     ..dunes::preset(name)?
                 };
                 let terrain = dunes::simulate(&scene, &mut |_, _| {})?;
-                Ok(dunes::render(ctx, &scene, &terrain, size)?.frame)
+                Ok(dunes::render(ctx, &scene, &terrain, size)?.frame.into())
+            }),
+        });
+    }
+    let caves: [(&str, &str, &str, cave::Speleothems); 3] = [
+        (
+            "cave-fig5c",
+            "fig5c",
+            "cave walls after crack-free smoothing, wireframe",
+            cave::Speleothems::None,
+        ),
+        (
+            "cave-fig8",
+            "fig8",
+            "cave passage with Short-profile stalactites and stalagmites; cave-fig8.gif flies through it",
+            cave::Speleothems::Short,
+        ),
+        (
+            "cave-grown",
+            "fig8",
+            "the same sites grown on the GS/transform-feedback pipeline",
+            cave::Speleothems::Grown,
+        ),
+    ];
+    for (name, preset, description, speleothems) in caves {
+        entries.push(GalleryEntry {
+            name,
+            description,
+            render: Box::new(move |ctx, size, seed| {
+                let mut scene = cave::preset(preset)?;
+                scene.cave.volume.seed = seed;
+                scene.speleothems = speleothems;
+                let model = cave::build(&scene, &mut |_| {})?;
+                let mut cameras = vec![cave::default_camera(&scene, &model)];
+                let fly = name == "cave-fig8";
+                if fly {
+                    cameras.extend(cave::flythrough(&scene, &model, FLYTHROUGH_FRAMES));
+                }
+                let mut frames = cave::render(ctx, &scene, &model, size, &cameras)?.frames;
+                let frame = frames.remove(0);
+                Ok(Shot {
+                    frame,
+                    animation: frames.into_iter().map(|f| f.image).collect(),
+                })
             }),
         });
     }

@@ -453,10 +453,15 @@ fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
     let mut rows = Vec::new();
     for (i, entry) in gallery.iter().enumerate() {
         progress(i, gallery.len(), entry.name);
-        let frame = (entry.render)(&ctx, cli.size, cli.seed)
+        let shot = (entry.render)(&ctx, cli.size, cli.seed)
             .with_context(|| format!("rendering the \"{}\" scene failed", entry.name))?;
+        let frame = shot.frame;
         let path = out.join(format!("{}.png", entry.name));
         sediment::export::png::write_png(&path, &frame.image)?;
+        if !shot.animation.is_empty() {
+            let gif = out.join(format!("{}.gif", entry.name));
+            sediment::export::gif::write_gif(&gif, &shot.animation, 120)?;
+        }
         let gpu_ms: f64 = frame.gpu_spans.iter().map(|s| s.milliseconds).sum();
         rows.push((entry.name, path, gpu_ms, frame.wall_ms));
     }
