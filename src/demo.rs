@@ -114,7 +114,7 @@ pub fn gallery() -> Vec<GalleryEntry> {
                 let mut scene = cave::preset(preset)?;
                 scene.cave.volume.seed = seed;
                 scene.speleothems = speleothems;
-                let model = cave::build(&scene, &mut |_| {})?;
+                let model = cave::build(&scene, &|_, _, _| {})?;
                 let mut cameras = vec![cave::default_camera(&scene, &model)];
                 let fly = name == "cave-fig8";
                 if fly {

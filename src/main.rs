@@ -956,18 +956,10 @@ fn cave(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         }
     }
     let ctx = open_context(cli)?;
-    let steps = [
-        "octree",
-        "cave walls",
-        "crack-free split",
-        "smoothing",
-        "speleothems",
-    ];
-    let model = cave::build(&scene, &mut |phase| {
-        let done = steps.iter().position(|s| *s == phase).unwrap_or(0);
-        progress(done, steps.len(), phase);
+    let model = cave::build(&scene, &|phase, done, total| {
+        progress(done as usize, total as usize, phase);
     })?;
-    progress(steps.len(), steps.len(), "done");
+    progress(1, 1, "done");
     eprintln!();
     let c = &model.cave;
     println!(

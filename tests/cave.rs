@@ -23,7 +23,7 @@ fn small(name: &str) -> CaveScene {
 }
 
 fn frame(ctx: &std::sync::Arc<sediment::gpu::Context>, scene: &CaveScene) -> image::RgbaImage {
-    let model = cave::build(scene, &mut |_| {}).expect("cave");
+    let model = cave::build(scene, &|_, _, _| {}).expect("cave");
     let camera = cave::default_camera(scene, &model);
     let mut out = cave::render(ctx, scene, &model, Size::new(240, 160), &[camera]).expect("render");
     out.frames.remove(0).image
@@ -58,7 +58,7 @@ fn grown_speleothems_in_the_cave_equal_the_cpu_reference() {
             speleothems: Speleothems::Grown,
             ..small("fig8")
         };
-        let model = cave::build(&scene, &mut |_| {}).expect("cave");
+        let model = cave::build(&scene, &|_, _, _| {}).expect("cave");
         let growth = model.growth.as_ref().expect("a growth");
         assert_eq!(growth.sites.len(), model.sites.len());
         assert!(!model.sites.is_empty());

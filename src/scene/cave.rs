@@ -168,25 +168,24 @@ pub struct CaveModel {
     pub growth: Option<GrowthScene>,
 }
 
-/// What [`build`] is doing, for a progress display.
-pub type Progress<'a> = &'a mut dyn FnMut(&str);
+/// What [`build`] is doing, for a progress display: (phase, done, total), from any
+/// thread.
+pub type Progress<'a> = &'a (dyn Fn(&str, u32, u32) + Sync);
 
 /// Generates the cave and places its speleothems.
 pub fn build(scene: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
     scene.validate()?;
-    let cave = cave::generate(&scene.cave, &mut |phase| {
-        progress(match phase {
-            Phase::Octree => "octree",
-            Phase::Walls => "cave walls",
-            Phase::Split => "crack-free split",
-            Phase::Smooth => "smoothing",
-        })
+    let cave = cave::generate(&scene.cave, &|phase| match phase {
+        Phase::Octree { done, total } => progress("octree", done, total),
+        Phase::Walls => progress("cave walls", 0, 1),
+        Phase::Split => progress("crack-free split", 0, 1),
+        Phase::Smooth => progress("smoothing", 0, 1),
     })?;
     let mut sites = Vec::new();
     let mut short_mesh = Mesh::default();
     let mut growth = None;
     if scene.speleothems != Speleothems::None {
-        progress("speleothems");
+        progress("speleothems", 0, 1);
         let rays = VerticalRays::new(&cave.mesh, 4.0 * scene.cave.voxel_m());
         sites = placement::place(
             &cave.mesh,
@@ -517,7 +516,7 @@ pub fn table(params: &CaveParams, progress: &mut dyn FnMut(u32)) -> Result<Vec<T
                     depth,
                     ..params.clone()
                 },
-                &mut |_| {},
+                &|_| {},
             )?;
             Ok(TableRow {
                 depth,

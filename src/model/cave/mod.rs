@@ -123,19 +123,24 @@ impl Cave {
 /// The phases [`generate`] reports as it goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Phase {
-    Octree,
+    /// Subtrees of the octree built so far, of `total`.
+    Octree {
+        done: u32,
+        total: u32,
+    },
     Walls,
     Split,
     Smooth,
 }
 
 /// Noise -> octree -> walls -> split -> smoothing.
-pub fn generate(params: &CaveParams, progress: &mut dyn FnMut(Phase)) -> Result<Cave> {
+pub fn generate(params: &CaveParams, progress: &(dyn Fn(Phase) + Sync)) -> Result<Cave> {
     params.validate()?;
     let mut timings = Timings::default();
-    progress(Phase::Octree);
     let t = Instant::now();
-    let mut tree = Octree::build(&params.volume, params.depth);
+    let mut tree = Octree::build_with_progress(&params.volume, params.depth, &|done, total| {
+        progress(Phase::Octree { done, total })
+    });
     timings.build_ms = ms(t);
     if !tree.leaves().iter().any(|l| !l.solid) {
         return Err(Error::invalid(

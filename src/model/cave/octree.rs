@@ -9,6 +9,8 @@
 //! of every voxel followed by bottom-up collapsing gives (tested), at a fraction of
 //! the samples. The outermost voxel layer is always rock, so the cave is enclosed.
 
+use std::sync::atomic::{AtomicU32, Ordering};
+
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -54,16 +56,30 @@ enum Tmp {
 
 /// Levels built in parallel (8^2 = 64 subtrees: enough for any core count here).
 const PARALLEL_LEVELS: u32 = 2;
+const SUBTREES: u32 = 64;
 
 impl Octree {
     /// Builds the octree of `volume` to `depth` (the cube has 2^depth voxels a side).
     pub fn build(volume: &VolumeParams, depth: u32) -> Self {
+        Self::build_with_progress(volume, depth, &|_, _| {})
+    }
+
+    /// As [`Octree::build`], calling `progress(done, total)` (from any thread) as the
+    /// 64 subtrees below level 2 finish.
+    pub fn build_with_progress(
+        volume: &VolumeParams,
+        depth: u32,
+        progress: &(dyn Fn(u32, u32) + Sync),
+    ) -> Self {
         let builder = Builder {
             volume,
             depth,
             n: 1 << depth,
             lipschitz: volume.lipschitz(),
+            progress,
+            done: AtomicU32::new(0),
         };
+        progress(0, SUBTREES);
         let tmp = builder.node(0, [0, 0, 0]);
         Self::flatten(depth, tmp)
     }
@@ -240,6 +256,8 @@ struct Builder<'a> {
     depth: u32,
     n: u32,
     lipschitz: f32,
+    progress: &'a (dyn Fn(u32, u32) + Sync),
+    done: AtomicU32,
 }
 
 impl Builder<'_> {
@@ -252,7 +270,24 @@ impl Builder<'_> {
         !self.volume.is_empty(p)
     }
 
+    /// Counts the subtrees below `level` as finished.
+    fn finished(&self, level: u32) {
+        if level <= PARALLEL_LEVELS {
+            let n = 8u32.pow(PARALLEL_LEVELS - level);
+            let done = self.done.fetch_add(n, Ordering::Relaxed) + n;
+            (self.progress)(done, SUBTREES);
+        }
+    }
+
     fn node(&self, level: u32, o: [u32; 3]) -> Tmp {
+        let tmp = self.node_inner(level, o);
+        if level == PARALLEL_LEVELS {
+            self.finished(level);
+        }
+        tmp
+    }
+
+    fn node_inner(&self, level: u32, o: [u32; 3]) -> Tmp {
         let size = 1u32 << (self.depth - level);
         if size == 1 {
             return Tmp::Leaf(self.voxel_is_solid(o));
@@ -266,11 +301,19 @@ impl Builder<'_> {
         let margin = self.lipschitz * reach * 1.01 + 1e-6;
         let d = self.volume.density(centre) - self.volume.threshold;
         let touches_border = o.iter().any(|&c| c == 0 || c + size == self.n);
-        if d > margin {
-            return Tmp::Leaf(true);
-        }
-        if d < -margin && !touches_border {
-            return Tmp::Leaf(false);
+        let uniform = if d > margin {
+            Some(true)
+        } else if d < -margin && !touches_border {
+            Some(false)
+        } else {
+            None
+        };
+        if let Some(solid) = uniform {
+            // Above the parallel level, the subtrees this node stands for are done.
+            if level < PARALLEL_LEVELS {
+                self.finished(level);
+            }
+            return Tmp::Leaf(solid);
         }
         let half = size / 2;
         let child = |c: usize| self.node(level + 1, child_origin(o, c, half));

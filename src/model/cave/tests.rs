@@ -5,6 +5,7 @@ use glam::Vec3;
 
 use super::*;
 use crate::model::noise::gradient_noise;
+use octree::Octree;
 use surface::{ambiguous_block, t_junctions};
 
 fn cave(depth: u32, seed: u64) -> Cave {
@@ -16,7 +17,7 @@ fn cave(depth: u32, seed: u64) -> Cave {
         },
         ..CaveParams::default()
     };
-    generate(&params, &mut |_| {}).expect("cave")
+    generate(&params, &|_| {}).expect("cave")
 }
 
 #[test]
@@ -180,12 +181,7 @@ fn same_seed_same_mesh_and_bad_input_is_named() {
     let (a, b) = (cave(6, 4), cave(6, 4));
     assert_eq!(a.mesh, b.mesh);
     assert_ne!(a.mesh, cave(6, 5).mesh);
-    let err = |p: CaveParams| {
-        generate(&p, &mut |_| {})
-            .err()
-            .expect("refused")
-            .to_string()
-    };
+    let err = |p: CaveParams| generate(&p, &|_| {}).err().expect("refused").to_string();
     let e = err(CaveParams {
         depth: 12,
         ..CaveParams::default()
@@ -350,4 +346,21 @@ fn speleothems_hang_from_the_ceiling_over_their_stalagmites_with_bases_in_rock()
             }
         }
     }
+}
+
+#[test]
+fn octree_progress_counts_every_subtree_once() {
+    let seen = std::sync::Mutex::new(Vec::new());
+    let tree = Octree::build_with_progress(&VolumeParams::default(), 6, &|done, total| {
+        seen.lock().expect("lock").push((done, total));
+    });
+    assert_eq!(tree, Octree::build(&VolumeParams::default(), 6));
+    let seen = seen.into_inner().expect("lock");
+    assert!(seen.iter().all(|&(_, t)| t == 64));
+    assert_eq!(seen.iter().map(|&(d, _)| d).max(), Some(64));
+    // Counts only grow: no subtree is counted twice (the last report is the 64th).
+    let mut dones: Vec<u32> = seen.iter().map(|&(d, _)| d).collect();
+    dones.sort_unstable();
+    dones.dedup();
+    assert_eq!(dones.len(), seen.len(), "{seen:?}");
 }
