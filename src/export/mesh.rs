@@ -26,6 +26,13 @@ impl TriangleSoup {
         }
         soup
     }
+
+    /// Appends `other`'s triangles.
+    pub fn append(&mut self, other: TriangleSoup) {
+        self.positions.extend(other.positions);
+        self.normals.extend(other.normals);
+        self.colors.extend(other.colors);
+    }
 }
 
 /// Writes `mesh` as `.glb` or `.obj` according to `path`'s extension.

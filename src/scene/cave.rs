@@ -483,15 +483,12 @@ pub fn export(
         model.cave.blocky_mesh()
     };
     let mut soup = TriangleSoup::from_indexed(&wall, ROCK.to_array());
-    let short = TriangleSoup::from_indexed(&model.short_mesh, CALCITE.to_array());
-    soup.positions.extend(short.positions);
-    soup.normals.extend(short.normals);
-    soup.colors.extend(short.colors);
+    soup.append(TriangleSoup::from_indexed(
+        &model.short_mesh,
+        CALCITE.to_array(),
+    ));
     if let Some((plan, vertices)) = grown {
-        let g = crate::scene::grow::export_mesh(plan, vertices);
-        soup.positions.extend(g.positions);
-        soup.normals.extend(g.normals);
-        soup.colors.extend(g.colors);
+        soup.append(crate::scene::grow::export_mesh(plan, vertices));
     }
     soup
 }

@@ -40,3 +40,17 @@ pub fn gltf_validate(path: &Path) {
     );
     assert!(report.contains("\"errors\":0"), "{report}");
 }
+
+/// Runs `sediment COMMAND -o PNG ARGS...` for every case and asserts each fails with a
+/// message naming `expected`, without a panic.
+pub fn assert_each_refused(command: &str, png: &str, cases: &[(Vec<&str>, &str)]) {
+    for (args, expected) in cases {
+        let mut all = vec![command, "-o", png];
+        all.extend(args.iter().copied());
+        let out = sediment(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} must fail");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+}

@@ -154,8 +154,8 @@ pub struct Site {
     pub column: bool,
 }
 
-/// Base radius of a site in metres.
 impl Site {
+    /// Base radius in metres.
     pub fn base_radius_m(&self, unit_m: f32) -> f32 {
         self.shape.r * unit_m
     }
