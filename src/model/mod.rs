@@ -5,6 +5,7 @@ pub mod cave;
 pub mod dune_mesh;
 pub mod dune_shadow;
 pub mod dust;
+pub mod layers;
 pub mod mesh;
 pub mod noise;
 pub mod normal_map;
