@@ -181,13 +181,9 @@ fn increasing_supply_overhangs_and_is_reported() {
 
 #[test]
 fn bases_that_rise_are_refused_and_runs_repeat_exactly() {
-    let err = Base::from_points(vec![[0.0, 0.0], [1.0, 0.2], [2.0, 0.0]])
-        .err()
-        .expect("rising");
+    let err = Base::from_points(vec![[0.0, 0.0], [1.0, 0.2], [2.0, 0.0]]).expect_err("rising");
     assert!(err.to_string().contains("fall steadily"), "{err}");
-    let err = Base::from_points(vec![[0.5, 0.0], [1.0, 0.0]])
-        .err()
-        .expect("off axis");
+    let err = Base::from_points(vec![[0.5, 0.0], [1.0, 0.0]]).expect_err("off axis");
     assert!(err.to_string().contains("axis"), "{err}");
     let a = candlestick(Decay::Gaussian, 1.0, 50, None);
     assert_eq!(a, candlestick(Decay::Gaussian, 1.0, 50, None));
