@@ -5,6 +5,7 @@ pub mod atomic;
 pub mod gif;
 pub mod mesh;
 pub mod png;
+pub mod section;
 
 /// Checks that `path` ends in one of `allowed` (case-insensitive), so a bad output name
 /// is refused before any work is done.

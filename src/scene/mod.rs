@@ -5,6 +5,7 @@ pub mod cave;
 pub mod dunes;
 pub mod file;
 pub mod grow;
+pub mod layers;
 pub mod rock;
 pub mod size;
 
