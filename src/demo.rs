@@ -3,14 +3,17 @@
 use std::sync::Arc;
 
 use crate::error::Result;
+use crate::export::section::{self, Colouring, SectionStyle};
 use crate::gpu::Context;
 use crate::render::RenderedFrame;
-use crate::scene::{Size, cave, dunes, grow, rock};
+use crate::scene::{Size, cave, dunes, grow, layers, rock};
 
-/// A gallery picture, and optionally an animation written beside it as a GIF.
+/// A gallery picture, optionally an animation written beside it as a GIF, and more
+/// pictures written as `NAME-SUFFIX.png`.
 pub struct Shot {
     pub frame: RenderedFrame,
     pub animation: Vec<image::RgbaImage>,
+    pub extras: Vec<(&'static str, image::RgbaImage)>,
 }
 
 impl From<RenderedFrame> for Shot {
@@ -18,6 +21,7 @@ impl From<RenderedFrame> for Shot {
         Self {
             frame,
             animation: Vec::new(),
+            extras: Vec::new(),
         }
     }
 }
@@ -37,7 +41,8 @@ pub struct GalleryEntry {
 }
 
 /// Every scene the gallery shows, in order: the foundation's rock, Tortelli &
-/// Walter's Figure 9 panels, Onoue & Nishita's dune figures, then Cui et al.'s caves.
+/// Walter's Figure 9 panels, Onoue & Nishita's dune figures, Cui et al.'s caves, then
+/// Franke's layered stalagmites (a 3D cut-away and a `-section.png` each).
 pub fn gallery() -> Vec<GalleryEntry> {
     let mut entries = vec![GalleryEntry {
         name: "rock",
@@ -125,6 +130,33 @@ pub fn gallery() -> Vec<GalleryEntry> {
                 Ok(Shot {
                     frame,
                     animation: frames.into_iter().map(|f| f.image).collect(),
+                    extras: Vec::new(),
+                })
+            }),
+        });
+    }
+    for &(preset, description) in layers::PRESETS {
+        entries.push(GalleryEntry {
+            name: match preset {
+                "candlestick" => "layers-candlestick",
+                "drying" => "layers-drying",
+                "wetting" => "layers-wetting",
+                "uneven" => "layers-uneven",
+                _ => "layers-timeline",
+            },
+            description,
+            render: Box::new(move |ctx, size, _seed| {
+                let (s, unit) = layers::preset(preset)?.grow()?;
+                let cut = layers::cut_away(&s, (s.layers.len() / 24).max(1));
+                let style = SectionStyle {
+                    colouring: Colouring::Age,
+                    unit,
+                    ..SectionStyle::default()
+                };
+                Ok(Shot {
+                    frame: layers::render(ctx, &cut, size)?,
+                    animation: Vec::new(),
+                    extras: vec![("section", section::png(&s, &style, 600, 800))],
                 })
             }),
         });

@@ -15,6 +15,14 @@ use sediment::scene::dunes;
 use sediment::scene::file::{SceneFile, parse_mode};
 use sediment::scene::grow::{self, GrowthScene};
 
+/// `println!` that ignores a closed stdout (`sediment ... | head`): the files the
+/// command writes matter more than its report.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 /// Simulates and renders depositional natural scenes (speleothems, caves, stalagmite
 /// layers, desert dunes) on Vulkan; runs headless on Mesa's lavapipe.
 #[derive(Parser, Debug)]
@@ -556,6 +564,10 @@ fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
             let gif = out.join(format!("{}.gif", entry.name));
             sediment::export::gif::write_gif(&gif, &shot.animation, 120)?;
         }
+        for (suffix, image) in &shot.extras {
+            let extra = out.join(format!("{}-{suffix}.png", entry.name));
+            sediment::export::png::write_png(&extra, image)?;
+        }
         let gpu_ms: f64 = frame.gpu_spans.iter().map(|s| s.milliseconds).sum();
         rows.push((entry.name, path, gpu_ms, frame.wall_ms));
     }
@@ -569,10 +581,10 @@ fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
             errors.len()
         );
     }
-    println!("| scene | file | GPU ms | wall ms |");
-    println!("|---|---|---:|---:|");
+    say!("| scene | file | GPU ms | wall ms |");
+    say!("|---|---|---:|---:|");
     for (name, path, gpu, wall) in rows {
-        println!("| {name} | {} | {gpu:.2} | {wall:.1} |", path.display());
+        say!("| {name} | {} | {gpu:.2} | {wall:.1} |", path.display());
     }
     Ok(())
 }
@@ -665,15 +677,15 @@ fn grow(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
     fail_on_validation_errors(&ctx)?;
     if let Some(path) = &output {
         sediment::export::png::write_png(path, &grown.frame.image)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     if let Some(path) = &a.gif {
         sediment::export::gif::write_gif(path, &grown.frames, 80)?;
-        println!("wrote {} ({} frames)", path.display(), grown.frames.len());
+        say!("wrote {} ({} frames)", path.display(), grown.frames.len());
     }
     if let (Some(path), Some(mesh)) = (&a.mesh, &grown.mesh) {
         sediment::export::mesh::write_mesh(path, &grow::export_mesh(&grown.plan, mesh))?;
-        println!("wrote {} ({} triangles)", path.display(), mesh.len() / 3);
+        say!("wrote {} ({} triangles)", path.display(), mesh.len() / 3);
     }
     let stopped = grown
         .plan
@@ -681,7 +693,7 @@ fn grow(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         .iter()
         .filter(|s| s.stop.is_some())
         .count();
-    println!(
+    say!(
         "{} speleothems, {} passes ({} stopped growing); GPU {}; wall {:.1} ms",
         grown.plan.speleothems.len(),
         grown.plan.passes,
@@ -859,7 +871,7 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
     eprintln!();
     let cell_steps = (scene.ripple_size * scene.ripple_size) as f64 * f64::from(scene.ripple_steps)
         + (scene.dune_size * scene.dune_size) as f64 * f64::from(scene.dune_steps);
-    println!(
+    say!(
         "simulated {:.1} M cell-steps in {sim_s:.2} s ({:.0} M cell-steps/s on {} threads)",
         cell_steps / 1e6,
         cell_steps / 1e6 / sim_s.max(1e-9),
@@ -911,10 +923,10 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("dunes.png"));
     sediment::export::png::write_png(&output, &out.frame.image)?;
-    println!("wrote {}", output.display());
+    say!("wrote {}", output.display());
     if let Some(path) = &a.gif {
         sediment::export::gif::write_gif(path, &gif_frames, 150)?;
-        println!("wrote {} ({} frames)", path.display(), gif_frames.len());
+        say!("wrote {} ({} frames)", path.display(), gif_frames.len());
     }
     if let Some(path) = &a.heightmap {
         sediment::export::png::write_heightmap16(path, &terrain.dune_field)?;
@@ -924,12 +936,12 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
             .unwrap_or_default();
         let ripples = path.with_file_name(format!("{stem}-ripples.png"));
         sediment::export::png::write_heightmap16(&ripples, &terrain.ripples)?;
-        println!("wrote {} and {}", path.display(), ripples.display());
+        say!("wrote {} and {}", path.display(), ripples.display());
     }
     if let Some(path) = &a.mesh {
         let soup = sediment::export::mesh::TriangleSoup::from_indexed(&out.mesh, [0.72, 0.5, 0.3]);
         sediment::export::mesh::write_mesh(path, &soup)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     let spans = |s: &[sediment::gpu::Span]| {
         s.iter()
@@ -937,7 +949,7 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    println!(
+    say!(
         "{}/{} dune triangles drawn; GPU frame: {}; precompute: {}; wall {:.1} ms",
         out.visible_triangles,
         out.total_triangles,
@@ -949,7 +961,7 @@ fn dunes(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         let mut ms = out.timed_ms.clone();
         ms.sort_by(f64::total_cmp);
         let at = |q: f64| ms[((ms.len() - 1) as f64 * q).round() as usize];
-        println!(
+        say!(
             "GPU frame over {} timing frames: median {:.2} ms, min {:.2} ms, p95 {:.2} ms",
             ms.len(),
             at(0.5),
@@ -1006,13 +1018,13 @@ fn cave(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
             progress(d as usize - 5, 5, "octree depths")
         })?;
         eprintln!();
-        println!(
+        say!(
             "| depth | triangles before split | after | increase | paper before | paper after | paper increase | octree ms | walls ms | split ms | smooth ms | total ms |"
         );
-        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+        say!("|---|---|---|---|---|---|---|---|---|---|---|---|");
         for (row, (_, pb, pa)) in rows.iter().zip(cave::PAPER_TABLE_1) {
             let t = &row.timings;
-            println!(
+            say!(
                 "| {} | {} | {} | {:.1} % | {pb} | {pa} | {:.1} % | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} |",
                 row.depth,
                 row.before,
@@ -1056,7 +1068,7 @@ fn cave(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
     progress(1, 1, "done");
     eprintln!();
     let c = &model.cave;
-    println!(
+    say!(
         "octree depth {}: {} nodes; {} -> {} triangles after the crack-free split (+{:.1} %), {} voxels carved for manifoldness; {} speleothem sites ({} columns); generated in {:.0} ms (octree {:.0}, walls {:.0}, split {:.0}, smoothing {:.0})",
         scene.cave.depth,
         c.tree.node_count(),
@@ -1093,19 +1105,19 @@ fn cave(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| PathBuf::from("cave.png"));
     let frame = &rendered.frames[0];
     sediment::export::png::write_png(&output, &frame.image)?;
-    println!("wrote {}", output.display());
+    say!("wrote {}", output.display());
     if let Some(path) = &a.flythrough {
         let frames: Vec<_> = rendered.frames[1..]
             .iter()
             .map(|f| f.image.clone())
             .collect();
         sediment::export::gif::write_gif(path, &frames, 120)?;
-        println!("wrote {} ({} frames)", path.display(), frames.len());
+        say!("wrote {} ({} frames)", path.display(), frames.len());
     }
     if let Some(path) = &a.mesh {
         let soup = cave::export(&scene, &model, rendered.grown.as_ref());
         sediment::export::mesh::write_mesh(path, &soup)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     let spans = frame
         .gpu_spans
@@ -1113,7 +1125,7 @@ fn cave(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         .map(|s| format!("{} {:.2} ms", s.name, s.milliseconds))
         .collect::<Vec<_>>()
         .join(", ");
-    println!("GPU frame: {spans}; wall {:.1} ms", frame.wall_ms);
+    say!("GPU frame: {spans}; wall {:.1} ms", frame.wall_ms);
     Ok(())
 }
 
@@ -1243,7 +1255,7 @@ fn layers(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
     let layers_grown = stalagmite.layers.len() - 1;
     let apex = stalagmite.surface().first().map_or(0.0, |p| p[1]);
     let u = unit.as_deref().unwrap_or("units");
-    println!(
+    say!(
         "grew {layers_grown} layers in {:.0} ms; apex height {apex:.3} {u}; {} support points",
         start.elapsed().as_secs_f64() * 1e3,
         setup.franke.pz
@@ -1256,7 +1268,7 @@ fn layers(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
             excess_ca: first.excess_ca,
             film_m: p.film_m,
         };
-        println!(
+        say!(
             "growth law at the start (T {} C, drip {} s, excess Ca {} mol/m^3, film {} mm): W0 = {:.4e} m/s = {:.4} mm/yr, R0 = {:.2} mm",
             first.temperature_c,
             first.drip_interval_s,
@@ -1268,7 +1280,7 @@ fn layers(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(o) = &stalagmite.overhang {
-        println!(
+        say!(
             "note: the surface would overhang at layer {} (time {}) near x = {:.3}, y = {:.3} {u}: \
              the supply widened the top past the flank below, where ceiling-formation rules take \
              over (Franke); growth stopped there",
@@ -1297,14 +1309,14 @@ fn layers(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
         }
         if let Some(path) = &a.mesh {
             sediment::export::mesh::write_mesh(path, &scene_layers::export(&cut))?;
-            println!("wrote {}", path.display());
+            say!("wrote {}", path.display());
         }
     }
     section::write(&output, &stalagmite, &style, w, h)?;
-    println!("wrote {}", output.display());
+    say!("wrote {}", output.display());
     if let Some(path) = &a.csv {
         section::write_csv(path, &stalagmite)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     if let Some(path) = &a.gif {
         let n = a.gif_frames as usize;
@@ -1323,11 +1335,11 @@ fn layers(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
             })
             .collect();
         sediment::export::gif::write_gif(path, &frames, 100)?;
-        println!("wrote {} ({} frames)", path.display(), frames.len());
+        say!("wrote {} ({} frames)", path.display(), frames.len());
     }
     if let (Some(path), Some(frame)) = (&a.render, render) {
         sediment::export::png::write_png(path, &frame.image)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     Ok(())
 }

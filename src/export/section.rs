@@ -172,6 +172,22 @@ fn strokes(s: &Stalagmite, style: &SectionStyle, frame: &Frame) -> Vec<Stroke> {
             dashed: false,
         });
     }
+    // The layer that would have overhung, where growth stopped.
+    if let Some(o) = &s.overhang {
+        let mut points: Vec<[f64; 2]> = o
+            .profile
+            .iter()
+            .rev()
+            .map(|p| frame.map(-p[0], p[1]))
+            .collect();
+        points.extend(o.profile.iter().skip(1).map(|p| frame.map(p[0], p[1])));
+        out.push(Stroke {
+            points,
+            width: 1.5,
+            color: [200, 30, 30],
+            dashed: false,
+        });
+    }
     out
 }
 

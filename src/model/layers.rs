@@ -310,6 +310,8 @@ pub struct Overhang {
     pub time: f64,
     /// Where along the profile.
     pub at: [f64; 2],
+    /// The overhanging layer that was not deposited (for showing it).
+    pub profile: Vec<[f64; 2]>,
 }
 
 /// A grown stalagmite: layer 0 is the base, layer k the surface after k deposits.
@@ -363,6 +365,7 @@ pub fn grow(base: &[[f64; 2]], steps: &[LayerStep], decay: Decay) -> Result<Stal
                 layer: k,
                 time: step.time,
                 at,
+                profile: next.clone(),
             });
             break;
         }

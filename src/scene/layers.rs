@@ -349,7 +349,7 @@ pub fn preset(name: &str) -> Result<LayersSetup> {
         },
         "wetting" => LayersSetup {
             franke: crate::model::layers::FrankeParams {
-                supply: Supply::Linear { from: 0.5, to: 1.6 },
+                supply: Supply::Steps(vec![0.6, 0.6, 0.6, 1.4]),
                 rep: 400,
                 ..d.franke
             },
