@@ -2,6 +2,7 @@
 //! renamed into place, so a failed run never leaves a half-written file.
 
 pub mod atomic;
+pub mod draw;
 pub mod gif;
 pub mod mesh;
 pub mod png;

@@ -9,6 +9,7 @@ use std::path::Path;
 use image::{Rgba, RgbaImage};
 
 use super::atomic::write_atomically;
+use super::draw::{segment, text};
 use crate::error::{Error, Result};
 use crate::model::layers::Stalagmite;
 
@@ -294,97 +295,6 @@ pub fn png(s: &Stalagmite, style: &SectionStyle, width: u32, height: u32) -> Rgb
     img
 }
 
-/// Blends an anti-aliased segment of `width` pixels (coverage from the distance to it).
-fn segment(img: &mut RgbaImage, a: [f64; 2], b: [f64; 2], width: f64, color: [u8; 3]) {
-    let r = 0.5 * width + 1.0;
-    let (x0, x1) = (
-        (a[0].min(b[0]) - r).floor().max(0.0),
-        (a[0].max(b[0]) + r).ceil(),
-    );
-    let (y0, y1) = (
-        (a[1].min(b[1]) - r).floor().max(0.0),
-        (a[1].max(b[1]) + r).ceil(),
-    );
-    let (w, h) = (f64::from(img.width()), f64::from(img.height()));
-    let (ab_x, ab_y) = (b[0] - a[0], b[1] - a[1]);
-    let len2 = (ab_x * ab_x + ab_y * ab_y).max(1e-12);
-    let mut y = y0;
-    while y <= y1.min(h - 1.0) {
-        let mut x = x0;
-        while x <= x1.min(w - 1.0) {
-            let (px, py) = (x + 0.5, y + 0.5);
-            let t = (((px - a[0]) * ab_x + (py - a[1]) * ab_y) / len2).clamp(0.0, 1.0);
-            let (dx, dy) = (px - (a[0] + ab_x * t), py - (a[1] + ab_y * t));
-            let cover = (0.5 * width + 0.5 - (dx * dx + dy * dy).sqrt()).clamp(0.0, 1.0);
-            if cover > 0.0 {
-                let p = img.get_pixel_mut(x as u32, y as u32);
-                for (channel, &ink) in p.0.iter_mut().zip(&color) {
-                    let v = f64::from(*channel) + (f64::from(ink) - f64::from(*channel)) * cover;
-                    *channel = v.round() as u8;
-                }
-            }
-            x += 1.0;
-        }
-        y += 1.0;
-    }
-}
-
-/// A 3x5 pixel font for scale-bar labels: digits, '.', space and the letters of "mm"
-/// and "units".
-fn glyph(c: char) -> [u8; 5] {
-    match c {
-        '0' => [7, 5, 5, 5, 7],
-        '1' => [2, 6, 2, 2, 7],
-        '2' => [7, 1, 7, 4, 7],
-        '3' => [7, 1, 7, 1, 7],
-        '4' => [5, 5, 7, 1, 1],
-        '5' => [7, 4, 7, 1, 7],
-        '6' => [7, 4, 7, 5, 7],
-        '7' => [7, 1, 1, 1, 1],
-        '8' => [7, 5, 7, 5, 7],
-        '9' => [7, 5, 7, 1, 7],
-        '.' => [0, 0, 0, 0, 2],
-        'm' => [0, 0, 7, 7, 5],
-        'u' => [0, 0, 5, 5, 7],
-        'n' => [0, 0, 6, 5, 5],
-        'i' => [2, 0, 2, 2, 2],
-        't' => [2, 7, 2, 2, 3],
-        's' => [0, 3, 6, 1, 6],
-        'c' => [0, 0, 7, 4, 7],
-        _ => [0; 5],
-    }
-}
-
-/// Draws `label` centred at `cx`, top at `top`, at 2x pixel size.
-fn text(img: &mut RgbaImage, label: &str, cx: f64, top: f64, color: [u8; 3]) {
-    let px = 2.0;
-    let width = label.chars().count() as f64 * 4.0 * px;
-    let mut x = cx - 0.5 * width;
-    for c in label.chars() {
-        for (row, bits) in glyph(c).iter().enumerate() {
-            for col in 0..3 {
-                if bits >> (2 - col) & 1 == 1 {
-                    for (dy, dx) in [(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (1.0, 1.0)] {
-                        let (xx, yy) = (x + f64::from(col) * px + dx, top + row as f64 * px + dy);
-                        if xx >= 0.0
-                            && yy >= 0.0
-                            && xx < f64::from(img.width())
-                            && yy < f64::from(img.height())
-                        {
-                            img.put_pixel(
-                                xx as u32,
-                                yy as u32,
-                                Rgba([color[0], color[1], color[2], 255]),
-                            );
-                        }
-                    }
-                }
-            }
-        }
-        x += 4.0 * px;
-    }
-}
-
 /// Writes the section as `.svg` or `.png` by the extension.
 pub fn write(
     path: &Path,
@@ -424,8 +334,14 @@ pub fn write_csv(path: &Path, s: &Stalagmite) -> Result<()> {
             source,
         };
         writeln!(w, "layer,time,point,x,y").map_err(io)?;
+        // The base is as old as one step before the first layer (steps are uniform).
+        let start = match s.steps.as_slice() {
+            [a, b, ..] => a.time - (b.time - a.time),
+            [a] => a.time - 1.0,
+            [] => 0.0,
+        };
         for (k, layer) in s.layers.iter().enumerate() {
-            let time = if k == 0 { 0.0 } else { s.steps[k - 1].time };
+            let time = if k == 0 { start } else { s.steps[k - 1].time };
             for (j, p) in layer.iter().enumerate() {
                 writeln!(w, "{k},{time},{j},{},{}", p[0], p[1]).map_err(io)?;
             }
