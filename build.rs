@@ -20,6 +20,7 @@ use glslang::{
 const SHADER_ROOT: &str = "shaders-glsl";
 
 fn main() {
+    embed_git_commit();
     let root = PathBuf::from(SHADER_ROOT);
     println!("cargo:rerun-if-changed={SHADER_ROOT}");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
@@ -202,4 +203,24 @@ fn describe(display: &str, error: glslang::error::GlslangError) -> String {
         }
     }
     out
+}
+
+/// The commit being built, for bench reports (`SEDIMENT_GIT_COMMIT`; "unknown" outside a
+/// git checkout or without git).
+fn embed_git_commit() {
+    let commit = std::process::Command::new("git")
+        .args(["rev-parse", "--short=12", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .map(|s| s.trim().to_owned())
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "unknown".to_owned());
+    println!("cargo:rustc-env=SEDIMENT_GIT_COMMIT={commit}");
+    for path in [".git/HEAD", ".git/refs/heads", ".git/packed-refs"] {
+        if std::path::Path::new(path).exists() {
+            println!("cargo:rerun-if-changed={path}");
+        }
+    }
 }

@@ -7,6 +7,7 @@
 
 #![warn(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
 
+pub mod bench;
 pub mod demo;
 pub mod error;
 pub mod export;

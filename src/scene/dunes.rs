@@ -340,6 +340,8 @@ pub struct DunesFrame {
     pub frame: RenderedFrame,
     /// GPU milliseconds of each extra timing frame ([`render_timed`]).
     pub timed_ms: Vec<f64>,
+    /// Wall-clock milliseconds of each extra timing frame (record, submit, wait).
+    pub timed_wall_ms: Vec<f64>,
     /// GPU time of the precomputations (ripple maps, dune shadow map).
     pub precompute: Vec<Span>,
     pub visible_triangles: u32,
@@ -527,13 +529,17 @@ pub fn render_timed(
         wall_ms: start.elapsed().as_secs_f64() * 1e3,
     };
     let mut timed_ms = Vec::with_capacity(extra_frames as usize);
+    let mut timed_wall_ms = Vec::with_capacity(extra_frames as usize);
     for _ in 0..extra_frames {
+        let t = Instant::now();
         record_frame(&mut timer)?;
+        timed_wall_ms.push(t.elapsed().as_secs_f64() * 1e3);
         timed_ms.push(timer.read()?.iter().map(|s| s.milliseconds).sum());
     }
     Ok(DunesFrame {
         frame,
         timed_ms,
+        timed_wall_ms,
         precompute,
         visible_triangles: geometry.visible_triangles(),
         total_triangles: (mesh.indices.len() / 3) as u32,

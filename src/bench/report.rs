@@ -1,0 +1,322 @@
+//! Bench reports: what was measured where, summaries per pass and per frame, and the
+//! ways a report is read back (JSON), compared with another (ratios) and shown
+//! (Markdown, CSV).
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+/// The format version; a reader refuses other versions.
+pub const SCHEMA: u32 = 1;
+
+/// Minimum, median and 95th percentile of a set of samples (milliseconds).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Stats {
+    pub min: f64,
+    pub median: f64,
+    pub p95: f64,
+    pub samples: usize,
+}
+
+impl Stats {
+    /// Nearest-rank percentiles of `samples` (empty: all zero).
+    pub fn of(samples: &[f64]) -> Self {
+        let mut v: Vec<f64> = samples.iter().copied().filter(|x| x.is_finite()).collect();
+        v.sort_by(f64::total_cmp);
+        if v.is_empty() {
+            return Self {
+                min: 0.0,
+                median: 0.0,
+                p95: 0.0,
+                samples: 0,
+            };
+        }
+        let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+        Self {
+            min: v[0],
+            median: at(0.5),
+            p95: at(0.95),
+            samples: v.len(),
+        }
+    }
+}
+
+/// One named GPU pass within a frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PassResult {
+    pub name: String,
+    pub gpu_ms: Stats,
+}
+
+/// One scene in one variant, measured over frames.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SeriesResult {
+    pub scene: String,
+    pub variant: String,
+    pub passes: Vec<PassResult>,
+    /// GPU time of the whole frame (sum of its passes).
+    pub frame_gpu_ms: Stats,
+    /// Wall-clock time of the frame on the CPU (record, submit, wait).
+    pub frame_cpu_ms: Stats,
+    /// The frame's GPU time, frame by frame (for plots).
+    pub per_frame_gpu_ms: Vec<f64>,
+    /// Named numbers that are not frame times (vertices per second, ms at ring 32, ...).
+    pub metrics: BTreeMap<String, f64>,
+}
+
+/// Where and what the report was measured.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Meta {
+    pub schema: u32,
+    pub device: String,
+    pub driver: String,
+    pub vulkan: String,
+    pub sediment_version: String,
+    pub git_commit: String,
+    pub width: u32,
+    pub height: u32,
+    pub frames: u32,
+    pub warmup: u32,
+    pub threads: usize,
+}
+
+/// A whole bench run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Report {
+    pub meta: Meta,
+    /// The floor: an empty submission and a trivial full-screen pass at the same size.
+    pub floor: Vec<SeriesResult>,
+    pub series: Vec<SeriesResult>,
+    /// The papers' timing ratios beside ours: (what, paper, ours).
+    pub paper_ratios: Vec<PaperRatio>,
+}
+
+/// A ratio the papers report, and the same ratio measured here.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PaperRatio {
+    pub what: String,
+    pub paper: String,
+    pub paper_ratio: f64,
+    pub ours: f64,
+}
+
+impl Report {
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    }
+
+    pub fn from_json(text: &str) -> Result<Self> {
+        let report: Report = serde_json::from_str(text).map_err(|e| {
+            Error::invalid("bench report", format!("not a sediment bench report: {e}"))
+        })?;
+        if report.meta.schema != SCHEMA {
+            return Err(Error::invalid(
+                "bench report",
+                format!(
+                    "schema {} (this sediment reads schema {SCHEMA})",
+                    report.meta.schema
+                ),
+            ));
+        }
+        Ok(report)
+    }
+
+    /// The median GPU frame of the trivial full-screen pass (the floor's unit).
+    pub fn floor_ms(&self) -> Option<f64> {
+        self.floor
+            .iter()
+            .find(|s| s.variant == "fullscreen")
+            .map(|s| s.frame_gpu_ms.median)
+            .filter(|m| *m > 0.0)
+    }
+
+    /// The results as Markdown tables.
+    pub fn markdown(&self) -> String {
+        let m = &self.meta;
+        let mut out = format!(
+            "device: {} ({}), Vulkan {}; sediment {} ({}); {}x{}, {} frames after {} warm-up, {} threads\n\n",
+            m.device,
+            m.driver,
+            m.vulkan,
+            m.sediment_version,
+            m.git_commit,
+            m.width,
+            m.height,
+            m.frames,
+            m.warmup,
+            m.threads
+        );
+        let floor = self.floor_ms();
+        out.push_str("| scene | variant | pass | GPU min ms | GPU median ms | GPU p95 ms | CPU median ms | x floor |\n");
+        out.push_str("|---|---|---|---:|---:|---:|---:|---:|\n");
+        for s in self.floor.iter().chain(&self.series) {
+            let times_floor = |ms: f64| floor.map_or("-".to_owned(), |f| format!("{:.2}", ms / f));
+            out.push_str(&format!(
+                "| {} | {} | frame | {:.2} | {:.2} | {:.2} | {:.2} | {} |\n",
+                s.scene,
+                s.variant,
+                s.frame_gpu_ms.min,
+                s.frame_gpu_ms.median,
+                s.frame_gpu_ms.p95,
+                s.frame_cpu_ms.median,
+                times_floor(s.frame_gpu_ms.median)
+            ));
+            if s.passes.len() > 1 {
+                for p in &s.passes {
+                    out.push_str(&format!(
+                        "| | | {} | {:.2} | {:.2} | {:.2} | | |\n",
+                        p.name, p.gpu_ms.min, p.gpu_ms.median, p.gpu_ms.p95
+                    ));
+                }
+            }
+        }
+        let metrics: Vec<_> = self
+            .series
+            .iter()
+            .flat_map(|s| s.metrics.iter().map(move |(k, v)| (s, k, v)))
+            .collect();
+        if !metrics.is_empty() {
+            out.push_str("\n| scene | variant | metric | value |\n|---|---|---|---:|\n");
+            for (s, k, v) in metrics {
+                out.push_str(&format!(
+                    "| {} | {} | {k} | {} |\n",
+                    s.scene,
+                    s.variant,
+                    number(*v)
+                ));
+            }
+        }
+        if !self.paper_ratios.is_empty() {
+            out.push_str(
+                "\n| the papers' comparison | paper | paper ratio | ours |\n|---|---|---:|---:|\n",
+            );
+            for r in &self.paper_ratios {
+                out.push_str(&format!(
+                    "| {} | {} | {:.2} | {:.2} |\n",
+                    r.what, r.paper, r.paper_ratio, r.ours
+                ));
+            }
+        }
+        out
+    }
+
+    /// One CSV row per series and pass (the frame as pass "frame").
+    pub fn csv(&self) -> String {
+        let mut out = String::from(
+            "scene,variant,pass,gpu_min_ms,gpu_median_ms,gpu_p95_ms,cpu_median_ms,samples\n",
+        );
+        for s in self.floor.iter().chain(&self.series) {
+            out.push_str(&format!(
+                "{},{},frame,{},{},{},{},{}\n",
+                s.scene,
+                s.variant,
+                s.frame_gpu_ms.min,
+                s.frame_gpu_ms.median,
+                s.frame_gpu_ms.p95,
+                s.frame_cpu_ms.median,
+                s.frame_gpu_ms.samples
+            ));
+            for p in &s.passes {
+                out.push_str(&format!(
+                    "{},{},{},{},{},{},,{}\n",
+                    s.scene,
+                    s.variant,
+                    p.name,
+                    p.gpu_ms.min,
+                    p.gpu_ms.median,
+                    p.gpu_ms.p95,
+                    p.gpu_ms.samples
+                ));
+            }
+        }
+        out
+    }
+}
+
+fn number(v: f64) -> String {
+    if v.abs() >= 1e5 {
+        format!("{v:.3e}")
+    } else {
+        format!("{v:.3}")
+    }
+}
+
+/// `b / a` for every (scene, variant, pass) the two reports share, as Markdown: the
+/// medians of GPU time (and of the CPU frame time), then the metrics.
+pub fn compare(a: &Report, b: &Report) -> String {
+    let mut out = format!(
+        "a: {} ({}), {}\nb: {} ({}), {}\n\n| scene | variant | pass | a GPU median ms | b GPU median ms | b / a |\n|---|---|---|---:|---:|---:|\n",
+        a.meta.device,
+        a.meta.git_commit,
+        a.meta.vulkan,
+        b.meta.device,
+        b.meta.git_commit,
+        b.meta.vulkan
+    );
+    let ratio = |x: f64, y: f64| {
+        if x > 0.0 {
+            format!("{:.2}", y / x)
+        } else {
+            "-".to_owned()
+        }
+    };
+    let key = |s: &SeriesResult| (s.scene.clone(), s.variant.clone());
+    let b_index: BTreeMap<_, _> = b
+        .floor
+        .iter()
+        .chain(&b.series)
+        .map(|s| (key(s), s))
+        .collect();
+    let mut missing = 0;
+    for sa in a.floor.iter().chain(&a.series) {
+        let Some(sb) = b_index.get(&key(sa)) else {
+            missing += 1;
+            continue;
+        };
+        out.push_str(&format!(
+            "| {} | {} | frame | {:.2} | {:.2} | {} |\n",
+            sa.scene,
+            sa.variant,
+            sa.frame_gpu_ms.median,
+            sb.frame_gpu_ms.median,
+            ratio(sa.frame_gpu_ms.median, sb.frame_gpu_ms.median)
+        ));
+        for pa in &sa.passes {
+            if let Some(pb) = sb.passes.iter().find(|p| p.name == pa.name) {
+                out.push_str(&format!(
+                    "| {} | {} | {} | {:.2} | {:.2} | {} |\n",
+                    sa.scene,
+                    sa.variant,
+                    pa.name,
+                    pa.gpu_ms.median,
+                    pb.gpu_ms.median,
+                    ratio(pa.gpu_ms.median, pb.gpu_ms.median)
+                ));
+            }
+        }
+        for (k, va) in &sa.metrics {
+            if let Some(vb) = sb.metrics.get(k) {
+                out.push_str(&format!(
+                    "| {} | {} | {k} | {} | {} | {} |\n",
+                    sa.scene,
+                    sa.variant,
+                    number(*va),
+                    number(*vb),
+                    ratio(*va, *vb)
+                ));
+            }
+        }
+    }
+    if missing > 0 {
+        out.push_str(&format!("\n{missing} series of a are not in b\n"));
+    }
+    out
+}
