@@ -107,7 +107,9 @@ struct BenchArgs {
     /// Unmeasured warm-up frames per series, 0..=100.
     #[arg(long, value_name = "N", default_value_t = 3)]
     warmup: u32,
-    /// Only these variants, comma-separated (see the list in the README; default all).
+    /// Only these variants, comma-separated (default all): grow: xfb-restream,
+    /// cpu-upload; dunes: cull-off-lod-off, cull-on-lod-off, cull-on-lod-on,
+    /// dune-shadows, dune-ripple-shadows, all-with-dust; cave: depth-5 .. depth-9.
     #[arg(long, value_name = "V,V,...", value_delimiter = ',')]
     variants: Vec<String>,
     /// The report as JSON (for --compare).
