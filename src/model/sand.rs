@@ -329,21 +329,25 @@ impl SandSim {
     /// than `limit` sheds half its excess downhill (mass moves between the pair only).
     fn avalanche_rows(&mut self, limit: f64) {
         let w = self.field.width;
-        self.field.data.par_chunks_mut(w).for_each(|row| {
-            let mut relax = |a: usize, b: usize| {
-                let d = row[a] - row[b];
-                let excess = d.abs() - limit;
-                if excess > 0.0 {
-                    let m = 0.5 * excess * d.signum();
-                    row[a] -= m;
-                    row[b] += m;
+        // Bands of rows per task: one task per row costs more in scheduling than the
+        // row's work on small fields.
+        self.field.data.par_chunks_mut(w * BAND).for_each(|band| {
+            for row in band.chunks_exact_mut(w) {
+                let mut relax = |a: usize, b: usize| {
+                    let d = row[a] - row[b];
+                    let excess = d.abs() - limit;
+                    if excess > 0.0 {
+                        let m = 0.5 * excess * d.signum();
+                        row[a] -= m;
+                        row[b] += m;
+                    }
+                };
+                for x in 0..w {
+                    relax(x, (x + 1) % w);
                 }
-            };
-            for x in 0..w {
-                relax(x, (x + 1) % w);
-            }
-            for x in (0..w).rev() {
-                relax((x + 1) % w, x);
+                for x in (0..w).rev() {
+                    relax((x + 1) % w, x);
+                }
             }
         });
     }
