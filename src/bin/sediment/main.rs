@@ -1,0 +1,271 @@
+//! The `sediment` command line: parse, call the library, report.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context as _, bail};
+use clap::{Parser, Subcommand};
+use sediment::gpu::{Context, ContextOptions};
+use sediment::scene::Size;
+
+/// `println!` that ignores a closed stdout (`sediment ... | head`): the files the
+/// command writes matter more than its report.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+mod commands;
+
+use commands::{bench, cave, dunes, grow, layers};
+
+/// Simulates and renders depositional natural scenes (speleothems, caves, stalagmite
+/// layers, desert dunes) on Vulkan; runs headless on Mesa's lavapipe.
+#[derive(Parser, Debug)]
+#[command(name = "sediment", version, about, long_about = None)]
+pub struct Cli {
+    /// Use the first Vulkan device whose name contains SUBSTRING (case-insensitive).
+    /// Default: the first discrete, then integrated GPU with every needed feature,
+    /// else lavapipe. Also read from SEDIMENT_DEVICE.
+    #[arg(long, global = true, value_name = "SUBSTRING")]
+    pub device: Option<String>,
+
+    /// Enable the Khronos validation layer (package vulkan-validationlayers) and fail
+    /// if it reports any error. Also enabled by SEDIMENT_VALIDATE=1.
+    #[arg(long, global = true)]
+    pub validate: bool,
+
+    /// Output image size in pixels, WIDTHxHEIGHT, each side 1..=16384 (and at most the
+    /// device's maxImageDimension2D).
+    #[arg(long, global = true, value_name = "WxH", default_value = "720x480",
+          value_parser = parse_size)]
+    pub size: Size,
+
+    /// Seed for every random choice (0..=18446744073709551615); the same seed and
+    /// driver give the same bytes.
+    #[arg(long, global = true, value_name = "N", default_value_t = 1)]
+    pub seed: u64,
+
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Print each Vulkan device, its driver and Vulkan version, and for every feature
+    /// and limit sediment relies on whether it is present.
+    Info,
+    /// Render the gallery of every scene that exists into a folder of PNGs, with a
+    /// progress bar and a timing table.
+    Demo {
+        /// Folder for the PNGs (created if missing).
+        #[arg(long, value_name = "DIR", default_value = "out")]
+        out: PathBuf,
+    },
+    /// Grow speleothems ring by ring on the geometry-shader / transform-feedback
+    /// pipeline (Tortelli & Walter 2009) and render them. Values come from the preset,
+    /// then the scene file, then these options. Lengths are in scene units (the cave
+    /// is 2.4 units high by default, 3 in the random presets).
+    Grow(Box<grow::GrowArgs>),
+    /// Simulate dunes and wind ripples (Nishimori–Ouchi) and render the desert with
+    /// bump-mapped ripples, LOD, culling, dune and ripple shadows (Onoue & Nishita).
+    /// Values come from the preset, then these options.
+    Dunes(Box<dunes::DunesArgs>),
+    /// Generate a cave (Cui, Chow & Zhang 2011: noise -> voxel octree -> walls ->
+    /// crack-free Laplacian smoothing) with Short-profile or GPU-grown speleothems, and
+    /// render it from inside the passage. Values come from the preset, then these
+    /// options. Fractions are of the cave's cube side.
+    Cave(Box<cave::CaveArgs>),
+    /// Grow a stalagmite layer by layer (Franke 1999: crystal growth perpendicular to
+    /// the surface, a deposit thinning away from the apex) and draw its cross-section,
+    /// a 3D cut-away, the layers as CSV or an animation. In Franke's units by default;
+    /// in millimetres and years with --physical or a timeline (the growth law of
+    /// Kaufmann 2003).
+    Layers(Box<layers::LayersArgs>),
+    /// Measure frame timings: for each scene and variant a warm-up (lavapipe compiles
+    /// shaders on first use), then measured frames; GPU time per named pass from
+    /// timestamps and CPU frame time, min / median / p95, as a multiple of a floor (an
+    /// empty submission and a trivial full-screen pass at --size) measured in the same
+    /// run; device, driver, Vulkan and sediment versions and the git commit in every
+    /// report. Prints Markdown tables.
+    Bench(Box<bench::BenchArgs>),
+}
+
+pub fn parse_size(s: &str) -> Result<Size, String> {
+    s.parse::<Size>().map_err(|e| e.to_string())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
+    match &cli.command {
+        Command::Info => info(),
+        Command::Demo { out } => demo(&cli, out),
+        Command::Grow(args) => grow::run(&cli, args),
+        Command::Dunes(args) => dunes::run(&cli, args),
+        Command::Cave(args) => cave::run(&cli, args),
+        Command::Layers(args) => layers::run(&cli, args),
+        Command::Bench(args) => bench::run(&cli, args),
+    }
+}
+
+fn info() -> anyhow::Result<()> {
+    let reports = sediment::gpu::probe_devices()?;
+    let mut out = std::io::stdout().lock();
+    for (i, r) in reports.iter().enumerate() {
+        writeln!(out, "device {i}: {} ({})", r.name, r.device_type)?;
+        writeln!(out, "  driver: {} — {}", r.driver_name, r.driver_info)?;
+        writeln!(out, "  Vulkan: {}", r.api_version)?;
+        let width = r
+            .capabilities
+            .iter()
+            .map(|c| c.name.len())
+            .max()
+            .unwrap_or(0);
+        for c in &r.capabilities {
+            let status = match (c.required, c.present) {
+                (true, true) => "present",
+                (true, false) => "MISSING",
+                (false, _) => "limit",
+            };
+            writeln!(
+                out,
+                "  {:<width$}  {status:<7}  {:<12}  {}",
+                c.name, c.value, c.why
+            )?;
+        }
+        match r.first_missing() {
+            None => writeln!(out, "  => sediment can run on this device")?,
+            Some(c) => writeln!(out, "  => unusable: lacks {}", c.name)?,
+        }
+    }
+    Ok(())
+}
+
+pub fn open_context(cli: &Cli) -> anyhow::Result<std::sync::Arc<Context>> {
+    let options = ContextOptions {
+        device: cli.device.clone(),
+        validate: cli.validate,
+    }
+    .with_env();
+    Ok(Context::new(&options)?)
+}
+
+fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("could not create the output folder {}", out.display()))?;
+    let ctx = open_context(cli)?;
+    let info = ctx.info();
+    eprintln!("device: {} ({})", info.name, info.driver_info);
+    let gallery = sediment::demo::gallery();
+    let mut rows = Vec::new();
+    for (i, entry) in gallery.iter().enumerate() {
+        progress(i, gallery.len(), entry.name);
+        let shot = (entry.render)(&ctx, cli.size, cli.seed)
+            .with_context(|| format!("rendering the \"{}\" scene failed", entry.name))?;
+        let frame = shot.frame;
+        let path = out.join(format!("{}.png", entry.name));
+        sediment::export::png::write_png(&path, &frame.image)?;
+        if !shot.animation.is_empty() {
+            let gif = out.join(format!("{}.gif", entry.name));
+            sediment::export::gif::write_gif(&gif, &shot.animation, 120)?;
+        }
+        for (suffix, image) in &shot.extras {
+            let extra = out.join(format!("{}-{suffix}.png", entry.name));
+            sediment::export::png::write_png(&extra, image)?;
+        }
+        let gpu_ms: f64 = frame.gpu_spans.iter().map(|s| s.milliseconds).sum();
+        rows.push((entry.name, path, gpu_ms, frame.wall_ms));
+    }
+    progress(gallery.len(), gallery.len(), "done");
+    eprintln!();
+    let errors = ctx.take_validation_errors();
+    if !errors.is_empty() {
+        bail!(
+            "the validation layer reported {} error(s), printed above; the images were written \
+             but may be wrong",
+            errors.len()
+        );
+    }
+    say!("| scene | file | GPU ms | wall ms |");
+    say!("|---|---|---:|---:|");
+    for (name, path, gpu, wall) in rows {
+        say!("| {name} | {} | {gpu:.2} | {wall:.1} |", path.display());
+    }
+    Ok(())
+}
+
+pub fn on_off(name: &str, v: &str) -> anyhow::Result<bool> {
+    match v.trim().to_ascii_lowercase().as_str() {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        other => bail!(sediment::Error::invalid(
+            name,
+            format!("\"{other}\" is not on or off")
+        )),
+    }
+}
+
+/// An angle in degrees, or "off".
+pub fn degrees_or_off(name: &str, v: &str) -> anyhow::Result<Option<f64>> {
+    let v = v.trim();
+    if v.eq_ignore_ascii_case("off") {
+        return Ok(None);
+    }
+    match v.parse::<f64>() {
+        Ok(d) => Ok(Some(d)),
+        Err(_) => bail!(sediment::Error::invalid(
+            name,
+            format!("\"{v}\" is not degrees or off")
+        )),
+    }
+}
+
+pub fn vec3_arg(name: &str, v: &str) -> anyhow::Result<glam::Vec3> {
+    let parts: Vec<f32> = v
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| sediment::Error::invalid(name, format!("\"{v}\" is not X,Y,Z in metres")))?;
+    match parts.as_slice() {
+        [x, y, z] if parts.iter().all(|c| c.is_finite()) => Ok(glam::Vec3::new(*x, *y, *z)),
+        _ => bail!(sediment::Error::invalid(
+            name,
+            format!("\"{v}\" is not X,Y,Z in metres")
+        )),
+    }
+}
+
+pub fn fail_on_validation_errors(ctx: &Context) -> anyhow::Result<()> {
+    let errors = ctx.take_validation_errors();
+    if !errors.is_empty() {
+        bail!(
+            "the validation layer reported {} error(s), printed above; nothing was written",
+            errors.len()
+        );
+    }
+    Ok(())
+}
+
+/// A one-line progress bar on stderr.
+pub fn progress(done: usize, total: usize, label: &str) {
+    const WIDTH: usize = 24;
+    let filled = (done * WIDTH).checked_div(total).unwrap_or(WIDTH);
+    eprint!(
+        "\r[{}{}] {done}/{total} {label:<24}",
+        "#".repeat(filled),
+        "-".repeat(WIDTH - filled)
+    );
+    let _ = std::io::stderr().flush();
+}
