@@ -308,6 +308,9 @@ fn grow(
         let mut growth = RingGrowth::new(ctx, &plan, None)?;
         let (mut spans, mut cpu) = (Vec::new(), Vec::new());
         for pass in 0..plan.passes {
+            if pass % 10 == 0 {
+                progress(&format!("grow xfb-restream pass {pass}/{}", plan.passes));
+            }
             let t = Instant::now();
             surface.set_frame(&uniforms, &plan, pass + 1)?;
             ctx.submit_and_wait("grow frame", |cmd| {
@@ -353,6 +356,9 @@ fn grow(
         let mut growth = CpuGrowth::new(ctx, &plan)?;
         let (mut spans, mut cpu, mut gen_ms) = (Vec::new(), Vec::new(), Vec::new());
         for pass in 0..plan.passes {
+            if pass % 10 == 0 {
+                progress(&format!("grow cpu-upload pass {pass}/{}", plan.passes));
+            }
             let t = Instant::now();
             growth.advance()?;
             gen_ms.push(t.elapsed().as_secs_f64() * 1e3);
