@@ -1,11 +1,9 @@
 #version 450
-// Tortelli & Walter 2009, section 4.1: one growth pass. Every input triangle is
-// re-emitted with its vertex IDs incremented by 2; a triangle of the growth front (all
-// IDs <= 0 before the increment) also emits its copy in the new ring band,
-// v' = v + height * g + r * N (+ wind), with the original IDs, and one triangle joining
-// the old tip ring to it. The output is captured by transform feedback on stream 0 and
-// is the next pass's input. The CPU twin is `grow_pass` in src/model/speleothem.rs:
-// read both together.
+#extension GL_GOOGLE_include_directive : require
+// Tortelli & Walter 2009, section 4.1: one growth pass on the geometry shader, the
+// paper's path. What a pass does to each triangle is in `ring_growth.glsl` (shared
+// with the compute path); its CPU twin is `grow_pass` in src/model/speleothem.rs. The
+// output is captured by transform feedback on stream 0 and is the next pass's input.
 //
 // At most 3 triangles (9 vertices x (12 captured components + gl_Position)) per
 // invocation = 144 output components, well under maxGeometryTotalOutputComponents.
@@ -13,11 +11,7 @@
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 9) out;
 
-// The growth plan: 4 vec4 per (pass, speleothem), pass-major (GrowthPlan::gpu_steps).
-//   [0] height, radius step, thicken, action (0 idle, 1 grow, 2 close, 3 join)
-//   [1] wind displacement xyz, growth direction sign (y)
-//   [2] flank deposit vd, flank angle, flank half-width, 0
-//   [3] target xyz (apex or meeting-ring centre), meeting-ring radius
+// The growth plan (layout in ring_growth.glsl).
 layout(set = 0, binding = 0, std430) readonly buffer Plan {
     vec4 steps[];
 } plan;
@@ -37,13 +31,7 @@ layout(location = 0, xfb_buffer = 0, xfb_offset = 0, xfb_stride = 48) out vec4 o
 layout(location = 1, xfb_buffer = 0, xfb_offset = 16, xfb_stride = 48) out vec4 out_normal_sp;
 layout(location = 2, xfb_buffer = 0, xfb_offset = 32, xfb_stride = 48) out vec4 out_extra;
 
-struct V {
-    vec4 pos_id;
-    vec4 normal_sp;
-    vec4 extra;
-};
-
-const float TAU = 6.28318530717958647692;
+#include "ring_growth.glsl"
 
 void put(V v) {
     out_pos_id = v.pos_id;
@@ -53,131 +41,16 @@ void put(V v) {
     EmitVertex();
 }
 
-// Triangles are built counter-clockwise for growth along +y; stalactites (-y) mirror
-// the band, so their triangles are reversed to keep facing outward.
-void put_triangle(V a, V b, V c, float sign) {
-    put(a);
-    if (sign < 0.0) { put(c); put(b); } else { put(b); put(c); }
-    EndPrimitive();
-}
-
-V input_vertex(int k) {
-    return V(in_pos_id[k], in_normal_sp[k], in_extra[k]);
-}
-
-V moved(V v, vec3 offset) {
-    return V(vec4(v.pos_id.xyz + offset, v.pos_id.w + 2.0), v.normal_sp, v.extra);
-}
-
-// The flank deposit's profile: 1 at `angle`, 0 beyond +-`width` radians.
-float flank_profile(vec3 n, float angle, float width) {
-    float theta = atan(n.z, n.x);
-    float d = mod(abs(theta - angle), TAU);
-    d = min(d, TAU - d);
-    float x = d / width;
-    return max(1.0 - x * x, 0.0);
-}
-
 void main() {
-    uint sp = uint(in_normal_sp[0].w + 0.5);
-    uint base = 4u * (pc.pass_index * pc.speleothem_count + sp);
-    vec4 s0 = plan.steps[base];
-    vec4 s1 = plan.steps[base + 1u];
-    vec4 s2 = plan.steps[base + 2u];
-    vec4 s3 = plan.steps[base + 3u];
-    float height = s0.x;
-    float radius = s0.y;
-    float thicken = s0.z;
-    uint action = uint(s0.w + 0.5);
-    vec3 wind = s1.xyz;
-    float sign = s1.w;
-    vec3 g = vec3(0.0, sign, 0.0);
-
-    bool front = in_pos_id[0].w <= 0.0 && in_pos_id[1].w <= 0.0 && in_pos_id[2].w <= 0.0;
-    if (!front || action == 0u) {
-        for (int k = 0; k < 3; ++k) {
-            V v = input_vertex(k);
-            put(moved(v, v.normal_sp.xyz * thicken));
-        }
-        EndPrimitive();
-        return;
-    }
-
-    // The old front, re-emitted; a flank deposit bumps its tip ring (ID -1) only.
-    V old[3];
+    V t[3];
     for (int k = 0; k < 3; ++k) {
-        V v = input_vertex(k);
-        vec3 bump = vec3(0.0);
-        if (action == 1u && v.pos_id.w < -0.5 && s2.x > 0.0) {
-            bump = v.normal_sp.xyz * (s2.x * flank_profile(v.normal_sp.xyz, s2.y, s2.z));
-        }
-        old[k] = moved(v, bump);
-        put(old[k]);
+        t[k] = V(in_pos_id[k], in_normal_sp[k], in_extra[k]);
     }
-    EndPrimitive();
-
-    // Roles: A = (b_i, t_i, b_i+1) has two base-ring (ID 0) vertices, B = (b_i+1, t_i,
-    // t_i+1) has two tip-ring (ID -1) vertices; order each pair by segment.
-    int base_k[3];
-    int tip_k[3];
-    int nb = 0;
-    int nt = 0;
-    for (int k = 0; k < 3; ++k) {
-        if (in_pos_id[k].w > -0.5) { base_k[nb++] = k; } else { tip_k[nt++] = k; }
-    }
-    bool is_a = nb == 2;
-    int b_i = -1, b_i1, t_i, t_i1 = -1;
-    if (is_a) {
-        int x = base_k[0], y = base_k[1];
-        bool xy = (uint(in_extra[x].x + 0.5) + 1u) % pc.segments == uint(in_extra[y].x + 0.5);
-        b_i = xy ? x : y;
-        b_i1 = xy ? y : x;
-        t_i = tip_k[0];
-    } else {
-        int x = tip_k[0], y = tip_k[1];
-        bool xy = (uint(in_extra[x].x + 0.5) + 1u) % pc.segments == uint(in_extra[y].x + 0.5);
-        t_i = xy ? x : y;
-        t_i1 = xy ? y : x;
-        b_i1 = base_k[0];
-    }
-
-    if (action == 1u) {
-        // The new band: v' = v + height g + r N + wind, original IDs.
-        V nv[3];
-        for (int k = 0; k < 3; ++k) {
-            V v = input_vertex(k);
-            vec3 p = v.pos_id.xyz + g * height + v.normal_sp.xyz * radius + wind;
-            nv[k] = V(vec4(p, v.pos_id.w), v.normal_sp,
-                      vec4(v.extra.x, v.extra.y + height, radius / height, v.extra.w + 1.0));
-            put(nv[k]);
-        }
-        EndPrimitive();
-        if (is_a) {
-            put_triangle(old[t_i], nv[b_i], nv[b_i1], sign);
-        } else {
-            put_triangle(old[t_i], nv[b_i1], old[t_i1], sign);
-        }
-    } else if (action == 2u) {
-        // Close the tip: a cone from the old tip ring to one apex point.
-        if (!is_a) {
-            V t = input_vertex(t_i);
-            V apex = V(vec4(s3.xyz, 0.0), vec4(0.0, 0.0, 0.0, t.normal_sp.w),
-                       vec4(t.extra.x, t.extra.y + height, -1.0, t.extra.w + 1.0));
-            put_triangle(old[t_i], apex, old[t_i1], sign);
-        }
-    } else if (action == 3u) {
-        // Column: join the old tip ring to the meeting ring both fronts share.
-        V m[3];
-        for (int k = 0; k < 3; ++k) {
-            V v = input_vertex(k);
-            vec3 p = s3.xyz + v.normal_sp.xyz * s3.w;
-            m[k] = V(vec4(p, 0.0), v.normal_sp,
-                     vec4(v.extra.x, v.extra.y + abs(s3.y - v.pos_id.y), 0.0, v.extra.w + 1.0));
-        }
-        if (is_a) {
-            put_triangle(old[t_i], m[b_i], m[b_i1], sign);
-        } else {
-            put_triangle(old[t_i], m[b_i1], old[t_i1], sign);
+    Emitted e = grow_triangle(t, pc.pass_index, pc.speleothem_count, pc.segments);
+    for (int i = 0; i < e.count; ++i) {
+        put(e.v[i]);
+        if (i % 3 == 2) {
+            EndPrimitive();
         }
     }
 }

@@ -1,0 +1,164 @@
+// One growth pass (Tortelli & Walter 2009, section 4.1) for one input triangle, shared
+// by the geometry shader (`ring_growth.geom`, the paper's path) and the compute path
+// (`ring_growth.comp`). Every input triangle is re-emitted with its vertex IDs
+// incremented by 2; a triangle of the growth front (all IDs <= 0 before the increment)
+// also emits its copy in the new ring band, v' = v + height * g + r * N (+ wind), with
+// the original IDs, and one triangle joining the old tip ring to it. The CPU twin is
+// `grow_pass` in src/model/speleothem.rs: read both together.
+//
+// The growth plan: 4 vec4 per (pass, speleothem), pass-major (GrowthPlan::gpu_steps).
+//   [0] height, radius step, thicken, action (0 idle, 1 grow, 2 close, 3 join)
+//   [1] wind displacement xyz, growth direction sign (y)
+//   [2] flank deposit vd, flank angle, flank half-width, 0
+//   [3] target xyz (apex or meeting-ring centre), meeting-ring radius
+// The including shader declares it as `plan.steps`.
+#ifndef SEDIMENT_RING_GROWTH_GLSL
+#define SEDIMENT_RING_GROWTH_GLSL
+
+struct V {
+    vec4 pos_id;
+    vec4 normal_sp;
+    vec4 extra;
+};
+
+const float TAU = 6.28318530717958647692;
+
+// The pass's output for one input triangle: up to 3 triangles, in order.
+struct Emitted {
+    V v[9];
+    int count;
+};
+
+void put(inout Emitted e, V v) {
+    e.v[e.count] = v;
+    e.count += 1;
+}
+
+// Triangles are built counter-clockwise for growth along +y; stalactites (-y) mirror
+// the band, so their triangles are reversed to keep facing outward.
+void put_triangle(inout Emitted e, V a, V b, V c, float sign) {
+    put(e, a);
+    if (sign < 0.0) { put(e, c); put(e, b); } else { put(e, b); put(e, c); }
+}
+
+
+V moved(V v, vec3 offset) {
+    return V(vec4(v.pos_id.xyz + offset, v.pos_id.w + 2.0), v.normal_sp, v.extra);
+}
+
+// The flank deposit's profile: 1 at `angle`, 0 beyond +-`width` radians.
+float flank_profile(vec3 n, float angle, float width) {
+    float theta = atan(n.z, n.x);
+    float d = mod(abs(theta - angle), TAU);
+    d = min(d, TAU - d);
+    float x = d / width;
+    return max(1.0 - x * x, 0.0);
+}
+
+// One growth pass over one input triangle `t` (the plan buffer `plan` is declared by
+// the including shader).
+Emitted grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments) {
+    Emitted e;
+    e.count = 0;
+    uint sp = uint(t[0].normal_sp.w + 0.5);
+    uint base = 4u * (pass_index * speleothem_count + sp);
+    vec4 s0 = plan.steps[base];
+    vec4 s1 = plan.steps[base + 1u];
+    vec4 s2 = plan.steps[base + 2u];
+    vec4 s3 = plan.steps[base + 3u];
+    float height = s0.x;
+    float radius = s0.y;
+    float thicken = s0.z;
+    uint action = uint(s0.w + 0.5);
+    vec3 wind = s1.xyz;
+    float sign = s1.w;
+    vec3 g = vec3(0.0, sign, 0.0);
+
+    bool front = t[0].pos_id.w <= 0.0 && t[1].pos_id.w <= 0.0 && t[2].pos_id.w <= 0.0;
+    if (!front || action == 0u) {
+        for (int k = 0; k < 3; ++k) {
+            V v = t[k];
+            put(e, moved(v, v.normal_sp.xyz * thicken));
+        }
+        return e;
+    }
+
+    // The old front, re-emitted; a flank deposit bumps its tip ring (ID -1) only.
+    V old[3];
+    for (int k = 0; k < 3; ++k) {
+        V v = t[k];
+        vec3 bump = vec3(0.0);
+        if (action == 1u && v.pos_id.w < -0.5 && s2.x > 0.0) {
+            bump = v.normal_sp.xyz * (s2.x * flank_profile(v.normal_sp.xyz, s2.y, s2.z));
+        }
+        old[k] = moved(v, bump);
+        put(e, old[k]);
+    }
+
+    // Roles: A = (b_i, t_i, b_i+1) has two base-ring (ID 0) vertices, B = (b_i+1, t_i,
+    // t_i+1) has two tip-ring (ID -1) vertices; order each pair by segment.
+    int base_k[3];
+    int tip_k[3];
+    int nb = 0;
+    int nt = 0;
+    for (int k = 0; k < 3; ++k) {
+        if (t[k].pos_id.w > -0.5) { base_k[nb++] = k; } else { tip_k[nt++] = k; }
+    }
+    bool is_a = nb == 2;
+    int b_i = -1, b_i1, t_i, t_i1 = -1;
+    if (is_a) {
+        int x = base_k[0], y = base_k[1];
+        bool xy = (uint(t[x].extra.x + 0.5) + 1u) % segments == uint(t[y].extra.x + 0.5);
+        b_i = xy ? x : y;
+        b_i1 = xy ? y : x;
+        t_i = tip_k[0];
+    } else {
+        int x = tip_k[0], y = tip_k[1];
+        bool xy = (uint(t[x].extra.x + 0.5) + 1u) % segments == uint(t[y].extra.x + 0.5);
+        t_i = xy ? x : y;
+        t_i1 = xy ? y : x;
+        b_i1 = base_k[0];
+    }
+
+    if (action == 1u) {
+        // The new band: v' = v + height g + r N + wind, original IDs.
+        V nv[3];
+        for (int k = 0; k < 3; ++k) {
+            V v = t[k];
+            vec3 p = v.pos_id.xyz + g * height + v.normal_sp.xyz * radius + wind;
+            nv[k] = V(vec4(p, v.pos_id.w), v.normal_sp,
+                      vec4(v.extra.x, v.extra.y + height, radius / height, v.extra.w + 1.0));
+            put(e, nv[k]);
+        }
+        if (is_a) {
+            put_triangle(e, old[t_i], nv[b_i], nv[b_i1], sign);
+        } else {
+            put_triangle(e, old[t_i], nv[b_i1], old[t_i1], sign);
+        }
+    } else if (action == 2u) {
+        // Close the tip: a cone from the old tip ring to one apex point.
+        if (!is_a) {
+            V tv = t[t_i];
+            V apex = V(vec4(s3.xyz, 0.0), vec4(0.0, 0.0, 0.0, tv.normal_sp.w),
+                       vec4(tv.extra.x, tv.extra.y + height, -1.0, tv.extra.w + 1.0));
+            put_triangle(e, old[t_i], apex, old[t_i1], sign);
+        }
+    } else if (action == 3u) {
+        // Column: join the old tip ring to the meeting ring both fronts share.
+        V m[3];
+        for (int k = 0; k < 3; ++k) {
+            V v = t[k];
+            vec3 p = s3.xyz + v.normal_sp.xyz * s3.w;
+            m[k] = V(vec4(p, 0.0), v.normal_sp,
+                     vec4(v.extra.x, v.extra.y + abs(s3.y - v.pos_id.y), 0.0, v.extra.w + 1.0));
+        }
+        if (is_a) {
+            put_triangle(e, old[t_i], m[b_i], m[b_i1], sign);
+        } else {
+            put_triangle(e, old[t_i], m[b_i1], old[t_i1], sign);
+        }
+    }
+    return e;
+}
+
+#endif
