@@ -1,6 +1,7 @@
-//! The ring-growth geometry shader (shaders-glsl/speleothem/ring_growth.geom) against
-//! its CPU reference (model::speleothem::grow_pass), vertex by vertex, on a validated
-//! device; and the stream query against the reference's counts.
+//! The ring-growth geometry shader (shaders-glsl/speleothem/ring_growth.geom) and the
+//! compute path (ring_growth.comp) against their CPU reference
+//! (model::speleothem::grow_pass), vertex by vertex, on a validated device; and the
+//! stream query and the compute path's draw count against the reference's counts.
 
 mod common;
 
@@ -11,6 +12,7 @@ use sediment::model::speleothem::{
     GrowthPlan, RingVertex, StopReason, grow_reference, ring_measure, vertex_counts,
 };
 use sediment::render::ring_growth::RingGrowth;
+use sediment::render::ring_growth_compute::ComputeGrowth;
 
 fn scene(params: GrowthParams, count: u32, passes: u32) -> GrowthScene {
     GrowthScene {
@@ -22,8 +24,27 @@ fn scene(params: GrowthParams, count: u32, passes: u32) -> GrowthScene {
     }
 }
 
-/// Grows `plan` on the GPU in one command buffer and compares with the reference.
+/// Grows `plan` on both GPU paths — the paper's GS/XFB pass and the compute path —
+/// in one command buffer each and compares each with the reference.
 fn compare(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan: &GrowthPlan) {
+    compare_xfb(ctx, name, plan);
+    let mut compute = ComputeGrowth::new(ctx, plan).expect("compute set-up");
+    ctx.submit_and_wait(name, |cmd| compute.record(cmd, plan.passes))
+        .expect("compute submission");
+    let predicted = vertex_counts(plan);
+    if let Some(&last) = predicted.last() {
+        assert_eq!(
+            u64::from(compute.gpu_vertex_count().expect("draw count")),
+            last,
+            "{name} (compute): the GPU's draw count"
+        );
+    }
+    let gpu = compute.read_back().expect("read back");
+    assert_matches_reference(&format!("{name} (compute)"), &gpu, plan);
+}
+
+/// The GS/XFB path against the reference, with its stream-query counts.
+fn compare_xfb(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan: &GrowthPlan) {
     let mut growth = RingGrowth::new(ctx, plan, None).expect("growth set-up");
     ctx.submit_and_wait(name, |cmd| growth.record(cmd, plan.passes))
         .expect("growth submission");
@@ -38,6 +59,11 @@ fn compare(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan: &Grow
         assert_eq!(c.needed, c.written, "{name}: pass {pass}");
     }
     let gpu = growth.read_back(ctx).expect("read back");
+    assert_matches_reference(name, &gpu, plan);
+}
+
+/// Every vertex as the CPU reference has it.
+fn assert_matches_reference(name: &str, gpu: &[RingVertex], plan: &GrowthPlan) {
     let cpu = grow_reference(plan, plan.passes);
     assert_eq!(gpu.len(), cpu.len(), "{name}: vertex count");
     // Positions within 1e-4 of the scene's scale (the cave height), IDs and integer

@@ -7,6 +7,7 @@ pub mod dune_surface;
 pub mod dust;
 pub mod lit_mesh;
 pub mod ring_growth;
+pub mod ring_growth_compute;
 pub mod ripple_maps;
 pub mod sky;
 pub mod speleothem_surface;
@@ -42,6 +43,7 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &ripple_maps::NORMAL_MIP_INTERFACE,
         &ripple_maps::HORIZON_INTERFACE,
         &ring_growth::VERTEX_INTERFACE,
+        &ring_growth_compute::INTERFACE,
         &ring_growth::GEOMETRY_INTERFACE,
         &speleothem_surface::VERTEX_INTERFACE,
         &speleothem_surface::FRAGMENT_INTERFACE,

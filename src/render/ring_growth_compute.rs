@@ -1,0 +1,218 @@
+//! The compute growth path: `shaders-glsl/speleothem/ring_growth.comp` runs the same
+//! per-triangle pass as the geometry shader (both include `ring_growth.glsl`) and
+//! writes its output compactly, in input order, into a storage buffer the surface pass
+//! then draws — so its mesh equals the GS capture and the CPU reference vertex for
+//! vertex (`tests/ring_growth.rs`). Like the paper's path it re-streams the whole mesh
+//! each pass; unlike it, lavapipe runs it on every core.
+
+use std::sync::Arc;
+
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, Pipeline, PipelineLayout, Pod, vk,
+};
+use crate::model::speleothem::{GrowthPlan, RingVertex, initial_rings, vertex_counts};
+use crate::render::ring_growth::MeshSource;
+use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
+
+/// Push constants of `ring_growth.comp`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct ComputePush {
+    pass_index: u32,
+    speleothem_count: u32,
+    segments: u32,
+    triangles: u32,
+    stage: u32,
+    pad: [u32; 3],
+}
+// SAFETY: repr(C), eight u32.
+unsafe impl Pod for ComputePush {}
+
+const fn storage(binding: u32) -> DescriptorBinding {
+    DescriptorBinding::new(0, binding, DescriptorKind::StorageBuffer)
+}
+
+pub static INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::SPELEOTHEM_RING_GROWTH_COMP,
+    bindings: &[
+        storage(0),
+        storage(1),
+        storage(2),
+        storage(3),
+        storage(4),
+        storage(5),
+    ],
+    push_constant_bytes: size_of::<ComputePush>() as u32,
+};
+
+const GROUP: u32 = 256;
+
+/// A growth in progress on the compute path.
+pub struct ComputeGrowth {
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+    /// `sets[i]` reads `meshes[i]` and writes `meshes[1 - i]`.
+    sets: [DescriptorSet; 2],
+    meshes: [Buffer; 2],
+    draw: Buffer,
+    _plan: Buffer,
+    _local: Buffer,
+    _blocks: Buffer,
+    counts: Vec<u64>,
+    initial: u64,
+    speleothems: u32,
+    segments: u32,
+    passes: u32,
+    done: u32,
+}
+
+impl ComputeGrowth {
+    pub fn new(ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Self> {
+        let base = initial_rings(plan);
+        let counts = vertex_counts(plan);
+        let most = counts
+            .iter()
+            .copied()
+            .max()
+            .unwrap_or(0)
+            .max(base.len() as u64);
+        let stride = size_of::<RingVertex>() as u64;
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::VERTEX_BUFFER;
+        let mesh = |name: &str| {
+            Buffer::new(
+                ctx,
+                name,
+                BufferDesc::upload((most * stride).max(stride), usage),
+            )
+        };
+        let mut meshes = [
+            mesh("compute growth mesh a")?,
+            mesh("compute growth mesh b")?,
+        ];
+        meshes[0].write(0, &base)?;
+        let triangles = most / 3;
+        let groups = triangles.div_ceil(u64::from(GROUP)).max(1);
+        let storage_only = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let local = Buffer::new(
+            ctx,
+            "compute growth offsets",
+            BufferDesc::gpu_only((triangles.max(1)) * 4, storage_only),
+        )?;
+        let blocks = Buffer::new(
+            ctx,
+            "compute growth group sums",
+            BufferDesc::gpu_only(groups * 4, storage_only),
+        )?;
+        let draw = Buffer::new(
+            ctx,
+            "compute growth draw",
+            BufferDesc::readback(16, storage_only | vk::BufferUsageFlags::INDIRECT_BUFFER),
+        )?;
+        let plan_buffer =
+            Buffer::with_data(ctx, "compute growth plan", storage_only, &plan.gpu_steps())?;
+        let layout = PipelineLayout::new(ctx, "compute growth layout", &[&INTERFACE])?;
+        let pipeline = Pipeline::compute(ctx, "compute growth", INTERFACE.shader, &layout)?;
+        let make_set = |from: usize| -> Result<DescriptorSet> {
+            let set = layout.allocate_set("compute growth set", 0)?;
+            set.write_buffer(0, &plan_buffer)?;
+            set.write_buffer(1, &meshes[from])?;
+            set.write_buffer(2, &meshes[1 - from])?;
+            set.write_buffer(3, &local)?;
+            set.write_buffer(4, &blocks)?;
+            set.write_buffer(5, &draw)?;
+            Ok(set)
+        };
+        let sets = [make_set(0)?, make_set(1)?];
+        Ok(Self {
+            pipeline,
+            layout,
+            sets,
+            meshes,
+            draw,
+            _plan: plan_buffer,
+            _local: local,
+            _blocks: blocks,
+            counts,
+            initial: base.len() as u64,
+            speleothems: plan.speleothems.len() as u32,
+            segments: plan.segments,
+            passes: plan.passes,
+            done: 0,
+        })
+    }
+
+    pub fn passes_done(&self) -> u32 {
+        self.done
+    }
+
+    /// Vertices of the current mesh (the plan's prediction; the GPU's own count is
+    /// [`ComputeGrowth::gpu_vertex_count`]).
+    fn current_vertices(&self) -> u64 {
+        if self.done == 0 {
+            self.initial
+        } else {
+            self.counts[self.done as usize - 1]
+        }
+    }
+
+    /// Records `passes` more passes.
+    pub fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
+        if self.done + passes > self.passes {
+            return Err(Error::invalid(
+                "compute growth",
+                format!(
+                    "{} passes asked, {} left in the plan",
+                    passes,
+                    self.passes - self.done
+                ),
+            ));
+        }
+        for _ in 0..passes {
+            let from = (self.done % 2) as usize;
+            let triangles = (self.current_vertices() / 3) as u32;
+            let groups = triangles.div_ceil(GROUP).max(1);
+            cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.sets[from]]);
+            for (stage, dispatch) in [(0u32, groups), (1, 1), (2, groups)] {
+                cmd.push_constants(
+                    &self.layout,
+                    &ComputePush {
+                        pass_index: self.done,
+                        speleothem_count: self.speleothems,
+                        segments: self.segments,
+                        triangles,
+                        stage,
+                        pad: [0; 3],
+                    },
+                )?;
+                cmd.dispatch(dispatch, 1, 1);
+                // Each stage reads what the one before wrote; the last one's output is
+                // the next pass's input and the draw's vertex buffer.
+                cmd.full_barrier();
+            }
+            self.done += 1;
+        }
+        Ok(())
+    }
+
+    /// Where the surface pass draws the current mesh from.
+    pub fn source(&self) -> MeshSource<'_> {
+        MeshSource::Counted {
+            buffer: &self.meshes[(self.done % 2) as usize],
+            vertices: self.current_vertices() as u32,
+        }
+    }
+
+    /// The vertex count the GPU computed for the last pass (its draw command).
+    pub fn gpu_vertex_count(&self) -> Result<u32> {
+        let words: Vec<u32> = self.draw.read()?;
+        Ok(words.first().copied().unwrap_or(0))
+    }
+
+    /// The current mesh, read back (after the submission finished).
+    pub fn read_back(&self) -> Result<Vec<RingVertex>> {
+        let mut all: Vec<RingVertex> = self.meshes[(self.done % 2) as usize].read()?;
+        all.truncate(self.current_vertices() as usize);
+        Ok(all)
+    }
+}
