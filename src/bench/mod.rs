@@ -8,7 +8,8 @@
 //! Scenes and variants:
 //! - `grow`: the speleothem growth of a Fig. 9g-like scene (24 speleothems, 32 segments,
 //!   130 passes, one pass and the shading per frame) on the paper's path, the GS/XFB
-//!   pass re-streaming the whole mesh (`xfb-restream`), and generated on the CPU then
+//!   pass re-streaming the whole mesh (`xfb-restream`), on the compute path that runs
+//!   the same pass on every core (`compute-restream`), and generated on the CPU then
 //!   uploaded (`cpu-upload`); vertices per second and the pass time at rings 8, 32 and
 //!   128 show how each path scales as the mesh grows.
 //! - `dunes`: Onoue & Nishita's comparison at the figure-17 scene — culling and LOD on
@@ -34,6 +35,7 @@ use crate::model::speleothem::plan::{GrowthParams, GrowthScene, GrowthUnits};
 use crate::model::speleothem::table2::Pil;
 use crate::model::speleothem::{RingVertex, grow_pass, initial_rings, vertex_counts};
 use crate::render::ring_growth::{MeshSource, RingGrowth};
+use crate::render::ring_growth_compute::ComputeGrowth;
 use crate::render::sky::SkyPass;
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
 use crate::scene::camera::{Camera, Lighting};
@@ -45,7 +47,7 @@ pub const SCENES: &[&str] = &["grow", "dunes", "cave"];
 
 /// Every variant per scene, for `--variants`.
 pub const VARIANTS: &[(&str, &[&str])] = &[
-    ("grow", &["xfb-restream", "cpu-upload"]),
+    ("grow", &["xfb-restream", "compute-restream", "cpu-upload"]),
     (
         "dunes",
         &[
@@ -349,6 +351,59 @@ fn grow(
         );
         s.metrics
             .insert("final_vertices".into(), *counts.last().unwrap_or(&0) as f64);
+        report.series.push(s);
+    }
+    if opts.wants("compute-restream") {
+        progress("grow compute-restream");
+        let mut warm = ComputeGrowth::new(ctx, &plan)?;
+        ctx.submit_and_wait("grow warm-up", |cmd| warm.record(cmd, 2))?;
+        let mut growth = ComputeGrowth::new(ctx, &plan)?;
+        let (mut spans, mut cpu) = (Vec::new(), Vec::new());
+        for pass in 0..plan.passes {
+            if pass % 10 == 0 {
+                progress(&format!(
+                    "grow compute-restream pass {pass}/{}",
+                    plan.passes
+                ));
+            }
+            let t = Instant::now();
+            surface.set_frame(&uniforms, &plan, pass + 1)?;
+            ctx.submit_and_wait("grow frame", |cmd| {
+                timer.reset(cmd);
+                let span = timer.begin(cmd, "ring growth")?;
+                growth.record(cmd, 1)?;
+                timer.end(cmd, span);
+                let span = timer.begin(cmd, "shading")?;
+                target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+                surface.draw(cmd, growth.source())?;
+                target.end(cmd);
+                timer.end(cmd, span);
+                Ok(())
+            })?;
+            cpu.push(t.elapsed().as_secs_f64() * 1e3);
+            spans.push(timer.read()?);
+        }
+        let mut s = summarise("grow", "compute-restream", &spans, &cpu);
+        let growth_ms: Vec<f64> = spans
+            .iter()
+            .map(|f| {
+                f.iter()
+                    .filter(|s| s.name == "ring growth")
+                    .map(|s| s.milliseconds)
+                    .sum()
+            })
+            .collect();
+        let vertices: u64 = counts.iter().sum();
+        let total_ms: f64 = growth_ms.iter().sum();
+        s.metrics = marks(&growth_ms);
+        s.metrics.insert(
+            "vertices_per_s".into(),
+            vertices as f64 / (total_ms / 1e3).max(1e-9),
+        );
+        s.metrics.insert(
+            "final_vertices".into(),
+            f64::from(growth.gpu_vertex_count()?),
+        );
         report.series.push(s);
     }
     if opts.wants("cpu-upload") {
