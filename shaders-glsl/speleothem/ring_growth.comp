@@ -55,7 +55,7 @@ layout(push_constant) uniform Pass {
 
 shared uint sums[256];
 
-Emitted grow(uint t) {
+V[3] load(uint t) {
     V tri[3];
     // Member by member: a whole-struct copy between buffer and local layouts becomes
     // OpCopyLogical, which naga does not read.
@@ -63,7 +63,7 @@ Emitted grow(uint t) {
         uint i = 3u * t + k;
         tri[k] = V(src.v[i].pos_id, src.v[i].normal_sp, src.v[i].extra);
     }
-    return grow_triangle(tri, pc.pass_index, pc.speleothem_count, pc.segments);
+    return tri;
 }
 
 // Inclusive scan of `sums` across the workgroup (Hillis-Steele).
@@ -82,7 +82,7 @@ void main() {
     if (pc.stage == 0u) {
         uint count = 0u;
         if (t < pc.triangles) {
-            count = uint(grow(t).count);
+            count = output_count(load(t), pc.pass_index, pc.speleothem_count);
         }
         sums[l] = count;
         barrier();
@@ -122,7 +122,8 @@ void main() {
             return;
         }
         uint at = blocks.value[gl_WorkGroupID.x] + local_scan.offset[t];
-        Emitted e = grow(t);
+        V tri[3] = load(t);
+        Emitted e = grow_triangle(tri, pc.pass_index, pc.speleothem_count, pc.segments);
         for (int i = 0; i < e.count; ++i) {
             uint o = at + uint(i);
             dst.v[o].pos_id = e.v[i].pos_id;

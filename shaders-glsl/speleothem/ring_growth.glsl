@@ -160,5 +160,31 @@ Emitted grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segme
     }
     return e;
 }
+// How many vertices `grow_triangle` emits for `t`, without building them: 3 for a
+// triangle off the front or of an idle speleothem; on the front, 9 when a band grows,
+// 6 when a B triangle closes a tip or any front triangle joins a column, else 3.
+uint output_count(V t[3], uint pass_index, uint speleothem_count) {
+    uint sp = uint(t[0].normal_sp.w + 0.5);
+    uint action = uint(plan.steps[4u * (pass_index * speleothem_count + sp)].w + 0.5);
+    bool front = t[0].pos_id.w <= 0.0 && t[1].pos_id.w <= 0.0 && t[2].pos_id.w <= 0.0;
+    if (!front || action == 0u) {
+        return 3u;
+    }
+    uint on_base = 0u;
+    for (int k = 0; k < 3; ++k) {
+        if (t[k].pos_id.w > -0.5) {
+            on_base += 1u;
+        }
+    }
+    bool is_a = on_base == 2u;
+    if (action == 1u) {
+        return 9u;
+    }
+    if (action == 2u) {
+        return is_a ? 3u : 6u;
+    }
+    return 6u;
+}
+
 
 #endif
