@@ -1,14 +1,17 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // The compute growth path: the same pass as the geometry shader (`ring_growth.glsl`),
-// one invocation per input triangle, written compactly in input order so the result
-// equals the GS capture vertex for vertex. Three stages per pass (push constant
-// `stage`): 0 counts each triangle's output and scans the counts within a workgroup,
-// 1 (one workgroup) turns the workgroups' sums into their offsets and writes the draw
-// count, 2 writes every triangle's vertices at its offset. lavapipe runs compute on
-// every core, its geometry stage on one.
+// written compactly in input order so the result equals the GS capture vertex for
+// vertex. Each invocation owns a run of CHUNK consecutive triangles. Three stages per
+// pass (push constant `stage`): 0 sums each run's output count, 1 (one workgroup)
+// turns the sums into each run's offset and writes the draw count, 2 writes each run's
+// vertices from its offset on. Runs instead of a per-triangle scan: on lavapipe the
+// workgroup barriers of a scan cost as much as the growth itself (measured).
 
 layout(local_size_x = 256) in;
+
+// Triangles per invocation (ComputeGrowth::CHUNK on the Rust side).
+const uint CHUNK = 32u;
 
 layout(set = 0, binding = 0, std430) readonly buffer Plan {
     vec4 steps[];
@@ -24,18 +27,13 @@ layout(set = 0, binding = 2, std430) buffer Output {
     V v[];
 } dst;
 
-// Per triangle: its output offset within its workgroup.
-layout(set = 0, binding = 3, std430) buffer Local {
-    uint offset[];
-} local_scan;
-
-// Per workgroup: the sum of its outputs (stage 0), then its offset (stage 1).
-layout(set = 0, binding = 4, std430) buffer Blocks {
+// Per run: the sum of its outputs (stage 0), then its offset (stage 1).
+layout(set = 0, binding = 3, std430) buffer Runs {
     uint value[];
-} blocks;
+} runs;
 
 // A VkDrawIndirectCommand: vertex count of the new mesh, then 1, 0, 0.
-layout(set = 0, binding = 5, std430) buffer Draw {
+layout(set = 0, binding = 4, std430) buffer Draw {
     uint vertex_count;
     uint instance_count;
     uint first_vertex;
@@ -66,50 +64,43 @@ V[3] load(uint t) {
     return tri;
 }
 
-// Inclusive scan of `sums` across the workgroup (Hillis-Steele).
-void scan_shared(uint l) {
-    for (uint step = 1u; step < 256u; step *= 2u) {
-        uint add = l >= step ? sums[l - step] : 0u;
-        barrier();
-        sums[l] += add;
-        barrier();
-    }
-}
-
 void main() {
-    uint t = gl_GlobalInvocationID.x;
+    uint run = gl_GlobalInvocationID.x;
     uint l = gl_LocalInvocationID.x;
+    uint run_count = (pc.triangles + CHUNK - 1u) / CHUNK;
     if (pc.stage == 0u) {
-        uint count = 0u;
-        if (t < pc.triangles) {
-            count = output_count(load(t), pc.pass_index, pc.speleothem_count);
+        if (run >= run_count) {
+            return;
         }
-        sums[l] = count;
-        barrier();
-        scan_shared(l);
-        if (t < pc.triangles) {
-            local_scan.offset[t] = sums[l] - count;
+        uint total = 0u;
+        uint end = min((run + 1u) * CHUNK, pc.triangles);
+        for (uint t = run * CHUNK; t < end; ++t) {
+            total += output_count(load(t), pc.pass_index, pc.speleothem_count);
         }
-        if (l == 255u) {
-            blocks.value[gl_WorkGroupID.x] = sums[l];
-        }
+        runs.value[run] = total;
     } else if (pc.stage == 1u) {
-        uint groups = (pc.triangles + 255u) / 256u;
-        uint per = (groups + 255u) / 256u;
-        uint begin = min(l * per, groups);
-        uint end = min(begin + per, groups);
+        // One workgroup: each thread takes a stretch of runs, the stretches are scanned
+        // in shared memory, then each thread writes its runs' offsets.
+        uint per = (run_count + 255u) / 256u;
+        uint begin = min(l * per, run_count);
+        uint end = min(begin + per, run_count);
         uint own = 0u;
         for (uint i = begin; i < end; ++i) {
-            own += blocks.value[i];
+            own += runs.value[i];
         }
         sums[l] = own;
         barrier();
-        scan_shared(l);
-        uint running = sums[l] - own;
+        for (uint step = 1u; step < 256u; step *= 2u) {
+            uint add = l >= step ? sums[l - step] : 0u;
+            barrier();
+            sums[l] += add;
+            barrier();
+        }
+        uint at = sums[l] - own;
         for (uint i = begin; i < end; ++i) {
-            uint v = blocks.value[i];
-            blocks.value[i] = running;
-            running += v;
+            uint v = runs.value[i];
+            runs.value[i] = at;
+            at += v;
         }
         if (l == 255u) {
             draw.vertex_count = sums[255];
@@ -118,17 +109,19 @@ void main() {
             draw.first_instance = 0u;
         }
     } else {
-        if (t >= pc.triangles) {
+        if (run >= run_count) {
             return;
         }
-        uint at = blocks.value[gl_WorkGroupID.x] + local_scan.offset[t];
-        V tri[3] = load(t);
-        Emitted e = grow_triangle(tri, pc.pass_index, pc.speleothem_count, pc.segments);
-        for (int i = 0; i < e.count; ++i) {
-            uint o = at + uint(i);
-            dst.v[o].pos_id = e.v[i].pos_id;
-            dst.v[o].normal_sp = e.v[i].normal_sp;
-            dst.v[o].extra = e.v[i].extra;
+        uint at = runs.value[run];
+        uint end = min((run + 1u) * CHUNK, pc.triangles);
+        for (uint t = run * CHUNK; t < end; ++t) {
+            Emitted e = grow_triangle(load(t), pc.pass_index, pc.speleothem_count, pc.segments);
+            for (int i = 0; i < e.count; ++i) {
+                dst.v[at].pos_id = e.v[i].pos_id;
+                dst.v[at].normal_sp = e.v[i].normal_sp;
+                dst.v[at].extra = e.v[i].extra;
+                at += 1u;
+            }
         }
     }
 }

@@ -1,6 +1,7 @@
 //! The compute growth path: `shaders-glsl/speleothem/ring_growth.comp` runs the same
-//! per-triangle pass as the geometry shader (both include `ring_growth.glsl`) and
-//! writes its output compactly, in input order, into a storage buffer the surface pass
+//! per-triangle pass as the geometry shader (both include `ring_growth.glsl`), each
+//! invocation over a run of consecutive triangles, and writes the output compactly, in
+//! input order, into a storage buffer the surface pass
 //! then draws — so its mesh equals the GS capture and the CPU reference vertex for
 //! vertex (`tests/ring_growth.rs`). Like the paper's path it re-streams the whole mesh
 //! each pass; unlike it, lavapipe runs it on every core.
@@ -35,18 +36,13 @@ const fn storage(binding: u32) -> DescriptorBinding {
 
 pub static INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_RING_GROWTH_COMP,
-    bindings: &[
-        storage(0),
-        storage(1),
-        storage(2),
-        storage(3),
-        storage(4),
-        storage(5),
-    ],
+    bindings: &[storage(0), storage(1), storage(2), storage(3), storage(4)],
     push_constant_bytes: size_of::<ComputePush>() as u32,
 };
 
 const GROUP: u32 = 256;
+/// Triangles per invocation (`CHUNK` in the shader).
+const CHUNK: u32 = 32;
 
 /// A growth in progress on the compute path.
 pub struct ComputeGrowth {
@@ -57,8 +53,7 @@ pub struct ComputeGrowth {
     meshes: [Buffer; 2],
     draw: Buffer,
     _plan: Buffer,
-    _local: Buffer,
-    _blocks: Buffer,
+    _runs: Buffer,
     counts: Vec<u64>,
     initial: u64,
     speleothems: u32,
@@ -92,17 +87,12 @@ impl ComputeGrowth {
         ];
         meshes[0].write(0, &base)?;
         let triangles = most / 3;
-        let groups = triangles.div_ceil(u64::from(GROUP)).max(1);
+        let run_count = triangles.div_ceil(u64::from(CHUNK)).max(1);
         let storage_only = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let local = Buffer::new(
+        let runs = Buffer::new(
             ctx,
-            "compute growth offsets",
-            BufferDesc::gpu_only((triangles.max(1)) * 4, storage_only),
-        )?;
-        let blocks = Buffer::new(
-            ctx,
-            "compute growth group sums",
-            BufferDesc::gpu_only(groups * 4, storage_only),
+            "compute growth run sums",
+            BufferDesc::gpu_only(run_count * 4, storage_only),
         )?;
         let draw = Buffer::new(
             ctx,
@@ -118,9 +108,8 @@ impl ComputeGrowth {
             set.write_buffer(0, &plan_buffer)?;
             set.write_buffer(1, &meshes[from])?;
             set.write_buffer(2, &meshes[1 - from])?;
-            set.write_buffer(3, &local)?;
-            set.write_buffer(4, &blocks)?;
-            set.write_buffer(5, &draw)?;
+            set.write_buffer(3, &runs)?;
+            set.write_buffer(4, &draw)?;
             Ok(set)
         };
         let sets = [make_set(0)?, make_set(1)?];
@@ -131,8 +120,7 @@ impl ComputeGrowth {
             meshes,
             draw,
             _plan: plan_buffer,
-            _local: local,
-            _blocks: blocks,
+            _runs: runs,
             counts,
             initial: base.len() as u64,
             speleothems: plan.speleothems.len() as u32,
@@ -171,7 +159,7 @@ impl ComputeGrowth {
         for _ in 0..passes {
             let from = (self.done % 2) as usize;
             let triangles = (self.current_vertices() / 3) as u32;
-            let groups = triangles.div_ceil(GROUP).max(1);
+            let groups = triangles.div_ceil(CHUNK).div_ceil(GROUP).max(1);
             cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.sets[from]]);
             for (stage, dispatch) in [(0u32, groups), (1, 1), (2, groups)] {
                 cmd.push_constants(
