@@ -186,7 +186,7 @@ pub fn build(scene: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
     let mut growth = None;
     if scene.speleothems != Speleothems::None {
         progress("speleothems", 0, 1);
-        let rays = VerticalRays::new(&cave.mesh, 4.0 * scene.cave.voxel_m());
+        let rays = wall_rays(scene, &cave.mesh);
         sites = placement::place(
             &cave.mesh,
             &rays,
@@ -273,16 +273,29 @@ fn growth_scene(scene: &CaveScene, sites: &[Site]) -> GrowthScene {
     g
 }
 
+/// The wall the scene shows: smoothed, or blocky before smoothing (built on demand).
+fn shown_wall<'a>(scene: &CaveScene, model: &'a CaveModel) -> std::borrow::Cow<'a, Mesh> {
+    if scene.smooth {
+        std::borrow::Cow::Borrowed(&model.cave.mesh)
+    } else {
+        std::borrow::Cow::Owned(model.cave.blocky_mesh())
+    }
+}
+
 /// The camera looking down the passage from near its start, at standing height.
 pub fn default_camera(scene: &CaveScene, model: &CaveModel) -> Camera {
-    passage_camera(scene, model, 0.14, 0.22)
+    passage_camera(scene, &wall_rays(scene, &model.cave.mesh), 0.14, 0.22)
+}
+
+/// Vertical rays against the cave wall, bucketed at four voxels.
+fn wall_rays<'a>(scene: &CaveScene, wall: &'a Mesh) -> VerticalRays<'a> {
+    VerticalRays::new(wall, 4.0 * scene.cave.voxel_m())
 }
 
 /// A camera on the passage axis at `x` (fraction of the cube), looking `ahead`
 /// further along it.
-pub fn passage_camera(scene: &CaveScene, model: &CaveModel, x: f32, ahead: f32) -> Camera {
+fn passage_camera(scene: &CaveScene, rays: &VerticalRays<'_>, x: f32, ahead: f32) -> Camera {
     let size = scene.cave.size_m;
-    let rays = VerticalRays::new(&model.cave.mesh, 4.0 * scene.cave.voxel_m());
     let on_axis = |x: f32| {
         let (_, z) = scene.cave.volume.axis(x);
         let (px, pz) = (x * size, z * size);
@@ -310,10 +323,11 @@ pub fn passage_camera(scene: &CaveScene, model: &CaveModel, x: f32, ahead: f32) 
 
 /// Cameras for a fly-through: `frames` positions along the passage.
 pub fn flythrough(scene: &CaveScene, model: &CaveModel, frames: u32) -> Vec<Camera> {
+    let rays = wall_rays(scene, &model.cave.mesh);
     (0..frames)
         .map(|f| {
             let t = f as f32 / frames.saturating_sub(1).max(1) as f32;
-            passage_camera(scene, model, 0.12 + 0.6 * t, 0.12)
+            passage_camera(scene, &rays, 0.12 + 0.6 * t, 0.12)
         })
         .collect()
 }
@@ -336,11 +350,7 @@ pub fn render(
     size: Size,
     cameras: &[Camera],
 ) -> Result<CaveFrames> {
-    let wall = if scene.smooth {
-        model.cave.mesh.clone()
-    } else {
-        model.cave.blocky_mesh()
-    };
+    let wall = shown_wall(scene, model);
     let wall_gpu = GpuMesh::upload(ctx, "cave wall", &wall)?;
     let wall_lines = if scene.wireframe {
         Some(GpuMesh::upload_edges(ctx, "cave wall edges", &wall)?)
@@ -477,11 +487,7 @@ pub fn export(
     model: &CaveModel,
     grown: Option<&(GrowthPlan, Vec<RingVertex>)>,
 ) -> TriangleSoup {
-    let wall = if scene.smooth {
-        model.cave.mesh.clone()
-    } else {
-        model.cave.blocky_mesh()
-    };
+    let wall = shown_wall(scene, model);
     let mut soup = TriangleSoup::from_indexed(&wall, ROCK.to_array());
     soup.append(TriangleSoup::from_indexed(
         &model.short_mesh,

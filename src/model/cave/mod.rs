@@ -30,7 +30,7 @@ use crate::error::{Error, Result, ensure_in_range};
 use crate::model::mesh::Mesh;
 use octree::Octree;
 use smooth::{Neighbours, laplacian};
-use surface::{LatticeMesh, carve_ambiguities, extract, split_t_junctions};
+use surface::{LatticeMesh, carve_ambiguities, split_t_junctions};
 use volume::VolumeParams;
 
 /// Everything that decides a cave.
@@ -154,8 +154,7 @@ pub fn generate(params: &CaveParams, progress: &(dyn Fn(Phase) + Sync)) -> Resul
     }
     progress(Phase::Walls);
     let t = Instant::now();
-    let carved_voxels = carve_ambiguities(&mut tree);
-    let blocky = extract(&tree);
+    let (carved_voxels, blocky) = carve_ambiguities(&mut tree);
     timings.extract_ms = ms(t);
     progress(Phase::Split);
     let t = Instant::now();

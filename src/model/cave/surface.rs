@@ -152,8 +152,9 @@ pub fn block_around(tree: &Octree, v: [u32; 3]) -> u8 {
 
 /// Removes the configurations that make the voxel boundary non-manifold: every
 /// ambiguous block around a wall vertex has its rock voxels carved away (the cave
-/// only grows, so this ends), until none is left. Returns the voxels carved.
-pub fn carve_ambiguities(tree: &mut Octree) -> usize {
+/// only grows, so this ends), until none is left. Returns the voxels carved and the
+/// wall of the final tree (the extraction that found nothing left to carve).
+pub fn carve_ambiguities(tree: &mut Octree) -> (usize, LatticeMesh) {
     let n = tree.resolution();
     let mut carved = 0;
     loop {
@@ -165,7 +166,7 @@ pub fn carve_ambiguities(tree: &mut Octree) -> usize {
             .copied()
             .collect();
         if fixes.is_empty() {
-            return carved;
+            return (carved, mesh);
         }
         for v in fixes {
             for c in 0..8u32 {
