@@ -284,95 +284,145 @@ fn grow(
         near: 0.05,
         far: 50.0,
     };
-    let lighting = Lighting::default();
-    let uniforms = lighting.frame_uniforms(&camera, opts.size.aspect());
-    let target = OffscreenTarget::new(ctx, opts.size.width, opts.size.height)?;
-    let mut surface =
-        SpeleothemSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &plan, scene.seed)?;
-    let mut timer = GpuTimer::new(ctx, "grow bench timer", 2)?;
-    // Each growth run: one frame per pass. The warm-up is a whole short run.
-    let marks = |per_pass: &[f64]| -> BTreeMap<String, f64> {
-        RING_MARKS
-            .iter()
-            .map(|&k| {
-                let lo = (k as usize).saturating_sub(2);
-                let hi = (k as usize + 2).min(per_pass.len().saturating_sub(1));
-                let window = per_pass.get(lo..=hi).unwrap_or(&[]);
-                (format!("pass_ms_at_ring_{k}"), Stats::of(window).median)
-            })
-            .collect()
+    let mut frame = GrowthFrame {
+        uniforms: Lighting::default().frame_uniforms(&camera, opts.size.aspect()),
+        target: OffscreenTarget::new(ctx, opts.size.width, opts.size.height)?,
+        surface: SpeleothemSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &plan, scene.seed)?,
+        timer: GpuTimer::new(ctx, "grow bench timer", 2)?,
+        plan: &plan,
+        counts: &counts,
     };
     if opts.wants("xfb-restream") {
-        progress("grow xfb-restream");
-        // Warm-up: compile the GS and surface pipelines.
-        let mut warm = RingGrowth::new(ctx, &plan, None)?;
-        ctx.submit_and_wait("grow warm-up", |cmd| warm.record(cmd, 2))?;
-        let mut growth = RingGrowth::new(ctx, &plan, None)?;
-        let (mut spans, mut cpu) = (Vec::new(), Vec::new());
-        for pass in 0..plan.passes {
-            if pass % 10 == 0 {
-                progress(&format!("grow xfb-restream pass {pass}/{}", plan.passes));
-            }
-            let t = Instant::now();
-            surface.set_frame(&uniforms, &plan, pass + 1)?;
-            ctx.submit_and_wait("grow frame", |cmd| {
-                timer.reset(cmd);
-                let span = timer.begin(cmd, "ring growth")?;
-                growth.record(cmd, 1)?;
-                timer.end(cmd, span);
-                let span = timer.begin(cmd, "shading")?;
-                target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
-                surface.draw(cmd, growth.source())?;
-                target.end(cmd);
-                timer.end(cmd, span);
-                Ok(())
-            })?;
-            cpu.push(t.elapsed().as_secs_f64() * 1e3);
-            spans.push(timer.read()?);
-        }
-        growth.check_counts()?;
-        let mut s = summarise("grow", "xfb-restream", &spans, &cpu);
-        let growth_ms: Vec<f64> = spans
-            .iter()
-            .map(|f| {
-                f.iter()
-                    .filter(|s| s.name == "ring growth")
-                    .map(|s| s.milliseconds)
-                    .sum()
-            })
-            .collect();
-        // Every pass emits its whole output (counts: vertices after each pass).
-        let vertices: u64 = counts.iter().sum();
-        let total_ms: f64 = growth_ms.iter().sum();
-        s.metrics = marks(&growth_ms);
-        s.metrics.insert(
-            "vertices_per_s".into(),
-            vertices as f64 / (total_ms / 1e3).max(1e-9),
-        );
-        s.metrics
-            .insert("final_vertices".into(), *counts.last().unwrap_or(&0) as f64);
+        let s = frame.series(
+            ctx,
+            "xfb-restream",
+            || RingGrowth::new(ctx, &plan, None),
+            progress,
+        )?;
         report.series.push(s);
     }
     if opts.wants("compute-restream") {
-        progress("grow compute-restream");
-        let mut warm = ComputeGrowth::new(ctx, &plan)?;
-        ctx.submit_and_wait("grow warm-up", |cmd| warm.record(cmd, 2))?;
-        let mut growth = ComputeGrowth::new(ctx, &plan)?;
-        let (mut spans, mut cpu) = (Vec::new(), Vec::new());
-        for pass in 0..plan.passes {
+        let s = frame.series(
+            ctx,
+            "compute-restream",
+            || ComputeGrowth::new(ctx, &plan),
+            progress,
+        )?;
+        report.series.push(s);
+    }
+    if opts.wants("cpu-upload") {
+        let s = frame.series(ctx, "cpu-upload", || CpuGrowth::new(ctx, &plan), progress)?;
+        report.series.push(s);
+    }
+    Ok(())
+}
+
+/// One way to grow the bench scene a pass at a time: on the GPU inside the frame
+/// (timed as the "ring growth" span) or on the CPU before it (timed by the clock).
+trait GrowthPath {
+    const ON_GPU: bool;
+    /// The CPU's share of a pass, before the frame is recorded.
+    fn advance_on_cpu(&mut self) -> Result<()> {
+        Ok(())
+    }
+    /// The GPU's share of a pass, recorded into the frame.
+    fn record_pass(&mut self, _cmd: &crate::gpu::Commands<'_>) -> Result<()> {
+        Ok(())
+    }
+    fn source(&self) -> MeshSource<'_>;
+    /// Vertices of the final mesh, as the path itself counted them.
+    fn final_vertices(&self) -> Result<f64>;
+}
+
+impl GrowthPath for RingGrowth {
+    const ON_GPU: bool = true;
+    fn record_pass(&mut self, cmd: &crate::gpu::Commands<'_>) -> Result<()> {
+        self.record(cmd, 1)
+    }
+    fn source(&self) -> MeshSource<'_> {
+        RingGrowth::source(self)
+    }
+    fn final_vertices(&self) -> Result<f64> {
+        // The stream queries (and an error on any overflow).
+        let counts = self.check_counts()?;
+        Ok(counts.last().map_or(0.0, |c| (c.written * 3) as f64))
+    }
+}
+
+impl GrowthPath for ComputeGrowth {
+    const ON_GPU: bool = true;
+    fn record_pass(&mut self, cmd: &crate::gpu::Commands<'_>) -> Result<()> {
+        self.record(cmd, 1)
+    }
+    fn source(&self) -> MeshSource<'_> {
+        ComputeGrowth::source(self)
+    }
+    fn final_vertices(&self) -> Result<f64> {
+        Ok(f64::from(self.gpu_vertex_count()?))
+    }
+}
+
+impl GrowthPath for CpuGrowth {
+    const ON_GPU: bool = false;
+    fn advance_on_cpu(&mut self) -> Result<()> {
+        self.advance()
+    }
+    fn source(&self) -> MeshSource<'_> {
+        CpuGrowth::source(self)
+    }
+    fn final_vertices(&self) -> Result<f64> {
+        Ok(self.mesh().len() as f64)
+    }
+}
+
+/// What every growth series shares: the plan, the camera's uniforms, the target, the
+/// surface pass and the timer.
+struct GrowthFrame<'a> {
+    uniforms: crate::render::lit_mesh::FrameUniforms,
+    target: OffscreenTarget,
+    surface: SpeleothemSurfacePass,
+    timer: GpuTimer,
+    plan: &'a crate::model::speleothem::GrowthPlan,
+    /// Vertices after each pass.
+    counts: &'a [u64],
+}
+
+impl GrowthFrame<'_> {
+    /// A short warm-up run (shader compilation), then the whole plan one pass and its
+    /// shading per frame; the pass times at rings 8, 32 and 128 and vertices/s.
+    fn series<P: GrowthPath>(
+        &mut self,
+        ctx: &Arc<Context>,
+        variant: &str,
+        make: impl Fn() -> Result<P>,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<SeriesResult> {
+        progress(&format!("grow {variant}"));
+        let mut warm = make()?;
+        for _ in 0..2 {
+            warm.advance_on_cpu()?;
+            ctx.submit_and_wait("grow warm-up", |cmd| warm.record_pass(cmd))?;
+        }
+        let mut growth = make()?;
+        let passes = self.plan.passes;
+        let (mut spans, mut cpu, mut pass_ms) = (Vec::new(), Vec::new(), Vec::new());
+        for pass in 0..passes {
             if pass % 10 == 0 {
-                progress(&format!(
-                    "grow compute-restream pass {pass}/{}",
-                    plan.passes
-                ));
+                progress(&format!("grow {variant} pass {pass}/{passes}"));
             }
             let t = Instant::now();
-            surface.set_frame(&uniforms, &plan, pass + 1)?;
+            growth.advance_on_cpu()?;
+            let cpu_pass_ms = t.elapsed().as_secs_f64() * 1e3;
+            self.surface
+                .set_frame(&self.uniforms, self.plan, pass + 1)?;
+            let (timer, target, surface) = (&mut self.timer, &self.target, &self.surface);
             ctx.submit_and_wait("grow frame", |cmd| {
                 timer.reset(cmd);
-                let span = timer.begin(cmd, "ring growth")?;
-                growth.record(cmd, 1)?;
-                timer.end(cmd, span);
+                if P::ON_GPU {
+                    let span = timer.begin(cmd, "ring growth")?;
+                    growth.record_pass(cmd)?;
+                    timer.end(cmd, span);
+                }
                 let span = timer.begin(cmd, "shading")?;
                 target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
                 surface.draw(cmd, growth.source())?;
@@ -381,68 +431,37 @@ fn grow(
                 Ok(())
             })?;
             cpu.push(t.elapsed().as_secs_f64() * 1e3);
-            spans.push(timer.read()?);
-        }
-        let mut s = summarise("grow", "compute-restream", &spans, &cpu);
-        let growth_ms: Vec<f64> = spans
-            .iter()
-            .map(|f| {
-                f.iter()
+            let frame_spans = self.timer.read()?;
+            pass_ms.push(if P::ON_GPU {
+                frame_spans
+                    .iter()
                     .filter(|s| s.name == "ring growth")
                     .map(|s| s.milliseconds)
                     .sum()
-            })
-            .collect();
-        let vertices: u64 = counts.iter().sum();
-        let total_ms: f64 = growth_ms.iter().sum();
-        s.metrics = marks(&growth_ms);
+            } else {
+                cpu_pass_ms
+            });
+            spans.push(frame_spans);
+        }
+        let mut s = summarise("grow", variant, &spans, &cpu);
+        for &k in &RING_MARKS {
+            let lo = (k as usize).saturating_sub(2);
+            let hi = (k as usize + 2).min(pass_ms.len().saturating_sub(1));
+            let window = pass_ms.get(lo..=hi).unwrap_or(&[]);
+            s.metrics
+                .insert(format!("pass_ms_at_ring_{k}"), Stats::of(window).median);
+        }
+        // Every pass emits its whole output (counts: vertices after each pass).
+        let vertices: u64 = self.counts.iter().sum();
+        let total_ms: f64 = pass_ms.iter().sum();
         s.metrics.insert(
             "vertices_per_s".into(),
             vertices as f64 / (total_ms / 1e3).max(1e-9),
         );
-        s.metrics.insert(
-            "final_vertices".into(),
-            f64::from(growth.gpu_vertex_count()?),
-        );
-        report.series.push(s);
-    }
-    if opts.wants("cpu-upload") {
-        progress("grow cpu-upload");
-        let mut growth = CpuGrowth::new(ctx, &plan)?;
-        let (mut spans, mut cpu, mut gen_ms) = (Vec::new(), Vec::new(), Vec::new());
-        for pass in 0..plan.passes {
-            if pass % 10 == 0 {
-                progress(&format!("grow cpu-upload pass {pass}/{}", plan.passes));
-            }
-            let t = Instant::now();
-            growth.advance()?;
-            gen_ms.push(t.elapsed().as_secs_f64() * 1e3);
-            surface.set_frame(&uniforms, &plan, pass + 1)?;
-            ctx.submit_and_wait("grow frame", |cmd| {
-                timer.reset(cmd);
-                let span = timer.begin(cmd, "shading")?;
-                target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
-                surface.draw(cmd, growth.source())?;
-                target.end(cmd);
-                timer.end(cmd, span);
-                Ok(())
-            })?;
-            cpu.push(t.elapsed().as_secs_f64() * 1e3);
-            spans.push(timer.read()?);
-        }
-        let mut s = summarise("grow", "cpu-upload", &spans, &cpu);
-        // Every pass emits its whole output (counts: vertices after each pass).
-        let vertices: u64 = counts.iter().sum();
-        s.metrics = marks(&gen_ms);
-        s.metrics.insert(
-            "vertices_per_s".into(),
-            vertices as f64 / (gen_ms.iter().sum::<f64>() / 1e3).max(1e-9),
-        );
         s.metrics
-            .insert("final_vertices".into(), growth.mesh().len() as f64);
-        report.series.push(s);
+            .insert("final_vertices".into(), growth.final_vertices()?);
+        Ok(s)
     }
-    Ok(())
 }
 
 /// The CPU growth path: each pass generated by `grow_pass` (the GS pass's CPU twin)

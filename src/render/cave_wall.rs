@@ -9,9 +9,9 @@ use glam::{Vec3, Vec4};
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Pipeline,
-    PipelineLayout, Pod, VertexLayout, vk,
+    PipelineLayout, Pod, vk,
 };
-use crate::render::lit_mesh::{self, FrameUniforms, GpuMesh, LitVertex, ObjectPush};
+use crate::render::lit_mesh::{self, FrameUniforms, GpuMesh, ObjectPush};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
 /// The `Frame` block of `cave_wall.frag`: the lit-mesh frame, then the lamp and fog.
@@ -71,13 +71,7 @@ impl CaveWallPass {
         let desc = |name| {
             GraphicsPipelineDesc::new(name, lit_mesh::VERTEX_INTERFACE.shader)
                 .fragment(FRAGMENT_INTERFACE.shader)
-                .vertex_layout(VertexLayout {
-                    stride: size_of::<LitVertex>() as u32,
-                    attributes: vec![
-                        (0, vk::Format::R32G32B32_SFLOAT, 0),
-                        (1, vk::Format::R32G32B32_SFLOAT, 12),
-                    ],
-                })
+                .vertex_layout(lit_mesh::lit_vertex_layout())
                 .targets(&[color], Some(depth))
         };
         let fill = desc("cave faces").build(ctx, &layout)?;

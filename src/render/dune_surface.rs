@@ -8,12 +8,12 @@ use std::sync::Arc;
 use glam::Vec4;
 
 use super::dune_shadow::DuneShadowPass;
-use super::lit_mesh::{FrameUniforms, LitVertex, lit_vertices};
+use super::lit_mesh::{FrameUniforms, lit_vertex_layout, lit_vertices};
 use super::ripple_maps::RippleMaps;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
-    Pipeline, PipelineLayout, Pod, Sampler, VertexLayout, vk,
+    Pipeline, PipelineLayout, Pod, Sampler, vk,
 };
 use crate::model::mesh::Mesh;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
@@ -215,13 +215,7 @@ impl DuneSurfacePass {
         )?;
         let mut desc = GraphicsPipelineDesc::new("dune surface", VERTEX_INTERFACE.shader)
             .fragment(FRAGMENT_INTERFACE.shader)
-            .vertex_layout(VertexLayout {
-                stride: size_of::<LitVertex>() as u32,
-                attributes: vec![
-                    (0, vk::Format::R32G32B32_SFLOAT, 0),
-                    (1, vk::Format::R32G32B32_SFLOAT, 12),
-                ],
-            })
+            .vertex_layout(lit_vertex_layout())
             .targets(&[color], Some(depth));
         // Back faces are dropped per quad on the CPU when culling is on (the paper's
         // comparison needs them drawn when it is off).

@@ -68,6 +68,17 @@ pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<ObjectPush>() as u32,
 };
 
+/// The vertex layout of [`LitVertex`] (shared by every pass drawing lit meshes).
+pub fn lit_vertex_layout() -> VertexLayout {
+    VertexLayout {
+        stride: size_of::<LitVertex>() as u32,
+        attributes: vec![
+            (0, vk::Format::R32G32B32_SFLOAT, 0),
+            (1, vk::Format::R32G32B32_SFLOAT, 12),
+        ],
+    }
+}
+
 /// The mesh's vertices in the lit-mesh layout.
 pub fn lit_vertices(mesh: &Mesh) -> Vec<LitVertex> {
     mesh.positions
@@ -146,13 +157,7 @@ impl LitMeshPass {
         )?;
         let pipeline = GraphicsPipelineDesc::new("lit mesh", VERTEX_INTERFACE.shader)
             .fragment(FRAGMENT_INTERFACE.shader)
-            .vertex_layout(VertexLayout {
-                stride: size_of::<LitVertex>() as u32,
-                attributes: vec![
-                    (0, vk::Format::R32G32B32_SFLOAT, 0),
-                    (1, vk::Format::R32G32B32_SFLOAT, 12),
-                ],
-            })
+            .vertex_layout(lit_vertex_layout())
             .targets(&[color], Some(depth))
             .build(ctx, &layout)?;
         let frame_buffer = Buffer::new(

@@ -17,6 +17,15 @@ macro_rules! say {
     }};
 }
 
+/// `set!(field, option)`: overrides a scene field where the option was given.
+macro_rules! set {
+    ($field:expr, $value:expr) => {
+        if let Some(v) = $value {
+            $field = v;
+        }
+    };
+}
+
 mod commands;
 
 use commands::{bench, cave, dunes, grow, layers};

@@ -17,8 +17,12 @@ fn candlestick(decay: Decay, r: f64, rep: usize, base: Option<Base>) -> Stalagmi
         decay,
         supply: Supply::Constant,
     };
-    let base = base.unwrap_or_else(|| Base::flat(4.0, params.pz));
-    grow(&base.resampled(params.pz), &params.schedule(), decay).expect("grow")
+    grow_on(&params, base.unwrap_or_else(|| Base::flat(4.0, params.pz)))
+}
+
+/// Franke's parameters grown on `base`.
+fn grow_on(params: &FrankeParams, base: Base) -> Stalagmite {
+    grow(&base.resampled(params.pz), &params.schedule(), params.decay).expect("grow")
 }
 
 /// Radius of the flank `below` units under the apex.
@@ -135,12 +139,7 @@ fn drying_narrows_the_top_and_layers_never_cross() {
         rep: 450,
         ..FrankeParams::default()
     };
-    let s = grow(
-        &Base::flat(4.0, params.pz).resampled(params.pz),
-        &params.schedule(),
-        params.decay,
-    )
-    .expect("grow");
+    let s = grow_on(&params, Base::flat(4.0, params.pz));
     no_layers_cross(&s);
     no_layers_cross(&candlestick(Decay::Gaussian, 1.0, 300, None));
     assert!(s.overhang.is_none());
@@ -163,12 +162,7 @@ fn increasing_supply_overhangs_and_is_reported() {
         rep: 400,
         ..FrankeParams::default()
     };
-    let s = grow(
-        &Base::flat(4.0, params.pz).resampled(params.pz),
-        &params.schedule(),
-        params.decay,
-    )
-    .expect("grow");
+    let s = grow_on(&params, Base::flat(4.0, params.pz));
     let o = s.overhang.clone().expect("an overhang");
     assert!(o.layer > 10 && o.layer < 400, "{o:?}");
     assert_eq!(

@@ -106,13 +106,6 @@ pub fn cave_scene(cli: &Cli, a: &CaveArgs) -> anyhow::Result<cave::CaveScene> {
         None => cave::CaveScene::default(),
     };
     s.cave.volume.seed = cli.seed;
-    macro_rules! set {
-        ($field:expr, $value:expr) => {
-            if let Some(v) = $value {
-                $field = v;
-            }
-        };
-    }
     set!(s.cave.depth, a.depth);
     set!(s.cave.size_m, a.cave_size);
     set!(s.cave.lambda, a.lambda);

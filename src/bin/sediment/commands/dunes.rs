@@ -143,13 +143,6 @@ pub fn dunes_scene(cli: &Cli, a: &DunesArgs) -> anyhow::Result<dunes::DunesScene
         None => dunes::DunesScene::default(),
     };
     s.seed = cli.seed;
-    macro_rules! set {
-        ($field:expr, $value:expr) => {
-            if let Some(v) = $value {
-                $field = v;
-            }
-        };
-    }
     set!(s.ripple_size, a.ripple_size);
     set!(s.ripple_steps, a.ripple_steps);
     set!(s.dune_size, a.dune_size);
@@ -344,15 +337,13 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         out.frame.wall_ms
     );
     if !out.timed_ms.is_empty() {
-        let mut ms = out.timed_ms.clone();
-        ms.sort_by(f64::total_cmp);
-        let at = |q: f64| ms[((ms.len() - 1) as f64 * q).round() as usize];
+        let ms = sediment::bench::report::Stats::of(&out.timed_ms);
         say!(
             "GPU frame over {} timing frames: median {:.2} ms, min {:.2} ms, p95 {:.2} ms",
-            ms.len(),
-            at(0.5),
-            ms[0],
-            at(0.95)
+            ms.samples,
+            ms.median,
+            ms.min,
+            ms.p95
         );
     }
     Ok(())

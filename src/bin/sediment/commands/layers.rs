@@ -103,13 +103,6 @@ pub fn layers_setup(a: &LayersArgs) -> anyhow::Result<sediment::scene::layers::L
         Some(name) => layers::preset(name)?,
         None => layers::LayersSetup::default(),
     };
-    macro_rules! set {
-        ($field:expr, $value:expr) => {
-            if let Some(v) = $value {
-                $field = v;
-            }
-        };
-    }
     set!(s.franke.dic, a.dic);
     set!(s.franke.pz, a.pz);
     set!(s.franke.rep, a.rep);
