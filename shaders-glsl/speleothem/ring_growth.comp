@@ -53,6 +53,16 @@ layout(push_constant) uniform Pass {
 
 shared uint sums[256];
 
+// Where stage 2 writes its next vertex.
+uint cursor = 0u;
+
+void emit(V v) {
+    dst.v[cursor].pos_id = v.pos_id;
+    dst.v[cursor].normal_sp = v.normal_sp;
+    dst.v[cursor].extra = v.extra;
+    cursor += 1u;
+}
+
 V[3] load(uint t) {
     V tri[3];
     // Member by member: a whole-struct copy between buffer and local layouts becomes
@@ -112,16 +122,10 @@ void main() {
         if (run >= run_count) {
             return;
         }
-        uint at = runs.value[run];
+        cursor = runs.value[run];
         uint end = min((run + 1u) * CHUNK, pc.triangles);
         for (uint t = run * CHUNK; t < end; ++t) {
-            Emitted e = grow_triangle(load(t), pc.pass_index, pc.speleothem_count, pc.segments);
-            for (int i = 0; i < e.count; ++i) {
-                dst.v[at].pos_id = e.v[i].pos_id;
-                dst.v[at].normal_sp = e.v[i].normal_sp;
-                dst.v[at].extra = e.v[i].extra;
-                at += 1u;
-            }
+            grow_triangle(load(t), pc.pass_index, pc.speleothem_count, pc.segments, EMIT_ALL);
         }
     }
 }

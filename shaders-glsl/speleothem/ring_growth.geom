@@ -3,7 +3,8 @@
 // Tortelli & Walter 2009, section 4.1: one growth pass on the geometry shader, the
 // paper's path. What a pass does to each triangle is in `ring_growth.glsl` (shared
 // with the compute path); its CPU twin is `grow_pass` in src/model/speleothem.rs. The
-// output is captured by transform feedback on stream 0 and is the next pass's input.
+// output is captured by transform feedback on stream 0 and is the next pass's input;
+// the append-only path runs the same shader twice per pass, once per `mode`.
 //
 // At most 3 triangles (9 vertices x (12 captured components + gl_Position)) per
 // invocation = 144 output components, well under maxGeometryTotalOutputComponents.
@@ -20,7 +21,7 @@ layout(push_constant) uniform Pass {
     uint pass_index;
     uint speleothem_count;
     uint segments;
-    uint unused;
+    uint mode;  // EMIT_ALL, EMIT_FRONT or EMIT_FROZEN (ring_growth.glsl)
 } pc;
 
 layout(location = 0) in vec4 in_pos_id[];     // xyz position, w ID
@@ -33,12 +34,18 @@ layout(location = 2, xfb_buffer = 0, xfb_offset = 32, xfb_stride = 48) out vec4 
 
 #include "ring_growth.glsl"
 
-void put(V v) {
+uint emitted = 0u;
+
+void emit(V v) {
     out_pos_id = v.pos_id;
     out_normal_sp = v.normal_sp;
     out_extra = v.extra;
     gl_Position = vec4(v.pos_id.xyz, 1.0);
     EmitVertex();
+    emitted += 1u;
+    if (emitted % 3u == 0u) {
+        EndPrimitive();
+    }
 }
 
 void main() {
@@ -46,11 +53,5 @@ void main() {
     for (int k = 0; k < 3; ++k) {
         t[k] = V(in_pos_id[k], in_normal_sp[k], in_extra[k]);
     }
-    Emitted e = grow_triangle(t, pc.pass_index, pc.speleothem_count, pc.segments);
-    for (int i = 0; i < e.count; ++i) {
-        put(e.v[i]);
-        if (i % 3 == 2) {
-            EndPrimitive();
-        }
-    }
+    grow_triangle(t, pc.pass_index, pc.speleothem_count, pc.segments, pc.mode);
 }

@@ -1,15 +1,17 @@
 // One growth pass (Tortelli & Walter 2009, section 4.1) for one input triangle, shared
 // by the geometry shader (`ring_growth.geom`, the paper's path) and the compute path
-// (`ring_growth.comp`). Every input triangle is re-emitted with its vertex IDs
-// incremented by 2; a triangle of the growth front (all IDs <= 0 before the increment)
-// also emits its copy in the new ring band, v' = v + height * g + r * N (+ wind), with
-// the original IDs, and one triangle joining the old tip ring to it. The CPU twin is
-// `grow_pass` in src/model/speleothem.rs: read both together.
+// (`ring_growth.comp`) and by the append-only GS path. Every input triangle is
+// re-emitted with its vertex IDs incremented by 2; a triangle of the growth front (all
+// IDs <= 0 before the increment) also emits its copy in the new ring band,
+// v' = v + height * g + r * N (+ wind), with the original IDs, and one triangle joining
+// the old tip ring to it. The CPU twin is `grow_pass` in src/model/speleothem.rs: read
+// both together.
 //
 // The growth plan: 4 vec4 per (pass, speleothem), pass-major (GrowthPlan::gpu_steps).
 //   [0] height, radius step, thicken, action (0 idle, 1 grow, 2 close, 3 join)
 //   [1] wind displacement xyz, growth direction sign (y)
-//   [2] flank deposit vd, flank angle, flank half-width, 0
+//   [2] flank deposit vd, flank angle, flank half-width, thickening accumulated
+//       through this pass
 //   [3] target xyz (apex or meeting-ring centre), meeting-ring radius
 // The including shader declares it as `plan.steps`.
 #ifndef SEDIMENT_RING_GROWTH_GLSL
@@ -23,27 +25,52 @@ struct V {
 
 const float TAU = 6.28318530717958647692;
 
-// The pass's output for one input triangle: up to 3 triangles, in order.
-struct Emitted {
-    V v[9];
-    int count;
+// Which part of a pass's output a draw captures. The paper's pass emits the whole next
+// mesh (EMIT_ALL). The append-only passes split it: EMIT_FRONT emits only the next
+// front band (the one part that changes), EMIT_FROZEN only what leaves the front this
+// pass (the old band and its link to the new one), appended once to the mesh.
+const uint EMIT_ALL = 0u;
+const uint EMIT_FRONT = 1u;
+const uint EMIT_FROZEN = 2u;
+
+// Writes one output vertex; defined by the including shader (the GS emits it to
+// transform feedback, the compute path stores it). Triangles go out as 3 consecutive
+// calls.
+void emit(V v);
+
+struct Target {
+    uint mode;
+    // EMIT_FROZEN: the speleothem's thickening accumulated through this pass, and
+    // 2 (pass + 1): subtracted so the draw brings a frozen vertex up to date with the
+    // current totals (see `ring_growth_append.rs`), never re-streaming it.
+    float accumulated;
+    float id_shift;
 };
 
-void put(inout Emitted e, V v) {
-    e.v[e.count] = v;
-    e.count += 1;
+void put_behind(Target to, V v) {
+    if (to.mode == EMIT_ALL) {
+        emit(v);
+    } else if (to.mode == EMIT_FROZEN) {
+        emit(V(vec4(v.pos_id.xyz - v.normal_sp.xyz * to.accumulated, v.pos_id.w - to.id_shift),
+               v.normal_sp, v.extra));
+    }
+}
+
+void put_front(Target to, V v) {
+    if (to.mode != EMIT_FROZEN) {
+        emit(v);
+    }
 }
 
 // Triangles are built counter-clockwise for growth along +y; stalactites (-y) mirror
-// the band, so their triangles are reversed to keep facing outward.
-void put_triangle(inout Emitted e, V a, V b, V c, float sign) {
-    put(e, a);
-    if (sign < 0.0) { put(e, c); put(e, b); } else { put(e, b); put(e, c); }
+// the band, so their triangles are reversed to keep facing outward. Links stay behind.
+void put_link(Target to, V a, V b, V c, float sign) {
+    put_behind(to, a);
+    if (sign < 0.0) { put_behind(to, c); put_behind(to, b); } else { put_behind(to, b); put_behind(to, c); }
 }
 
-
-V moved(V v, vec3 offset) {
-    return V(vec4(v.pos_id.xyz + offset, v.pos_id.w + 2.0), v.normal_sp, v.extra);
+V moved(V v, vec3 offset, float id_step) {
+    return V(vec4(v.pos_id.xyz + offset, v.pos_id.w + id_step), v.normal_sp, v.extra);
 }
 
 // The flank deposit's profile: 1 at `angle`, 0 beyond +-`width` radians.
@@ -55,11 +82,10 @@ float flank_profile(vec3 n, float angle, float width) {
     return max(1.0 - x * x, 0.0);
 }
 
-// One growth pass over one input triangle `t` (the plan buffer `plan` is declared by
-// the including shader).
-Emitted grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments) {
-    Emitted e;
-    e.count = 0;
+// One growth pass over one input triangle `t`, emitting (through `emit`) the part of
+// its output that `mode` selects (the plan buffer `plan` is declared by the including
+// shader).
+void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments, uint mode) {
     uint sp = uint(t[0].normal_sp.w + 0.5);
     uint base = 4u * (pass_index * speleothem_count + sp);
     vec4 s0 = plan.steps[base];
@@ -73,14 +99,26 @@ Emitted grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segme
     vec3 wind = s1.xyz;
     float sign = s1.w;
     vec3 g = vec3(0.0, sign, 0.0);
+    Target to = Target(mode, s2.w, 2.0 * float(pass_index + 1u));
 
     bool front = t[0].pos_id.w <= 0.0 && t[1].pos_id.w <= 0.0 && t[2].pos_id.w <= 0.0;
-    if (!front || action == 0u) {
-        for (int k = 0; k < 3; ++k) {
-            V v = t[k];
-            put(e, moved(v, v.normal_sp.xyz * thicken));
+    if (!front) {
+        // Behind the front: only the paper's pass re-streams it.
+        if (mode == EMIT_ALL) {
+            for (int k = 0; k < 3; ++k) {
+                emit(moved(t[k], t[k].normal_sp.xyz * thicken, 2.0));
+            }
         }
-        return e;
+        return;
+    }
+    if (action == 0u) {
+        // A front waiting out a pass (PIL 0, a stalagmite before dripping starts, or
+        // stopped at the cave boundary) stays the front: IDs unchanged, so it grows
+        // again when the parameters allow.
+        for (int k = 0; k < 3; ++k) {
+            put_front(to, moved(t[k], t[k].normal_sp.xyz * thicken, 0.0));
+        }
+        return;
     }
 
     // The old front, re-emitted; a flank deposit bumps its tip ring (ID -1) only.
@@ -91,8 +129,8 @@ Emitted grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segme
         if (action == 1u && v.pos_id.w < -0.5 && s2.x > 0.0) {
             bump = v.normal_sp.xyz * (s2.x * flank_profile(v.normal_sp.xyz, s2.y, s2.z));
         }
-        old[k] = moved(v, bump);
-        put(e, old[k]);
+        old[k] = moved(v, bump, 2.0);
+        put_behind(to, old[k]);
     }
 
     // Roles: A = (b_i, t_i, b_i+1) has two base-ring (ID 0) vertices, B = (b_i+1, t_i,
@@ -128,12 +166,12 @@ Emitted grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segme
             vec3 p = v.pos_id.xyz + g * height + v.normal_sp.xyz * radius + wind;
             nv[k] = V(vec4(p, v.pos_id.w), v.normal_sp,
                       vec4(v.extra.x, v.extra.y + height, radius / height, v.extra.w + 1.0));
-            put(e, nv[k]);
+            put_front(to, nv[k]);
         }
         if (is_a) {
-            put_triangle(e, old[t_i], nv[b_i], nv[b_i1], sign);
+            put_link(to, old[t_i], nv[b_i], nv[b_i1], sign);
         } else {
-            put_triangle(e, old[t_i], nv[b_i1], old[t_i1], sign);
+            put_link(to, old[t_i], nv[b_i1], old[t_i1], sign);
         }
     } else if (action == 2u) {
         // Close the tip: a cone from the old tip ring to one apex point.
@@ -141,7 +179,7 @@ Emitted grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segme
             V tv = t[t_i];
             V apex = V(vec4(s3.xyz, 0.0), vec4(0.0, 0.0, 0.0, tv.normal_sp.w),
                        vec4(tv.extra.x, tv.extra.y + height, -1.0, tv.extra.w + 1.0));
-            put_triangle(e, old[t_i], apex, old[t_i1], sign);
+            put_link(to, old[t_i], apex, old[t_i1], sign);
         }
     } else if (action == 3u) {
         // Column: join the old tip ring to the meeting ring both fronts share.
@@ -153,13 +191,13 @@ Emitted grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segme
                      vec4(v.extra.x, v.extra.y + abs(s3.y - v.pos_id.y), 0.0, v.extra.w + 1.0));
         }
         if (is_a) {
-            put_triangle(e, old[t_i], m[b_i], m[b_i1], sign);
+            put_link(to, old[t_i], m[b_i], m[b_i1], sign);
         } else {
-            put_triangle(e, old[t_i], m[b_i1], old[t_i1], sign);
+            put_link(to, old[t_i], m[b_i1], old[t_i1], sign);
         }
     }
-    return e;
 }
+
 // How many vertices `grow_triangle` emits for `t`, without building them: 3 for a
 // triangle off the front or of an idle speleothem; on the front, 9 when a band grows,
 // 6 when a B triangle closes a tip or any front triangle joins a column, else 3.

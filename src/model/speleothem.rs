@@ -6,6 +6,9 @@
 //! One pass, for every input triangle in order (as the geometry shader sees them):
 //! - every vertex ID is incremented by 2 and the triangle is re-emitted (displaced
 //!   outward by the speleothem's `thicken`, which is non-zero only after it stopped);
+//!   a front with nothing to do this pass keeps its IDs, so it stays the front (the
+//!   paper increments every ID; read literally, one pass of PIL 0 would end growth for
+//!   good, which its manual mode of changing parameters while growing contradicts);
 //! - a triangle of the growth front (all IDs <= 0 before the increment) also emits its
 //!   copy in the new band, `v' = v + height * g + r * N + wind` with the original IDs
 //!   (0 on the base side, -1 on the tip side), and one triangle joining the old tip ring
@@ -176,9 +179,19 @@ pub fn grow_pass(
             o.pos_id = [p.x, p.y, p.z, v.pos_id[3] + 2.0];
             o
         };
-        if !front || action == PassAction::Idle as u32 {
+        if !front {
             for v in tri {
                 out.push(moved(v, v.normal() * st.thicken));
+            }
+            continue;
+        }
+        if action == PassAction::Idle as u32 {
+            // A waiting front stays the front (IDs unchanged), so it grows again when
+            // the parameters allow (PIL 0 for a while, stalagmites before dripping).
+            for v in tri {
+                let mut o = moved(v, v.normal() * st.thicken);
+                o.pos_id[3] = v.pos_id[3];
+                out.push(o);
             }
             continue;
         }

@@ -269,11 +269,15 @@ impl GrowthPlan {
         &self.steps[pass as usize * self.speleothems.len() + index]
     }
 
-    /// The buffer the geometry shader reads (layout documented in `ring_growth.geom`).
+    /// The buffer the growth shaders read (layout documented in `ring_growth.glsl`).
     pub fn gpu_steps(&self) -> Vec<Vec4> {
         let mut out = Vec::with_capacity(self.steps.len() * STEP_VEC4S);
+        // Per speleothem, the thickening accumulated through the current pass.
+        let mut accumulated = vec![0.0f32; self.speleothems.len()];
         for (i, s) in self.steps.iter().enumerate() {
-            let kind = self.speleothems[i % self.speleothems.len()].kind;
+            let index = i % self.speleothems.len();
+            let kind = self.speleothems[index].kind;
+            accumulated[index] += s.thicken;
             out.push(Vec4::new(
                 s.height,
                 s.radius,
@@ -281,7 +285,12 @@ impl GrowthPlan {
                 s.action as u32 as f32,
             ));
             out.push(s.wind.extend(kind.sign()));
-            out.push(Vec4::new(s.flank, s.flank_angle, s.flank_width, 0.0));
+            out.push(Vec4::new(
+                s.flank,
+                s.flank_angle,
+                s.flank_width,
+                accumulated[index],
+            ));
             out.push(s.target.extend(s.target_radius));
         }
         out

@@ -348,3 +348,47 @@ fn a_straw_stops_at_the_floor() {
             .all(|s| s.action == PassAction::Idle)
     );
 }
+
+#[test]
+fn a_front_waiting_out_idle_passes_grows_when_the_parameters_allow() {
+    // Stalagmites wait for dripping (PIL 2 from pass 3) and everything pauses in a dry
+    // spell (PIL 0, passes 6..8): the paused fronts must still be fronts afterwards.
+    let mut scene = scene(GrowthParams::default(), 2, 12);
+    scene.changes = vec![
+        super::plan::ParamChange {
+            pass: 3,
+            pil: Some(Pil::Dripping),
+            ..Default::default()
+        },
+        super::plan::ParamChange {
+            pass: 6,
+            pil: Some(Pil::Dry),
+            ..Default::default()
+        },
+        super::plan::ParamChange {
+            pass: 8,
+            pil: Some(Pil::Dripping),
+            ..Default::default()
+        },
+    ];
+    let plan = scene.plan().expect("plan");
+    let mesh = grow_reference(&plan, plan.passes);
+    assert_eq!(
+        mesh.len() as u64,
+        *vertex_counts(&plan).last().expect("passes")
+    );
+    for (i, s) in plan.speleothems.iter().enumerate() {
+        assert!(s.rings >= 4, "{:?} grew {} rings", s.kind, s.rings);
+        let top = mesh
+            .iter()
+            .filter(|v| v.speleothem() == i)
+            .map(RingVertex::ring)
+            .max();
+        assert_eq!(top, Some(s.rings), "{:?} {i}", s.kind);
+    }
+    let open_tips = plan.speleothems.iter().filter(|s| s.stop.is_none()).count();
+    assert_eq!(
+        open_edges(&mesh).len(),
+        12 * (plan.speleothems.len() + open_tips)
+    );
+}
