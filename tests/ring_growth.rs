@@ -1,17 +1,19 @@
-//! The ring-growth geometry shader (shaders-glsl/speleothem/ring_growth.geom) and the
-//! compute path (ring_growth.comp) against their CPU reference
+//! The ring-growth geometry shader (shaders-glsl/speleothem/ring_growth.geom), run
+//! re-streaming (the paper's pass) and append-only, and the compute path
+//! (ring_growth.comp) against their CPU reference
 //! (model::speleothem::grow_pass), vertex by vertex, on a validated device; and the
 //! stream query and the compute path's draw count against the reference's counts.
 
 mod common;
 
 use sediment::Error;
-use sediment::model::speleothem::plan::{GrowthParams, GrowthScene, StepMode};
+use sediment::model::speleothem::plan::{GrowthParams, GrowthScene, ParamChange, StepMode};
 use sediment::model::speleothem::table2::{Co2, DripInterval, Pil};
 use sediment::model::speleothem::{
     GrowthPlan, RingVertex, StopReason, grow_reference, ring_measure, vertex_counts,
 };
 use sediment::render::ring_growth::RingGrowth;
+use sediment::render::ring_growth_append::AppendGrowth;
 use sediment::render::ring_growth_compute::ComputeGrowth;
 
 fn scene(params: GrowthParams, count: u32, passes: u32) -> GrowthScene {
@@ -41,6 +43,61 @@ fn compare(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan: &Grow
     }
     let gpu = compute.read_back().expect("read back");
     assert_matches_reference(&format!("{name} (compute)"), &gpu, plan);
+    compare_append(ctx, name, plan);
+}
+
+/// The append-only GS/XFB path against the reference: the same triangles (in another
+/// order), each pass's captures exactly the front's share of the reference's growth.
+fn compare_append(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan: &GrowthPlan) {
+    let name = format!("{name} (append-only)");
+    let mut growth = AppendGrowth::new(ctx, plan).expect("append set-up");
+    ctx.submit_and_wait(&name, |cmd| growth.record(cmd, plan.passes))
+        .expect("append submission");
+    let counts = growth.check_counts().expect("no overflow");
+    let predicted = vertex_counts(plan);
+    let fronts = front_sizes(plan);
+    let mut frozen_total = 0;
+    for (pass, (frozen, front)) in counts.iter().enumerate() {
+        frozen_total += frozen.written * 3;
+        assert_eq!(front.written * 3, fronts[pass], "{name}: front after pass {pass}");
+        assert_eq!(
+            frozen_total + front.written * 3,
+            predicted[pass],
+            "{name}: vertices after pass {pass}"
+        );
+    }
+    let gpu = growth.read_back(ctx, plan).expect("read back");
+    let cpu = grow_reference(plan, plan.passes);
+    assert_matches(&name, &sorted_triangles(&gpu), &sorted_triangles(&cpu));
+}
+
+/// Vertices on the growth front after each pass, counted on the CPU reference.
+fn front_sizes(plan: &GrowthPlan) -> Vec<u64> {
+    (1..=plan.passes)
+        .map(|p| {
+            let mesh = grow_reference(plan, p);
+            mesh.chunks_exact(3)
+                .filter(|t| t.iter().all(|v| v.id() <= 0.0))
+                .count() as u64
+                * 3
+        })
+        .collect()
+}
+
+/// The triangles of a mesh in a canonical order: by speleothem, ring, segment and ID
+/// of each vertex, then by position (rounded) between coincident keys.
+fn sorted_triangles(mesh: &[RingVertex]) -> Vec<RingVertex> {
+    let key = |v: &RingVertex| {
+        let p = v.position() * 1e3;
+        (
+            [v.speleothem() as i64, i64::from(v.ring()), i64::from(v.segment())],
+            v.id() as i64,
+            [p.x.round() as i64, p.y.round() as i64, p.z.round() as i64],
+        )
+    };
+    let mut triangles: Vec<&[RingVertex]> = mesh.chunks_exact(3).collect();
+    triangles.sort_by_key(|t| [key(&t[0]), key(&t[1]), key(&t[2])]);
+    triangles.concat()
 }
 
 /// The GS/XFB path against the reference, with its stream-query counts.
@@ -64,7 +121,11 @@ fn compare_xfb(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan: &
 
 /// Every vertex as the CPU reference has it.
 fn assert_matches_reference(name: &str, gpu: &[RingVertex], plan: &GrowthPlan) {
-    let cpu = grow_reference(plan, plan.passes);
+    assert_matches(name, gpu, &grow_reference(plan, plan.passes));
+}
+
+/// `gpu[i]` equals `cpu[i]` for every i, within the stated tolerances.
+fn assert_matches(name: &str, gpu: &[RingVertex], cpu: &[RingVertex]) {
     assert_eq!(gpu.len(), cpu.len(), "{name}: vertex count");
     // Positions within 1e-4 of the scene's scale (the cave height), IDs and integer
     // attributes exact, the rest within 1e-4.
@@ -172,6 +233,18 @@ fn wind_column_tip_and_random_mode_match_the_cpu_reference() {
             "flank deposits occur"
         );
         compare(ctx, "random", &plan);
+
+        // Fronts waiting out idle passes: stalagmites before dripping, a dry spell.
+        let mut pauses = scene(GrowthParams::default(), 2, 12);
+        pauses.changes = [(3, Pil::Dripping), (6, Pil::Dry), (8, Pil::Dripping)]
+            .into_iter()
+            .map(|(pass, pil)| ParamChange {
+                pass,
+                pil: Some(pil),
+                ..ParamChange::default()
+            })
+            .collect();
+        compare(ctx, "pauses", &pauses.plan().expect("plan"));
     });
 }
 
@@ -199,6 +272,20 @@ fn growth_split_over_submissions_matches_one_submission() {
             .map(|(g, c)| (g.position() - c.position()).length())
             .fold(0.0f32, f32::max);
         assert!(worst < 1e-4, "worst position error {worst}");
+
+        // The append-only path resumes its frozen capture across submissions.
+        let mut append = AppendGrowth::new(ctx, &plan).expect("set-up");
+        for _ in 0..3 {
+            ctx.submit_and_wait("3 append passes", |cmd| append.record(cmd, 3))
+                .expect("submit");
+        }
+        append.check_counts().expect("no overflow");
+        let gpu = append.read_back(ctx, &plan).expect("read back");
+        assert_matches(
+            "append-only over 3 submissions",
+            &sorted_triangles(&gpu),
+            &sorted_triangles(&cpu),
+        );
     });
 }
 

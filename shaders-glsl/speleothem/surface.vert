@@ -12,13 +12,15 @@ layout(set = 0, binding = 0) uniform Frame {
 } frame;
 
 // Per speleothem, 2 vec4: (mineral colour rgb, rings grown so far), (growth sign,
-// mineral mix intensity, 0, 0).
+// mineral mix intensity, thickening accumulated so far, 0).
 layout(set = 0, binding = 1, std430) readonly buffer Speleothems {
     vec4 info[];
 } speleothems;
 
 layout(push_constant) uniform Surface {
-    vec4 params; // x segments per ring, y texture repeats per unit of length, z normal-map strength
+    // x segments per ring, y texture repeats per unit of length, z normal-map strength,
+    // w 1 for vertices frozen by the append-only growth, else 0
+    vec4 params;
 } surface;
 
 layout(location = 0) in vec4 in_pos_id;
@@ -49,6 +51,9 @@ void main() {
     // intensity mixes it into white calcite.
     float t = mineral.w > 0.0 ? clamp(in_extra.w / mineral.w, 0.0, 1.0) : 1.0;
     out_color = mix(CALCITE, mineral.rgb * t, misc.y);
-    out_world = in_pos_id.xyz;
-    gl_Position = frame.view_proj * vec4(in_pos_id.xyz, 1.0);
+    // The append-only growth writes a vertex once, less the thickening accumulated when
+    // it left the front; add the current total (model::speleothem::unfreeze).
+    vec3 p = in_pos_id.xyz + n_radial * (misc.z * surface.params.w);
+    out_world = p;
+    gl_Position = frame.view_proj * vec4(p, 1.0);
 }

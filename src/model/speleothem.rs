@@ -308,6 +308,32 @@ pub fn grow_reference(plan: &GrowthPlan, passes: u32) -> Vec<RingVertex> {
     mesh
 }
 
+/// Per speleothem, the thickening accumulated over the first `passes` passes, summed in
+/// the order `GrowthPlan::gpu_steps` sums it for the shaders.
+pub fn accumulated_thickening(plan: &GrowthPlan, passes: u32) -> Vec<f32> {
+    let mut out = vec![0.0f32; plan.speleothems.len()];
+    for pass in 0..passes.min(plan.passes) {
+        for (i, total) in out.iter_mut().enumerate() {
+            *total += plan.step(pass, i).thicken;
+        }
+    }
+    out
+}
+
+/// The append-only growth stores a vertex that leaves the front in pass p less its
+/// speleothem's thickening accumulated through p, and with its ID less 2 (p + 1)
+/// (`put_behind` in ring_growth.glsl), so it is written once and never re-streamed.
+/// This brings it up to date after `passes` passes given `accumulated_thickening(plan,
+/// passes)`: the CPU twin of the shift the surface shader applies when drawing it.
+pub fn unfreeze(v: &RingVertex, accumulated: &[f32], passes: u32) -> RingVertex {
+    let total = accumulated.get(v.speleothem()).copied().unwrap_or(0.0);
+    let p = v.position() + v.normal() * total;
+    RingVertex {
+        pos_id: [p.x, p.y, p.z, v.pos_id[3] + 2.0 * passes as f32],
+        ..*v
+    }
+}
+
 /// Mean radius (from the vertical axis through `base`) and mean distance from the base
 /// along the axis of the distinct vertices of ring `ring` of speleothem `index`: how
 /// tests read Table 2 back off a grown mesh.

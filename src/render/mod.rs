@@ -7,6 +7,7 @@ pub mod dune_surface;
 pub mod dust;
 pub mod lit_mesh;
 pub mod ring_growth;
+pub mod ring_growth_append;
 pub mod ring_growth_compute;
 pub mod ripple_maps;
 pub mod sky;

@@ -29,7 +29,8 @@ pub struct PassPush {
     pub pass_index: u32,
     pub speleothem_count: u32,
     pub segments: u32,
-    pub unused: u32,
+    /// An [`EmitMode`].
+    pub mode: u32,
 }
 // SAFETY: repr(C), four u32.
 unsafe impl Pod for PassPush {}
@@ -69,6 +70,114 @@ pub enum MeshSource<'a> {
         counter: &'a Buffer,
         counter_offset: u64,
     },
+    /// The append-only path after a pass: the vertices frozen so far (drawn shifted by
+    /// each speleothem's accumulated thickening, see `model::speleothem::unfreeze`) and
+    /// the current front band, both captures with byte counters.
+    Appended {
+        frozen: Captured<'a>,
+        front: Captured<'a>,
+    },
+}
+
+/// A capture buffer and the counter (buffer, byte offset) holding its byte count.
+#[derive(Clone, Copy)]
+pub struct Captured<'a> {
+    pub buffer: &'a Buffer,
+    pub counter: &'a Buffer,
+    pub counter_offset: u64,
+}
+
+impl Captured<'_> {
+    /// The captured vertices, read back (submits its own copy and waits).
+    pub fn read_back(&self, ctx: &Arc<Context>) -> Result<Vec<RingVertex>> {
+        let bytes = self.buffer.size();
+        let readback = Buffer::new(
+            ctx,
+            "ring growth readback",
+            BufferDesc::readback(bytes + 4, vk::BufferUsageFlags::TRANSFER_DST),
+        )?;
+        ctx.submit_and_wait("ring growth readback", |cmd| {
+            cmd.capture_to_vertex_read_barrier();
+            cmd.counter_write_to_read_barrier();
+            cmd.copy_buffer(self.buffer, &readback, bytes);
+            cmd.copy_buffer_region(self.counter, self.counter_offset, &readback, bytes, 4);
+            cmd.transfer_to_host_barrier();
+            Ok(())
+        })?;
+        let data = readback.mapped()?;
+        let mut word = [0u8; 4];
+        word.copy_from_slice(&data[bytes as usize..bytes as usize + 4]);
+        let used = u64::from(u32::from_le_bytes(word)).min(bytes);
+        Ok(crate::gpu::from_bytes(&data[..used as usize]))
+    }
+}
+
+/// What `ring_growth.glsl` emits in a draw (`EMIT_*` there).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EmitMode {
+    /// The paper's pass: the whole next mesh.
+    All = 0,
+    /// Append-only: the next front band only.
+    Front = 1,
+    /// Append-only: what leaves the front this pass, to be appended.
+    Frozen = 2,
+}
+
+/// The growth pipeline and its plan, shared by the re-streaming and the append-only
+/// paths.
+pub(crate) struct GrowthPipeline {
+    plan_set: DescriptorSet,
+    // Read by the shader every pass; kept alive with the growth.
+    _plan_buffer: Buffer,
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+    speleothem_count: u32,
+    segments: u32,
+}
+
+impl GrowthPipeline {
+    pub(crate) fn new(ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Self> {
+        let layout = PipelineLayout::new(
+            ctx,
+            "ring growth layout",
+            &[&VERTEX_INTERFACE, &GEOMETRY_INTERFACE],
+        )?;
+        let pipeline = GraphicsPipelineDesc::new("ring growth", VERTEX_INTERFACE.shader)
+            .geometry(GEOMETRY_INTERFACE.shader)
+            .vertex_layout(ring_vertex_layout())
+            .rasterizer_discard(true)
+            .build(ctx, &layout)?;
+        let plan_buffer = Buffer::with_data(
+            ctx,
+            "ring growth plan",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &plan.gpu_steps(),
+        )?;
+        let plan_set = layout.allocate_set("ring growth plan set", 0)?;
+        plan_set.write_buffer(0, &plan_buffer)?;
+        Ok(Self {
+            plan_set,
+            _plan_buffer: plan_buffer,
+            pipeline,
+            layout,
+            speleothem_count: plan.speleothems.len() as u32,
+            segments: plan.segments,
+        })
+    }
+
+    /// Binds the pipeline for pass `pass` emitting `mode` (inside a rendering scope).
+    pub(crate) fn bind(&self, cmd: &Commands<'_>, pass: u32, mode: EmitMode) -> Result<()> {
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.plan_set]);
+        cmd.push_constants(
+            &self.layout,
+            &PassPush {
+                pass_index: pass,
+                speleothem_count: self.speleothem_count,
+                segments: self.segments,
+                mode: mode as u32,
+            },
+        )
+    }
 }
 
 /// A growth in progress on the GPU.
@@ -77,16 +186,10 @@ pub struct RingGrowth {
     counters: Buffer,
     captures: [Buffer; 2],
     input: Buffer,
-    plan_set: DescriptorSet,
-    // Read by the shader every pass; kept alive with the growth.
-    _plan_buffer: Buffer,
-    pipeline: Pipeline,
-    layout: PipelineLayout,
+    growth: GrowthPipeline,
     initial_vertices: u32,
     passes_done: u32,
     total_passes: u32,
-    speleothem_count: u32,
-    segments: u32,
     capacity_vertices: u64,
 }
 
@@ -98,25 +201,7 @@ impl RingGrowth {
         plan: &GrowthPlan,
         capacity_vertices: Option<u64>,
     ) -> Result<Self> {
-        let layout = PipelineLayout::new(
-            ctx,
-            "ring growth layout",
-            &[&VERTEX_INTERFACE, &GEOMETRY_INTERFACE],
-        )?;
-        let pipeline = GraphicsPipelineDesc::new("ring growth", VERTEX_INTERFACE.shader)
-            .geometry(GEOMETRY_INTERFACE.shader)
-            .vertex_layout(ring_vertex_layout())
-            .rasterizer_discard(true)
-            .build(ctx, &layout)?;
-        let steps = plan.gpu_steps();
-        let plan_buffer = Buffer::with_data(
-            ctx,
-            "ring growth plan",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            &steps,
-        )?;
-        let plan_set = layout.allocate_set("ring growth plan set", 0)?;
-        plan_set.write_buffer(0, &plan_buffer)?;
+        let growth = GrowthPipeline::new(ctx, plan)?;
         let initial = initial_rings(plan);
         let input = Buffer::with_data(
             ctx,
@@ -141,15 +226,10 @@ impl RingGrowth {
             counters,
             captures,
             input,
-            plan_set,
-            _plan_buffer: plan_buffer,
-            pipeline,
-            layout,
+            growth,
             initial_vertices: initial.len() as u32,
             passes_done: 0,
             total_passes: plan.passes,
-            speleothem_count: plan.speleothems.len() as u32,
-            segments: plan.segments,
             capacity_vertices,
         })
     }
@@ -180,16 +260,7 @@ impl RingGrowth {
                 cmd.vertex_read_to_capture_barrier();
             }
             cmd.begin_rendering_without_attachments(1, 1);
-            cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.plan_set]);
-            cmd.push_constants(
-                &self.layout,
-                &PassPush {
-                    pass_index: pass,
-                    speleothem_count: self.speleothem_count,
-                    segments: self.segments,
-                    unused: 0,
-                },
-            )?;
+            self.growth.bind(cmd, pass, EmitMode::All)?;
             cmd.bind_capture_buffer(0, &self.captures[dst], 0, None);
             self.queries.begin(cmd, pass)?;
             cmd.begin_capture(None);
@@ -245,40 +316,17 @@ impl RingGrowth {
 
     /// Reads the current mesh back (submits its own copy and waits).
     pub fn read_back(&self, ctx: &Arc<Context>) -> Result<Vec<RingVertex>> {
-        let (buffer, bytes, counter) = match self.source() {
-            MeshSource::Counted { buffer, vertices } => {
-                (buffer, u64::from(vertices) * u64::from(VERTEX_STRIDE), None)
-            }
-            MeshSource::Captured {
-                buffer,
-                counter,
-                counter_offset,
-            } => (buffer, buffer.size(), Some((counter, counter_offset))),
-        };
-        let readback = Buffer::new(
-            ctx,
-            "ring growth readback",
-            BufferDesc::readback(bytes + 4, vk::BufferUsageFlags::TRANSFER_DST),
-        )?;
-        ctx.submit_and_wait("ring growth readback", |cmd| {
-            cmd.capture_to_vertex_read_barrier();
-            cmd.counter_write_to_read_barrier();
-            cmd.copy_buffer(buffer, &readback, bytes);
-            if let Some((c, offset)) = counter {
-                cmd.copy_buffer_region(c, offset, &readback, bytes, 4);
-            }
-            cmd.transfer_to_host_barrier();
-            Ok(())
-        })?;
-        let data = readback.mapped()?;
-        let used = match counter {
-            Some(_) => {
-                let mut word = [0u8; 4];
-                word.copy_from_slice(&data[bytes as usize..bytes as usize + 4]);
-                u64::from(u32::from_le_bytes(word))
-            }
-            None => bytes,
-        };
-        Ok(crate::gpu::from_bytes(&data[..used.min(bytes) as usize]))
+        if self.passes_done == 0 {
+            let mut base: Vec<RingVertex> = self.input.read()?;
+            base.truncate(self.initial_vertices as usize);
+            return Ok(base);
+        }
+        let last = ((self.passes_done - 1) % 2) as usize;
+        Captured {
+            buffer: &self.captures[last],
+            counter: &self.counters,
+            counter_offset: last as u64 * 4,
+        }
+        .read_back(ctx)
     }
 }

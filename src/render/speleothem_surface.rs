@@ -14,14 +14,16 @@ use crate::gpu::{
     PipelineLayout, Pod, Sampler, vk,
 };
 use crate::model::normal_map::calcite_normal_map;
-use crate::model::speleothem::{GrowthPlan, PassAction, VERTEX_STRIDE};
+use crate::model::speleothem::{GrowthPlan, PassAction, VERTEX_STRIDE, accumulated_thickening};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
 /// Push constants of the surface shaders.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePush {
-    /// x segments per ring, y normal-map repeats per unit length, z normal-map strength.
+    /// x segments per ring, y normal-map repeats per unit length, z normal-map strength,
+    /// w 1 when drawing vertices frozen by the append-only growth (shifted by their
+    /// speleothem's accumulated thickening), else 0.
     pub params: Vec4,
 }
 // SAFETY: repr(C), one Vec4.
@@ -45,16 +47,22 @@ pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
 };
 
 /// Per-speleothem shading data for `pass` passes grown: mineral colour, rings so far
-/// (the paper's `rc`), growth direction and mix intensity.
+/// (the paper's `rc`), growth direction, mix intensity and accumulated thickening.
 pub fn speleothem_info(plan: &GrowthPlan, passes: u32) -> Vec<Vec4> {
     let mut out = Vec::with_capacity(plan.speleothems.len() * 2);
+    let thickening = accumulated_thickening(plan, passes);
     for (i, s) in plan.speleothems.iter().enumerate() {
         let rings = (0..passes.min(plan.passes))
             .filter(|&p| plan.step(p, i).action != PassAction::Idle)
             .count();
         let [r, g, b] = s.mineral.color();
         out.push(Vec4::new(r, g, b, rings as f32));
-        out.push(Vec4::new(s.kind.sign(), s.mineral_intensity, 0.0, 0.0));
+        out.push(Vec4::new(
+            s.kind.sign(),
+            s.mineral_intensity,
+            thickening[i],
+            0.0,
+        ));
     }
     out
 }
@@ -165,6 +173,20 @@ impl SpeleothemSurfacePass {
             } => {
                 cmd.bind_vertex_buffer(buffer, 0);
                 cmd.draw_indirect_byte_count(counter, counter_offset, VERTEX_STRIDE, 1);
+            }
+            MeshSource::Appended { frozen, front } => {
+                for (part, shifted) in [(frozen, 1.0), (front, 0.0)] {
+                    let mut push = self.push;
+                    push.params.w = shifted;
+                    cmd.push_constants(&self.layout, &push)?;
+                    cmd.bind_vertex_buffer(part.buffer, 0);
+                    cmd.draw_indirect_byte_count(
+                        part.counter,
+                        part.counter_offset,
+                        VERTEX_STRIDE,
+                        1,
+                    );
+                }
             }
         }
         Ok(())
