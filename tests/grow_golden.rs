@@ -5,7 +5,7 @@ mod common;
 
 use common::Tolerance;
 use sediment::scene::Size;
-use sediment::scene::grow::{self, GrowOutputs};
+use sediment::scene::grow::{self, GrowOutputs, XfbGrowth};
 
 // Set on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, where these frames reproduce
 // exactly; the margin absorbs rasterisation and code-generation differences of other
@@ -41,6 +41,7 @@ fn frames_of_a_growth_end_in_the_final_frame_and_change() {
         let outputs = GrowOutputs {
             frame_every: Some(4),
             mesh: true,
+            ..GrowOutputs::default()
         };
         let grown = grow::grow(ctx, &scene, size, &outputs, &mut |_, _| {}).expect("grow");
         // Base rings, then every 4 passes: 1 + ceil(30 / 4) frames.
@@ -51,5 +52,34 @@ fn frames_of_a_growth_end_in_the_final_frame_and_change() {
         let mesh = grown.mesh.expect("mesh read back");
         let reference = sediment::model::speleothem::grow_reference(&grown.plan, scene.passes);
         assert_eq!(mesh.len(), reference.len());
+    });
+}
+
+#[test]
+fn the_append_only_growth_renders_the_restreamed_frames() {
+    // The draw-time update of frozen vertices (surface.vert) on the GPU: fig9f has
+    // columns that thicken after they join, fig9g fronts of every kind.
+    common::with_gpu(|ctx| {
+        let size = Size::new(240, 160);
+        for name in ["fig9f", "fig9g"] {
+            let scene = grow::preset(name).expect("preset");
+            let outputs = GrowOutputs {
+                growth: XfbGrowth::Append,
+                mesh: true,
+                ..GrowOutputs::default()
+            };
+            let grown = grow::grow(ctx, &scene, size, &outputs, &mut |_, _| {}).expect("grow");
+            assert_eq!(
+                grown.mesh.expect("mesh").len(),
+                *sediment::model::speleothem::vertex_counts(&grown.plan)
+                    .last()
+                    .expect("passes") as usize
+            );
+            common::assert_golden(
+                &format!("{name}-240x160"),
+                &grown.frame.image,
+                FIG9_TOLERANCE,
+            );
+        }
     });
 }

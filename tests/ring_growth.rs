@@ -59,7 +59,11 @@ fn compare_append(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan
     let mut frozen_total = 0;
     for (pass, (frozen, front)) in counts.iter().enumerate() {
         frozen_total += frozen.written * 3;
-        assert_eq!(front.written * 3, fronts[pass], "{name}: front after pass {pass}");
+        assert_eq!(
+            front.written * 3,
+            fronts[pass],
+            "{name}: front after pass {pass}"
+        );
         assert_eq!(
             frozen_total + front.written * 3,
             predicted[pass],
@@ -90,7 +94,11 @@ fn sorted_triangles(mesh: &[RingVertex]) -> Vec<RingVertex> {
     let key = |v: &RingVertex| {
         let p = v.position() * 1e3;
         (
-            [v.speleothem() as i64, i64::from(v.ring()), i64::from(v.segment())],
+            [
+                v.speleothem() as i64,
+                i64::from(v.ring()),
+                i64::from(v.segment()),
+            ],
             v.id() as i64,
             [p.x.round() as i64, p.y.round() as i64, p.z.round() as i64],
         )

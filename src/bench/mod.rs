@@ -8,10 +8,11 @@
 //! Scenes and variants:
 //! - `grow`: the speleothem growth of a Fig. 9g-like scene (24 speleothems, 32 segments,
 //!   130 passes, one pass and the shading per frame) on the paper's path, the GS/XFB
-//!   pass re-streaming the whole mesh (`xfb-restream`), on the compute path that runs
-//!   the same pass on every core (`compute-restream`), and generated on the CPU then
+//!   pass re-streaming the whole mesh (`xfb-restream`), the same GS fed only the growth
+//!   front with new bands appended (`xfb-append`), on the compute path that runs the
+//!   same pass on every core (`compute-restream`), and generated on the CPU then
 //!   uploaded (`cpu-upload`); vertices per second and the pass time at rings 8, 32 and
-//!   128 show how each path scales as the mesh grows.
+//!   128 show how each path scales as the mesh grows (O(mesh) against O(one ring)).
 //! - `dunes`: Onoue & Nishita's comparison at the figure-17 scene — culling and LOD on
 //!   and off, shadows none / dune / dune+ripple, dust — with the horizon-map
 //!   precomputation on the GPU and the CPU and the sand simulations on one thread and
@@ -35,6 +36,7 @@ use crate::model::speleothem::plan::{GrowthParams, GrowthScene, GrowthUnits};
 use crate::model::speleothem::table2::Pil;
 use crate::model::speleothem::{RingVertex, grow_pass, initial_rings, vertex_counts};
 use crate::render::ring_growth::{MeshSource, RingGrowth};
+use crate::render::ring_growth_append::AppendGrowth;
 use crate::render::ring_growth_compute::ComputeGrowth;
 use crate::render::sky::SkyPass;
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
@@ -47,7 +49,15 @@ pub const SCENES: &[&str] = &["grow", "dunes", "cave"];
 
 /// Every variant per scene, for `--variants`.
 pub const VARIANTS: &[(&str, &[&str])] = &[
-    ("grow", &["xfb-restream", "compute-restream", "cpu-upload"]),
+    (
+        "grow",
+        &[
+            "xfb-restream",
+            "xfb-append",
+            "compute-restream",
+            "cpu-upload",
+        ],
+    ),
     (
         "dunes",
         &[
@@ -301,6 +311,15 @@ fn grow(
         )?;
         report.series.push(s);
     }
+    if opts.wants("xfb-append") {
+        let s = frame.series(
+            ctx,
+            "xfb-append",
+            || AppendGrowth::new(ctx, &plan),
+            progress,
+        )?;
+        report.series.push(s);
+    }
     if opts.wants("compute-restream") {
         let s = frame.series(
             ctx,
@@ -332,6 +351,11 @@ trait GrowthPath {
     fn source(&self) -> MeshSource<'_>;
     /// Vertices of the final mesh, as the path itself counted them.
     fn final_vertices(&self) -> Result<f64>;
+    /// Vertices emitted over the whole growth, given the mesh's vertex count after each
+    /// pass (a re-streaming path emits its whole output every pass).
+    fn emitted_vertices(&self, counts: &[u64]) -> Result<f64> {
+        Ok(counts.iter().sum::<u64>() as f64)
+    }
 }
 
 impl GrowthPath for RingGrowth {
@@ -346,6 +370,29 @@ impl GrowthPath for RingGrowth {
         // The stream queries (and an error on any overflow).
         let counts = self.check_counts()?;
         Ok(counts.last().map_or(0.0, |c| (c.written * 3) as f64))
+    }
+}
+
+impl GrowthPath for AppendGrowth {
+    const ON_GPU: bool = true;
+    fn record_pass(&mut self, cmd: &crate::gpu::Commands<'_>) -> Result<()> {
+        self.record(cmd, 1)
+    }
+    fn source(&self) -> MeshSource<'_> {
+        AppendGrowth::source(self)
+    }
+    fn final_vertices(&self) -> Result<f64> {
+        let counts = self.check_counts()?;
+        let frozen: u64 = counts.iter().map(|(f, _)| f.written * 3).sum();
+        Ok((frozen + counts.last().map_or(0, |(_, front)| front.written * 3)) as f64)
+    }
+    fn emitted_vertices(&self, _counts: &[u64]) -> Result<f64> {
+        // Each pass emits the front's share only: what froze and the next front.
+        let counts = self.check_counts()?;
+        Ok(counts
+            .iter()
+            .map(|(f, front)| (f.written + front.written) * 3)
+            .sum::<u64>() as f64)
     }
 }
 
@@ -451,12 +498,19 @@ impl GrowthFrame<'_> {
             s.metrics
                 .insert(format!("pass_ms_at_ring_{k}"), Stats::of(window).median);
         }
-        // Every pass emits its whole output (counts: vertices after each pass).
-        let vertices: u64 = self.counts.iter().sum();
+        // O(mesh) or O(one ring): how much dearer a pass is late in the growth.
+        if let (Some(early), Some(late)) = (
+            s.metrics.get("pass_ms_at_ring_8").copied(),
+            s.metrics.get("pass_ms_at_ring_128").copied(),
+        ) {
+            s.metrics
+                .insert("pass_ratio_ring_128_to_8".into(), late / early.max(1e-9));
+        }
+        let vertices = growth.emitted_vertices(self.counts)?;
         let total_ms: f64 = pass_ms.iter().sum();
         s.metrics.insert(
             "vertices_per_s".into(),
-            vertices as f64 / (total_ms / 1e3).max(1e-9),
+            vertices / (total_ms / 1e3).max(1e-9),
         );
         s.metrics
             .insert("final_vertices".into(), growth.final_vertices()?);

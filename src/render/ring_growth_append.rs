@@ -92,7 +92,8 @@ impl AppendGrowth {
         if last == first {
             return Ok(());
         }
-        self.queries.reset_range(cmd, 2 * first, 2 * (last - first))?;
+        self.queries
+            .reset_range(cmd, 2 * first, 2 * (last - first))?;
         if first == 0 {
             // The frozen buffer starts empty: its first capture resumes at byte 0.
             cmd.fill_buffer(&self.counters, FROZEN_COUNTER, 4, 0);

@@ -19,7 +19,8 @@ use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::RenderedFrame;
 use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
-use crate::render::ring_growth::RingGrowth;
+use crate::render::ring_growth::{MeshSource, RingGrowth};
+use crate::render::ring_growth_append::AppendGrowth;
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
 
 /// Names of the Figure 9 presets, with what each shows.
@@ -140,9 +141,73 @@ fn chamber(scene: &GrowthScene) -> (Mesh, Mesh) {
     (floor, ceiling)
 }
 
-/// What to produce besides the final frame.
+/// Which GS/XFB growth runs: both give the same mesh (`tests/ring_growth.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum XfbGrowth {
+    /// The paper's pass: the whole mesh re-streamed through the GS every pass.
+    #[default]
+    Restream,
+    /// Only the growth front through the GS; new bands appended (O(one ring) a pass).
+    Append,
+}
+
+/// A growth on either GS/XFB path, behind one interface.
+pub enum Growth {
+    Restream(RingGrowth),
+    Append(AppendGrowth),
+}
+
+impl Growth {
+    pub fn new(ctx: &Arc<Context>, plan: &GrowthPlan, kind: XfbGrowth) -> Result<Self> {
+        Ok(match kind {
+            XfbGrowth::Restream => Self::Restream(RingGrowth::new(ctx, plan, None)?),
+            XfbGrowth::Append => Self::Append(AppendGrowth::new(ctx, plan)?),
+        })
+    }
+
+    pub fn passes_done(&self) -> u32 {
+        match self {
+            Self::Restream(g) => g.passes_done(),
+            Self::Append(g) => g.passes_done(),
+        }
+    }
+
+    /// Records the next `passes` passes (clamped to the plan).
+    pub fn record(&mut self, cmd: &crate::gpu::Commands<'_>, passes: u32) -> Result<()> {
+        match self {
+            Self::Restream(g) => g.record(cmd, passes),
+            Self::Append(g) => g.record(cmd, passes),
+        }
+    }
+
+    /// After the submissions: an error if any capture ran out of room.
+    pub fn check_counts(&self) -> Result<()> {
+        match self {
+            Self::Restream(g) => g.check_counts().map(drop),
+            Self::Append(g) => g.check_counts().map(drop),
+        }
+    }
+
+    pub fn source(&self) -> MeshSource<'_> {
+        match self {
+            Self::Restream(g) => g.source(),
+            Self::Append(g) => g.source(),
+        }
+    }
+
+    /// The current mesh as the re-streaming pass holds it.
+    pub fn read_back(&self, ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Vec<RingVertex>> {
+        match self {
+            Self::Restream(g) => g.read_back(ctx),
+            Self::Append(g) => g.read_back(ctx, plan),
+        }
+    }
+}
+
+/// What to produce besides the final frame, and how to grow.
 #[derive(Clone, Debug, Default)]
 pub struct GrowOutputs {
+    pub growth: XfbGrowth,
     /// Also render a frame before the first pass and every `k` passes (for a GIF).
     pub frame_every: Option<u32>,
     /// Read the grown mesh back from the transform-feedback buffer.
@@ -174,7 +239,7 @@ pub fn grow(
     let frame_uniforms = lighting.frame_uniforms(&camera, size.aspect());
 
     let target = OffscreenTarget::new(ctx, size.width, size.height)?;
-    let mut growth = RingGrowth::new(ctx, &plan, None)?;
+    let mut growth = Growth::new(ctx, &plan, outputs.growth)?;
     let mut surface =
         SpeleothemSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &plan, scene.seed)?;
     let mut rock = LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?;
@@ -226,7 +291,7 @@ pub fn grow(
     growth.check_counts()?;
     let image = target.read_image()?;
     let mesh = if outputs.mesh {
-        Some(growth.read_back(ctx)?)
+        Some(growth.read_back(ctx, &plan)?)
     } else {
         None
     };

@@ -81,6 +81,12 @@ pub struct GrowArgs {
     /// (default 0.0012).
     #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
     thicken: Option<f32>,
+    /// The GS/XFB growth: `restream` (the paper's pass, the whole mesh through the
+    /// geometry shader every pass) or `append` (only the growth front; new bands
+    /// appended by resuming the transform-feedback counter, O(one ring) per pass). Both
+    /// give the same mesh.
+    #[arg(long, value_name = "restream|append", default_value = "restream", value_parser = ["restream", "append"])]
+    growth: String,
     /// The final frame as PNG (default grow.png when no other output is asked for).
     #[arg(short = 'o', long = "output", value_name = "FILE.png")]
     output: Option<PathBuf>,
@@ -174,6 +180,11 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
     }
     let ctx = open_context(cli)?;
     let outputs = grow::GrowOutputs {
+        growth: if a.growth == "append" {
+            grow::XfbGrowth::Append
+        } else {
+            grow::XfbGrowth::Restream
+        },
         frame_every: a.gif.as_ref().map(|_| a.gif_every),
         mesh: a.mesh.is_some(),
     };
