@@ -74,6 +74,14 @@ pub enum Error {
         capacity_vertices: u64,
     },
 
+    #[error(
+        "Cannot show a window: {detail}. `sediment view` needs an X11 display (DISPLAY set; \
+         on a machine without one run it under Xvfb: `sudo apt-get install -y xvfb`, then \
+         `xvfb-run -s '-screen 0 1280x800x24' sediment view ...`) and a Vulkan driver with \
+         window-system support (lavapipe has it). The headless commands need neither."
+    )]
+    NoWindow { detail: String },
+
     #[error("Invalid value for {argument}: {message}")]
     InvalidArgument { argument: String, message: String },
 

@@ -60,6 +60,7 @@ fn an_unknown_device_name_is_a_clear_error() {
     let err = match Context::new(&ContextOptions {
         device: Some("no-such-gpu-xyz".to_owned()),
         validate: false,
+        window: None,
     }) {
         Ok(_) => panic!("no device is called no-such-gpu-xyz"),
         Err(e) => e.to_string(),

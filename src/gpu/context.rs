@@ -22,6 +22,9 @@ pub struct ContextOptions {
     pub device: Option<String>,
     /// Enable VK_LAYER_KHRONOS_validation and record its errors.
     pub validate: bool,
+    /// Present to windows of this display (enables the surface and swapchain
+    /// extensions); `None` for headless work.
+    pub window: Option<raw_window_handle::RawDisplayHandle>,
 }
 
 impl ContextOptions {
@@ -68,8 +71,20 @@ fn load_entry() -> Result<ash::Entry> {
     })
 }
 
-fn create_instance(validate: bool, log: Option<&ValidationLog>) -> Result<InstanceParts> {
+fn create_instance(
+    validate: bool,
+    log: Option<&ValidationLog>,
+    window: Option<raw_window_handle::RawDisplayHandle>,
+) -> Result<InstanceParts> {
     let entry = load_entry()?;
+    let window_extensions = match window {
+        Some(display) => {
+            ash_window::enumerate_required_extensions(display).map_err(|r| Error::NoWindow {
+                detail: format!("the display's surface extensions are unknown to Vulkan ({r})"),
+            })?
+        }
+        None => &[],
+    };
     // SAFETY: plain enumeration on a loaded entry.
     let layers = unsafe { entry.enumerate_instance_layer_properties() }
         .vk("vkEnumerateInstanceLayerProperties")?;
@@ -102,11 +117,27 @@ fn create_instance(validate: bool, log: Option<&ValidationLog>) -> Result<Instan
     } else {
         Vec::new()
     };
-    let extension_names: Vec<*const c_char> = if has_debug_utils {
+    let mut extension_names: Vec<*const c_char> = if has_debug_utils {
         vec![ash::ext::debug_utils::NAME.as_ptr()]
     } else {
         Vec::new()
     };
+    for &wanted in window_extensions {
+        // SAFETY: ash-window returns pointers to static NUL-terminated extension names.
+        let name = unsafe { CStr::from_ptr(wanted) };
+        if !extensions
+            .iter()
+            .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == name))
+        {
+            return Err(Error::NoWindow {
+                detail: format!(
+                    "the Vulkan driver lacks the instance extension {}",
+                    name.to_string_lossy()
+                ),
+            });
+        }
+        extension_names.push(wanted);
+    }
     let mut messenger_info = log.map(validation::messenger_info);
     let mut info = vk::InstanceCreateInfo::default()
         .application_info(&app)
@@ -147,7 +178,7 @@ fn physical_devices(instance: &ash::Instance) -> Result<Vec<vk::PhysicalDevice>>
 
 /// Reports every device the loader sees, for `sediment info`. Needs no feature.
 pub fn probe_devices() -> Result<Vec<DeviceReport>> {
-    let parts = create_instance(false, None)?;
+    let parts = create_instance(false, None, None)?;
     let result = physical_devices(&parts.instance).map(|devices| {
         devices
             .into_iter()
@@ -168,10 +199,12 @@ pub struct Context {
     debug_device: Option<ash::ext::debug_utils::Device>,
     pub(crate) device: ash::Device,
     pub(crate) queue: vk::Queue,
+    pub(crate) queue_family: u32,
+    pub(crate) physical: vk::PhysicalDevice,
     info: DeviceInfo,
     messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     pub(crate) instance: ash::Instance,
-    _entry: ash::Entry,
+    pub(crate) entry: ash::Entry,
     // Boxed so its address, handed to the messenger callback, never moves; dropped last.
     validation_log: Box<ValidationLog>,
 }
@@ -180,7 +213,11 @@ impl Context {
     /// Loads Vulkan, picks a device that has everything sediment needs and creates it.
     pub fn new(options: &ContextOptions) -> Result<Arc<Self>> {
         let log = Box::<ValidationLog>::default();
-        let parts = create_instance(options.validate, options.validate.then_some(&*log))?;
+        let parts = create_instance(
+            options.validate,
+            options.validate.then_some(&*log),
+            options.window,
+        )?;
         match Self::with_instance(options, log, parts) {
             Ok(ctx) => Ok(Arc::new(ctx)),
             Err((e, parts)) => {
@@ -222,7 +259,10 @@ impl Context {
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
-        let device_extensions = [ash::ext::transform_feedback::NAME.as_ptr()];
+        let mut device_extensions = vec![ash::ext::transform_feedback::NAME.as_ptr()];
+        if options.window.is_some() {
+            device_extensions.push(ash::khr::swapchain::NAME.as_ptr());
+        }
         let core = vk::PhysicalDeviceFeatures::default().geometry_shader(true);
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
@@ -239,6 +279,13 @@ impl Context {
         // all pointers in `device_info` refer to locals alive for the call.
         let device = match unsafe { parts.instance.create_device(physical, &device_info, None) } {
             Ok(d) => d,
+            Err(vk::Result::ERROR_EXTENSION_NOT_PRESENT) if options.window.is_some() => {
+                let detail = format!(
+                    "the device \"{}\" cannot present (no VK_KHR_swapchain)",
+                    report.name
+                );
+                return Err((Error::NoWindow { detail }, Some(parts)));
+            }
             Err(result) => {
                 return Err((
                     Error::Vulkan {
@@ -334,10 +381,12 @@ impl Context {
             debug_device,
             device,
             queue,
+            queue_family,
+            physical,
             info,
             messenger,
             instance: parts.instance,
-            _entry: parts.entry,
+            entry: parts.entry,
             validation_log,
         };
         ctx.name(ctx.queue, "sediment queue");
@@ -394,6 +443,18 @@ impl Context {
         label: &str,
         record: impl FnOnce(&Commands<'_>) -> Result<()>,
     ) -> Result<()> {
+        self.submit_and_wait_with(label, &[], &[], record)
+    }
+
+    /// `submit_and_wait` whose submission also waits on `waits` (each at its stage) and
+    /// signals `signals` (a frame between acquire and present).
+    pub(crate) fn submit_and_wait_with(
+        &self,
+        label: &str,
+        waits: &[(vk::Semaphore, vk::PipelineStageFlags2)],
+        signals: &[vk::Semaphore],
+        record: impl FnOnce(&Commands<'_>) -> Result<()>,
+    ) -> Result<()> {
         let pool = match self.command_pool.lock() {
             Ok(p) => p,
             Err(poisoned) => poisoned.into_inner(),
@@ -406,7 +467,7 @@ impl Context {
         let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
             .vk("vkAllocateCommandBuffers")?[0];
         self.name(cmd, label);
-        let result = self.record_submit_wait(cmd, record);
+        let result = self.record_submit_wait(cmd, waits, signals, record);
         // SAFETY: the submission has completed (or never happened) by now.
         unsafe { self.device.free_command_buffers(*pool, &[cmd]) };
         result
@@ -415,6 +476,8 @@ impl Context {
     fn record_submit_wait(
         &self,
         cmd: vk::CommandBuffer,
+        waits: &[(vk::Semaphore, vk::PipelineStageFlags2)],
+        signals: &[vk::Semaphore],
         record: impl FnOnce(&Commands<'_>) -> Result<()>,
     ) -> Result<()> {
         let begin = vk::CommandBufferBeginInfo::default()
@@ -434,7 +497,26 @@ impl Context {
         }
         .vk("vkCreateFence")?;
         let cmd_info = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
-        let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_info)];
+        let wait_info: Vec<vk::SemaphoreSubmitInfo<'_>> = waits
+            .iter()
+            .map(|&(semaphore, stage)| {
+                vk::SemaphoreSubmitInfo::default()
+                    .semaphore(semaphore)
+                    .stage_mask(stage)
+            })
+            .collect();
+        let signal_info: Vec<vk::SemaphoreSubmitInfo<'_>> = signals
+            .iter()
+            .map(|&semaphore| {
+                vk::SemaphoreSubmitInfo::default()
+                    .semaphore(semaphore)
+                    .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            })
+            .collect();
+        let submit = [vk::SubmitInfo2::default()
+            .wait_semaphore_infos(&wait_info)
+            .command_buffer_infos(&cmd_info)
+            .signal_semaphore_infos(&signal_info)];
         // SAFETY: the command buffer is fully recorded and the fence unsignalled.
         let submitted =
             unsafe { self.device.queue_submit2(self.queue, &submit, fence) }.vk("vkQueueSubmit2");

@@ -77,6 +77,10 @@ impl OffscreenTarget {
         self.height
     }
 
+    pub(crate) fn color_image(&self) -> vk::Image {
+        self.color.raw()
+    }
+
     /// Transitions both attachments, clears them and opens a rendering scope with the
     /// viewport set to the whole target.
     pub fn begin(&self, cmd: &Commands<'_>, clear: [f32; 4]) {

@@ -21,6 +21,7 @@ pub fn gpu() -> Arc<Context> {
             .ok()
             .filter(|s| !s.is_empty()),
         validate: true,
+        window: None,
     };
     match Context::new(&options) {
         Ok(ctx) => {

@@ -163,12 +163,17 @@ fn info() -> anyhow::Result<()> {
 }
 
 pub fn open_context(cli: &Cli) -> anyhow::Result<std::sync::Arc<Context>> {
-    let options = ContextOptions {
+    Ok(Context::new(&context_options(cli))?)
+}
+
+/// The device options of the command line and the environment.
+pub fn context_options(cli: &Cli) -> ContextOptions {
+    ContextOptions {
         device: cli.device.clone(),
         validate: cli.validate,
+        window: None,
     }
-    .with_env();
-    Ok(Context::new(&options)?)
+    .with_env()
 }
 
 fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
