@@ -204,10 +204,71 @@ impl Growth {
     }
 }
 
+/// The speleothem scene's passes — the chamber's rock and the grown surface — shared
+/// by `grow` and the interactive viewer.
+pub struct GrowthRenderer {
+    surface: SpeleothemSurfacePass,
+    rock: LitMeshPass,
+    floor: GpuMesh,
+    ceiling: GpuMesh,
+    lighting: Lighting,
+}
+
+const ROCK: ObjectPush = ObjectPush {
+    model: Mat4::IDENTITY,
+    albedo: Vec4::new(0.16, 0.13, 0.105, 1.0),
+    material: Vec4::new(12.0, 0.05, 0.0, 0.0),
+};
+const CLEAR: [f32; 4] = [0.004, 0.0035, 0.003, 1.0];
+
+impl GrowthRenderer {
+    pub fn new(ctx: &Arc<Context>, scene: &GrowthScene, plan: &GrowthPlan) -> Result<Self> {
+        let (floor, ceiling) = chamber(scene);
+        Ok(Self {
+            surface: SpeleothemSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, plan, scene.seed)?,
+            rock: LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
+            ceiling: GpuMesh::upload(ctx, "cave ceiling", &ceiling)?,
+            lighting: lamp_lighting(scene),
+        })
+    }
+
+    /// The camera, and the plan's ring counts after `passes` passes (before the
+    /// submission that draws them).
+    pub fn set_frame(
+        &mut self,
+        camera: &Camera,
+        aspect: f32,
+        plan: &GrowthPlan,
+        passes: u32,
+    ) -> Result<()> {
+        let frame = self.lighting.frame_uniforms(camera, aspect);
+        self.rock.set_frame(&frame)?;
+        self.surface.set_frame(&frame, plan, passes)
+    }
+
+    /// Clears `target` and draws the chamber and the mesh of `source` into it.
+    pub fn draw(
+        &self,
+        cmd: &crate::gpu::Commands<'_>,
+        target: &OffscreenTarget,
+        source: MeshSource<'_>,
+    ) -> Result<()> {
+        target.begin(cmd, CLEAR);
+        self.rock.draw(cmd, &self.floor, &ROCK)?;
+        self.rock.draw(cmd, &self.ceiling, &ROCK)?;
+        self.surface.draw(cmd, source)?;
+        target.end(cmd);
+        Ok(())
+    }
+}
+
 /// What to produce besides the final frame, and how to grow.
 #[derive(Clone, Debug, Default)]
 pub struct GrowOutputs {
     pub growth: XfbGrowth,
+    /// The camera (default: `default_camera`).
+    pub camera: Option<Camera>,
     /// Also render a frame before the first pass and every `k` passes (for a GIF).
     pub frame_every: Option<u32>,
     /// Read the grown mesh back from the transform-feedback buffer.
@@ -234,26 +295,15 @@ pub fn grow(
 ) -> Result<Grown> {
     let start = Instant::now();
     let plan = scene.plan()?;
-    let camera = default_camera(scene);
-    let lighting = lamp_lighting(scene);
-    let frame_uniforms = lighting.frame_uniforms(&camera, size.aspect());
+    let camera = outputs
+        .camera
+        .clone()
+        .unwrap_or_else(|| default_camera(scene));
 
     let target = OffscreenTarget::new(ctx, size.width, size.height)?;
     let mut growth = Growth::new(ctx, &plan, outputs.growth)?;
-    let mut surface =
-        SpeleothemSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &plan, scene.seed)?;
-    let mut rock = LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?;
-    rock.set_frame(&frame_uniforms)?;
-    let (floor, ceiling) = chamber(scene);
-    let floor = GpuMesh::upload(ctx, "cave floor", &floor)?;
-    let ceiling = GpuMesh::upload(ctx, "cave ceiling", &ceiling)?;
-    let rock_object = ObjectPush {
-        model: Mat4::IDENTITY,
-        albedo: Vec4::new(0.16, 0.13, 0.105, 1.0),
-        material: Vec4::new(12.0, 0.05, 0.0, 0.0),
-    };
+    let mut renderer = GrowthRenderer::new(ctx, scene, &plan)?;
     let mut timer = GpuTimer::new(ctx, "grow timer", 2)?;
-    let clear = [0.004, 0.0035, 0.003, 1.0];
 
     let step = outputs.frame_every.unwrap_or(plan.passes).max(1);
     let mut frames = Vec::new();
@@ -263,18 +313,14 @@ pub fn grow(
         // The first batch with frames requested renders the base rings before any pass.
         let batch = if first { 0 } else { step };
         first = false;
-        surface.set_frame(&frame_uniforms, &plan, growth.passes_done() + batch)?;
+        renderer.set_frame(&camera, size.aspect(), &plan, growth.passes_done() + batch)?;
         ctx.submit_and_wait("grow + shade", |cmd| {
             timer.reset(cmd);
             let span = timer.begin(cmd, "ring growth")?;
             growth.record(cmd, batch)?;
             timer.end(cmd, span);
             let span = timer.begin(cmd, "shading")?;
-            target.begin(cmd, clear);
-            rock.draw(cmd, &floor, &rock_object)?;
-            rock.draw(cmd, &ceiling, &rock_object)?;
-            surface.draw(cmd, growth.source())?;
-            target.end(cmd);
+            renderer.draw(cmd, &target, growth.source())?;
             timer.end(cmd, span);
             target.copy_out(cmd);
             Ok(())

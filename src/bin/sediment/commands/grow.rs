@@ -9,78 +9,94 @@ use sediment::model::speleothem::plan::StepMode;
 use sediment::scene::file::{SceneFile, parse_mode};
 use sediment::scene::grow::{self, GrowthScene};
 
-use crate::{Cli, fail_on_validation_errors, open_context, progress};
+use sediment::scene::camera::Camera;
 
+use crate::{Cli, fail_on_validation_errors, open_context, progress, vec3_arg};
+
+/// The growth scene's options, shared by `sediment grow` and `sediment view grow`.
 #[derive(clap::Args, Debug)]
-pub struct GrowArgs {
+pub struct GrowSceneArgs {
     /// Start from a reproduction of a panel of the paper's Figure 9: fig9a (random
     /// stalactites), fig9b/c/d (stalactites, normal/low/high CO2), fig9e (stalagmites,
     /// dry drip), fig9f (columns), fig9g/fig9h (random, iron/malachite).
     #[arg(long, value_name = "NAME")]
-    preset: Option<String>,
+    pub preset: Option<String>,
     /// A TOML scene file with the same parameters and per-pass changes (see
     /// src/scene/file.rs for the format).
     #[arg(long, value_name = "FILE.toml")]
-    scene: Option<PathBuf>,
+    pub scene: Option<PathBuf>,
     /// Sites to place from the seed, 1..=256: each a stalactite, plus a stalagmite
     /// below it at PIL 2.
     #[arg(long, value_name = "N")]
-    count: Option<u32>,
+    pub count: Option<u32>,
     /// Growth passes (one ring per pass), 1..=512.
     #[arg(long, value_name = "N")]
-    passes: Option<u32>,
+    pub passes: Option<u32>,
     /// Segments per ring, 3..=128.
     #[arg(long, value_name = "N")]
-    segments: Option<u32>,
+    pub segments: Option<u32>,
     /// manual: exactly the Table 2 row of --pil/--drip/--co2; random: each pass draws
     /// the row at random and jitters the steps by --jitter.
     #[arg(long, value_name = "manual|random")]
-    mode: Option<String>,
+    pub mode: Option<String>,
     /// Random mode's step jitter, as a fraction, 0..=0.9 (default 0.5).
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    jitter: Option<f32>,
+    pub jitter: Option<f32>,
     /// Pluviometric index level: 0 no growth, 1 stalactites only, 2 dripping
     /// (stalagmites below the stalactites).
     #[arg(long, value_name = "0|1|2")]
-    pil: Option<String>,
+    pub pil: Option<String>,
     /// Drip interval (stalagmite radius): dry (narrows), standard, wet (widens).
     #[arg(long, value_name = "dry|standard|wet")]
-    drip: Option<String>,
+    pub drip: Option<String>,
     /// Calcium/CO2 concentration (height step x1/x2/x3): low, normal, high.
     #[arg(long, value_name = "low|normal|high")]
-    co2: Option<String>,
+    pub co2: Option<String>,
     /// Wind intensity wi, 0..=1 (displaces each new ring by wi x 0.02 units).
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    wind: Option<f32>,
+    pub wind: Option<f32>,
     /// Wind direction in degrees from +x toward +z.
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
-    wind_direction: Option<f32>,
+    pub wind_direction: Option<f32>,
     /// Mineral colour (Table 1): calcareous, iron, manganese, copper, malachite.
     #[arg(long, value_name = "NAME")]
-    mineral: Option<String>,
+    pub mineral: Option<String>,
     /// How strongly the mineral colours the calcite, 0..=1.
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    mineral_intensity: Option<f32>,
+    pub mineral_intensity: Option<f32>,
     /// Initial ring radius irr, scene units, > 0 (default 0.09).
     #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
-    radius: Option<f32>,
+    pub radius: Option<f32>,
     /// Table 2's "x1" radius step, scene units, > 0 (default 0.006).
     #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
-    radius_unit: Option<f32>,
+    pub radius_unit: Option<f32>,
     /// Table 2's "x1" height step, scene units, > 0 (default 0.035).
     #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
-    height_unit: Option<f32>,
+    pub height_unit: Option<f32>,
     /// kf of the flank displacement vd = kf * arr / irr, scene units, >= 0 (default 0.02).
     #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
-    kf: Option<f32>,
+    pub kf: Option<f32>,
     /// Chance per pass, 0..=1, that a drop solidifies on the flank while CO2 is low
     /// (default 0.3).
     #[arg(long, value_name = "P", allow_negative_numbers = true)]
-    flank_rate: Option<f32>,
+    pub flank_rate: Option<f32>,
     /// Horizontal thickening per pass after vertical growth stopped, scene units, >= 0
     /// (default 0.0012).
     #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
-    thicken: Option<f32>,
+    pub thicken: Option<f32>,
+    /// Camera position x,y,z in scene units (default: in front of the chamber, a little
+    /// below mid-height; the chamber spans y = 0 (floor) .. 2.4 (ceiling) by default).
+    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
+    pub eye: Option<String>,
+    /// Point the camera looks at, x,y,z in scene units.
+    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
+    pub target: Option<String>,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct GrowArgs {
+    #[command(flatten)]
+    scene: GrowSceneArgs,
     /// The GS/XFB growth: `restream` (the paper's pass, the whole mesh through the
     /// geometry shader every pass) or `append` (only the growth front; new bands
     /// appended by resuming the transform-feedback counter, O(one ring) per pass). Both
@@ -102,7 +118,7 @@ pub struct GrowArgs {
     mesh: Option<PathBuf>,
 }
 
-pub fn growth_scene(cli: &Cli, a: &GrowArgs) -> anyhow::Result<GrowthScene> {
+pub fn growth_scene(cli: &Cli, a: &GrowSceneArgs) -> anyhow::Result<GrowthScene> {
     let file = a.scene.as_deref().map(SceneFile::read).transpose()?;
     let preset_name = a
         .preset
@@ -159,18 +175,37 @@ pub fn growth_scene(cli: &Cli, a: &GrowArgs) -> anyhow::Result<GrowthScene> {
     set(&mut u.flank_rate, a.flank_rate);
     set(&mut u.thicken_rate, a.thicken);
     scene.validate()?;
+    Ok(scene)
+}
+
+/// The camera of `--eye`/`--target` over the scene's default one.
+pub fn growth_camera(scene: &GrowthScene, a: &GrowSceneArgs) -> anyhow::Result<Camera> {
+    let mut camera = grow::default_camera(scene);
+    if let Some(e) = &a.eye {
+        camera.eye = vec3_arg("--eye", e)?;
+    }
+    if let Some(t) = &a.target {
+        camera.target = vec3_arg("--target", t)?;
+    }
+    if (camera.eye - camera.target).length() < 1e-6 {
+        bail!(sediment::Error::invalid(
+            "--eye/--target",
+            "the camera must not look at its own position"
+        ));
+    }
+    Ok(camera)
+}
+
+pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
+    // Everything the user gave is checked before any GPU work or file is touched.
+    let scene = growth_scene(cli, &a.scene)?;
+    let camera = growth_camera(&scene, &a.scene)?;
     if !(1..=512).contains(&a.gif_every) {
         bail!(sediment::Error::invalid(
             "--gif-every",
             "must be in 1..=512"
         ));
     }
-    Ok(scene)
-}
-
-pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
-    // Everything the user gave is checked before any GPU work or file is touched.
-    let scene = growth_scene(cli, a)?;
     let output = match (&a.output, &a.gif, &a.mesh) {
         (None, None, None) => Some(PathBuf::from("grow.png")),
         (o, _, _) => o.clone(),
@@ -180,6 +215,7 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
     }
     let ctx = open_context(cli)?;
     let outputs = grow::GrowOutputs {
+        camera: Some(camera),
         growth: if a.growth == "append" {
             grow::XfbGrowth::Append
         } else {
