@@ -17,5 +17,6 @@ pub mod pod;
 pub mod render;
 pub mod scene;
 pub mod shaders;
+pub mod view;
 
 pub use error::{Error, Result};

@@ -127,8 +127,8 @@ pub enum EmitMode {
 /// paths.
 pub(crate) struct GrowthPipeline {
     plan_set: DescriptorSet,
-    // Read by the shader every pass; kept alive with the growth.
-    _plan_buffer: Buffer,
+    // Read by the shader every pass; rewritten when the plan is steered.
+    plan_buffer: Buffer,
     pipeline: Pipeline,
     layout: PipelineLayout,
     speleothem_count: u32,
@@ -157,12 +157,26 @@ impl GrowthPipeline {
         plan_set.write_buffer(0, &plan_buffer)?;
         Ok(Self {
             plan_set,
-            _plan_buffer: plan_buffer,
+            plan_buffer,
             pipeline,
             layout,
             speleothem_count: plan.speleothems.len() as u32,
             segments: plan.segments,
         })
+    }
+
+    /// Replaces the plan with one of the same shape (speleothems, passes), e.g. the same
+    /// scene re-planned after a parameter change; false (and nothing changed) otherwise.
+    /// No submission may be reading the plan.
+    pub(crate) fn write_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
+        let steps = plan.gpu_steps();
+        if plan.speleothems.len() as u32 != self.speleothem_count
+            || std::mem::size_of_val(steps.as_slice()) as u64 != self.plan_buffer.size()
+        {
+            return Ok(false);
+        }
+        self.plan_buffer.write(0, &steps)?;
+        Ok(true)
     }
 
     /// Binds the pipeline for pass `pass` emitting `mode` (inside a rendering scope).
@@ -240,6 +254,16 @@ impl RingGrowth {
 
     pub fn capacity_vertices(&self) -> u64 {
         self.capacity_vertices
+    }
+
+    /// Continues with `plan` (the same scene re-planned after a parameter change, whose
+    /// passes so far are unchanged); false when it does not fit this growth's buffers.
+    pub fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
+        let needed = vertex_counts(plan).into_iter().max().unwrap_or(0);
+        if needed > self.capacity_vertices {
+            return Ok(false);
+        }
+        self.growth.write_plan(plan)
     }
 
     /// Records the next `passes` growth passes (clamped to the plan) into `cmd`.

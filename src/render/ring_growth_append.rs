@@ -85,6 +85,16 @@ impl AppendGrowth {
         self.passes_done
     }
 
+    /// Continues with `plan` (the same scene re-planned after a parameter change, whose
+    /// passes so far are unchanged); false when it does not fit this growth's buffers.
+    pub fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
+        let needed = vertex_counts(plan).last().copied().unwrap_or(0);
+        if needed > self.frozen_capacity {
+            return Ok(false);
+        }
+        self.growth.write_plan(plan)
+    }
+
     /// Records the next `passes` growth passes (clamped to the plan) into `cmd`.
     pub fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
         let first = self.passes_done;

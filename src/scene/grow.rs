@@ -180,6 +180,14 @@ impl Growth {
         }
     }
 
+    /// Continues with `plan` (see `AppendGrowth::set_plan`); false when it does not fit.
+    pub fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
+        match self {
+            Self::Restream(g) => g.set_plan(plan),
+            Self::Append(g) => g.set_plan(plan),
+        }
+    }
+
     /// After the submissions: an error if any capture ran out of room.
     pub fn check_counts(&self) -> Result<()> {
         match self {

@@ -28,7 +28,7 @@ macro_rules! set {
 
 mod commands;
 
-use commands::{bench, cave, dunes, grow, layers};
+use commands::{bench, cave, dunes, grow, layers, view};
 
 /// Simulates and renders depositional natural scenes (speleothems, caves, stalagmite
 /// layers, desert dunes) on Vulkan; runs headless on Mesa's lavapipe.
@@ -100,6 +100,11 @@ enum Command {
     /// run; device, driver, Vulkan and sediment versions and the git commit in every
     /// report. Prints Markdown tables.
     Bench(Box<bench::BenchArgs>),
+    /// Open a window and render a scene continuously with the same passes as the
+    /// headless commands: speleothems growing in real time while you steer the
+    /// parameters, the camera orbiting or flying. Needs an X11 display (Xvfb works).
+    #[command(after_help = view::controls())]
+    View(Box<view::ViewArgs>),
 }
 
 pub fn parse_size(s: &str) -> Result<Size, String> {
@@ -126,6 +131,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Cave(args) => cave::run(&cli, args),
         Command::Layers(args) => layers::run(&cli, args),
         Command::Bench(args) => bench::run(&cli, args),
+        Command::View(args) => view::run(&cli, args),
     }
 }
 

@@ -5,3 +5,4 @@ pub mod cave;
 pub mod dunes;
 pub mod grow;
 pub mod layers;
+pub mod view;

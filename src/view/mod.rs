@@ -1,0 +1,523 @@
+//! `sediment view`: the interactive viewer. A winit window with a Vulkan swapchain,
+//! rendering continuously with the same passes as the headless commands: each frame
+//! draws into an `OffscreenTarget` exactly as `sediment grow` does, and the target is
+//! blitted into the swapchain image with a text panel on top. Growth runs in real time
+//! and its parameters are steered while it runs (`grow_session`); the camera orbits or
+//! flies (`camera_control`). `--frames N` renders N frames and exits, and `--script`
+//! feeds synthesised key presses through the same handler as real ones: that is how
+//! the tests drive it under Xvfb.
+
+pub mod camera_control;
+pub mod grow_session;
+pub mod input;
+pub mod overlay;
+
+use std::collections::HashSet;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key as WinitKey, NamedKey};
+use winit::platform::x11::EventLoopBuilderExtX11;
+use winit::window::{Window, WindowId};
+
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Buffer, BufferDesc, Context, ContextOptions, GpuTimer, OffscreenTarget, Presented, Surface,
+    Swapchain, vk,
+};
+use crate::model::speleothem::{GrowthPlan, RingVertex};
+use crate::scene::Size;
+use crate::scene::camera::Camera;
+use crate::scene::grow::{GrowthScene, XfbGrowth};
+use camera_control::CameraControl;
+use grow_session::GrowthSession;
+use input::{Key, ScriptedKey};
+
+/// What to show.
+pub enum ViewScene {
+    /// Speleothems growing (Tortelli & Walter).
+    Grow {
+        scene: Box<GrowthScene>,
+        growth: XfbGrowth,
+        /// One growth pass every `every` frames.
+        every: u32,
+    },
+}
+
+/// How to show it.
+pub struct ViewOptions {
+    pub context: ContextOptions,
+    /// The window's initial inner size.
+    pub size: Size,
+    pub camera: Camera,
+    /// Wait for the display's refresh (FIFO); off measures uncapped frame rates.
+    pub vsync: bool,
+    /// Render this many frames, then exit (non-interactive).
+    pub frames: Option<u32>,
+    /// Where the screenshot key (F2) writes, and where the last frame goes on exit
+    /// with `frames`. Default for the key: sediment-view-FRAME.png.
+    pub screenshot: Option<PathBuf>,
+    /// Synthesised key presses.
+    pub script: Vec<ScriptedKey>,
+    pub overlay: bool,
+}
+
+/// What a viewing session did.
+pub struct ViewReport {
+    pub frames: u32,
+    /// Per frame: wall-clock milliseconds from the start of one frame to the next.
+    pub frame_ms: Vec<f64>,
+    /// Per frame: GPU milliseconds of the growth pass(es) and of the shading.
+    pub growth_gpu_ms: Vec<f64>,
+    pub shading_gpu_ms: Vec<f64>,
+    /// Final size of the window's image.
+    pub size: Size,
+    /// The plan and the mesh at the end (grow).
+    pub grown: Option<(GrowthPlan, Vec<RingVertex>)>,
+    pub validation_errors: Vec<String>,
+}
+
+/// The controls every scene shares, for the overlay and `--help`.
+pub const CONTROLS: &[&str] = &[
+    "drag orbit (fly: look)  wheel zoom  tab orbit/fly  wasd move  q/e down/up",
+    "v print camera options  f2 screenshot  h hide this  esc quit",
+];
+
+/// Opens the window and runs until it is closed (or `frames` are done). `say` gets
+/// the lines meant for the user's terminal (camera options, screenshots written).
+pub fn run(
+    options: ViewOptions,
+    scene: ViewScene,
+    say: &mut dyn FnMut(&str),
+) -> Result<ViewReport> {
+    let event_loop = EventLoop::builder()
+        // Tests run the viewer off the main thread; X11 allows it.
+        .with_any_thread(true)
+        .build()
+        .map_err(|e| Error::NoWindow {
+            detail: format!("no X11 display could be opened ({e})"),
+        })?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App {
+        options,
+        scene: Some(scene),
+        say,
+        state: None,
+        error: None,
+        report: ViewReport {
+            frames: 0,
+            frame_ms: Vec::new(),
+            growth_gpu_ms: Vec::new(),
+            shading_gpu_ms: Vec::new(),
+            size: Size::new(0, 0),
+            grown: None,
+            validation_errors: Vec::new(),
+        },
+    };
+    event_loop.run_app(&mut app).map_err(|e| Error::NoWindow {
+        detail: format!("the window's event loop failed ({e})"),
+    })?;
+    if let Some(e) = app.error.take() {
+        return Err(e);
+    }
+    if let Some(state) = app.state.take() {
+        state.finish(&mut app.report)?;
+    }
+    Ok(app.report)
+}
+
+struct App<'a> {
+    options: ViewOptions,
+    scene: Option<ViewScene>,
+    say: &'a mut dyn FnMut(&str),
+    // Dropped before the window (inside `State`, fields drop in order).
+    state: Option<State>,
+    error: Option<Error>,
+    report: ViewReport,
+}
+
+/// Everything that lives while the window is open. Field order is drop order: the
+/// swapchain before the surface before the window.
+struct State {
+    session: GrowthSession,
+    timer: GpuTimer,
+    overlay_buffer: Option<Buffer>,
+    target: Option<OffscreenTarget>,
+    swapchain: Option<Swapchain>,
+    surface: Surface,
+    ctx: Arc<Context>,
+    window: Window,
+    camera: CameraControl,
+    held: HashSet<char>,
+    dragging: bool,
+    cursor: Option<(f64, f64)>,
+    last_frame: Instant,
+    frame: u32,
+    stale: bool,
+    overlay: bool,
+    vsync: bool,
+    fps: f64,
+    last_gpu: (f64, f64),
+}
+
+impl ApplicationHandler for App<'_> {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.state.is_some() {
+            return;
+        }
+        match self.open(event_loop) {
+            Ok(state) => self.state = Some(state),
+            Err(e) => {
+                self.error = Some(e);
+                event_loop.exit();
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let result = self.handle(event_loop, event);
+        if let Err(e) = result {
+            self.error = Some(e);
+            event_loop.exit();
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = &self.state {
+            state.window.request_redraw();
+        }
+    }
+}
+
+impl App<'_> {
+    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<State> {
+        let no_window = |what: &str, e: &dyn std::fmt::Display| Error::NoWindow {
+            detail: format!("{what} ({e})"),
+        };
+        let size = self.options.size;
+        let attributes = Window::default_attributes()
+            .with_title("sediment view")
+            .with_inner_size(PhysicalSize::new(size.width, size.height));
+        let window = event_loop
+            .create_window(attributes)
+            .map_err(|e| no_window("the window could not be created", &e))?;
+        let display = event_loop
+            .display_handle()
+            .map_err(|e| no_window("the display has no handle", &e))?
+            .as_raw();
+        let mut context = self.options.context.clone();
+        context.window = Some(display);
+        let ctx = Context::new(&context)?;
+        let handle = window
+            .window_handle()
+            .map_err(|e| no_window("the window has no handle", &e))?
+            .as_raw();
+        // SAFETY: the window lives in the same `State` and is dropped after the
+        // surface (field order).
+        let surface = unsafe { Surface::new(&ctx, display, handle)? };
+        let session = match self.scene.take() {
+            Some(ViewScene::Grow {
+                scene,
+                growth,
+                every,
+            }) => {
+                let mut s = GrowthSession::new(&ctx, *scene, growth)?;
+                s.every = every.max(1);
+                s
+            }
+            None => return Err(Error::invalid("view", "the scene was already shown")),
+        };
+        Ok(State {
+            session,
+            timer: GpuTimer::new(&ctx, "view timer", 2)?,
+            overlay_buffer: None,
+            target: None,
+            swapchain: None,
+            surface,
+            ctx,
+            window,
+            camera: CameraControl::from_camera(&self.options.camera),
+            held: HashSet::new(),
+            dragging: false,
+            cursor: None,
+            last_frame: Instant::now(),
+            frame: 0,
+            stale: true,
+            overlay: self.options.overlay,
+            vsync: self.options.vsync,
+            fps: 0.0,
+            last_gpu: (0.0, 0.0),
+        })
+    }
+
+    fn handle(&mut self, event_loop: &ActiveEventLoop, event: WindowEvent) -> Result<()> {
+        let Some(state) = self.state.as_mut() else {
+            return Ok(());
+        };
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(_) => state.stale = true,
+            WindowEvent::KeyboardInput { event, .. } => {
+                let key = match &event.logical_key {
+                    WinitKey::Named(named) => match named {
+                        NamedKey::Space => Some(Key::Space),
+                        NamedKey::Tab => Some(Key::Tab),
+                        NamedKey::Enter => Some(Key::Enter),
+                        NamedKey::Escape => Some(Key::Escape),
+                        NamedKey::ArrowLeft => Some(Key::Left),
+                        NamedKey::ArrowRight => Some(Key::Right),
+                        NamedKey::ArrowUp => Some(Key::Up),
+                        NamedKey::ArrowDown => Some(Key::Down),
+                        NamedKey::F2 => Some(Key::F(2)),
+                        _ => None,
+                    },
+                    WinitKey::Character(s) => s
+                        .chars()
+                        .next()
+                        .map(|c| Key::Char(c.to_ascii_lowercase())),
+                    _ => None,
+                };
+                let Some(key) = key else { return Ok(()) };
+                if let Key::Char(c @ ('w' | 'a' | 's' | 'd' | 'q' | 'e')) = key {
+                    if event.state == ElementState::Pressed {
+                        state.held.insert(c);
+                    } else {
+                        state.held.remove(&c);
+                    }
+                } else if event.state == ElementState::Pressed
+                    && !event.repeat
+                    && state.key(key, self.options.screenshot.as_deref(), self.say)?
+                {
+                    event_loop.exit();
+                }
+            }
+            WindowEvent::MouseInput {
+                state: pressed,
+                button: MouseButton::Left,
+                ..
+            } => state.dragging = pressed == ElementState::Pressed,
+            WindowEvent::CursorMoved { position, .. } => {
+                if let (true, Some((x, y))) = (state.dragging, state.cursor) {
+                    state
+                        .camera
+                        .drag((position.x - x) as f32, (position.y - y) as f32);
+                }
+                state.cursor = Some((position.x, position.y));
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+                };
+                state.camera.zoom(steps);
+            }
+            WindowEvent::RedrawRequested => {
+                let frame = state.frame;
+                for k in self.options.script.iter().filter(|k| k.frame == frame) {
+                    if state.key(k.key, self.options.screenshot.as_deref(), self.say)? {
+                        event_loop.exit();
+                        return Ok(());
+                    }
+                }
+                state.frame(&mut self.report)?;
+                if let Some(n) = self.options.frames
+                    && state.frame >= n
+                {
+                    if let Some(path) = &self.options.screenshot {
+                        state.screenshot(path, self.say)?;
+                    }
+                    event_loop.exit();
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+impl State {
+    /// Handles a key press; true to quit.
+    fn key(
+        &mut self,
+        key: Key,
+        screenshot: Option<&std::path::Path>,
+        say: &mut dyn FnMut(&str),
+    ) -> Result<bool> {
+        match key {
+            Key::Escape => return Ok(true),
+            Key::Tab => self.camera.toggle_mode(),
+            Key::Char('h') => self.overlay = !self.overlay,
+            Key::Char('v') => say(&self.camera.options()),
+            Key::F(2) => {
+                let default = PathBuf::from(format!("sediment-view-{:05}.png", self.frame));
+                self.screenshot(screenshot.unwrap_or(&default), say)?;
+            }
+            Key::Char(c @ ('w' | 'a' | 's' | 'd' | 'q' | 'e')) => {
+                // A scripted press of a movement key: a quarter second of movement.
+                let (f, r, u) = movement(&HashSet::from([c]));
+                self.camera.fly(f, r, u, 0.25);
+            }
+            other => {
+                self.session.key(&self.ctx, other)?;
+            }
+        }
+        Ok(false)
+    }
+
+    /// Writes the last rendered frame (the scene, without the panel) as PNG.
+    fn screenshot(&self, path: &std::path::Path, say: &mut dyn FnMut(&str)) -> Result<()> {
+        let Some(target) = &self.target else {
+            return Err(Error::invalid("screenshot", "no frame has been rendered yet"));
+        };
+        crate::export::png::write_png(path, &target.read_image()?)?;
+        say(&format!("wrote {}", path.display()));
+        Ok(())
+    }
+
+    /// (Re)creates the swapchain and the targets at the window's size; false while
+    /// the window is minimised.
+    fn ensure_swapchain(&mut self) -> Result<bool> {
+        let size = self.window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return Ok(false);
+        }
+        if !self.stale && self.swapchain.is_some() {
+            return Ok(true);
+        }
+        self.swapchain = None;
+        let chain = Swapchain::new(
+            &self.ctx,
+            &self.surface,
+            size.width,
+            size.height,
+            self.vsync,
+        )?;
+        let (w, h) = chain.size();
+        if w == 0 || h == 0 {
+            return Ok(false);
+        }
+        self.target = Some(OffscreenTarget::new(&self.ctx, w, h)?);
+        self.overlay_buffer = Some(Buffer::new(
+            &self.ctx,
+            "overlay pixels",
+            BufferDesc::upload(
+                u64::from(w) * u64::from(h) * 4,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+            ),
+        )?);
+        self.swapchain = Some(chain);
+        self.stale = false;
+        Ok(true)
+    }
+
+    fn frame(&mut self, report: &mut ViewReport) -> Result<()> {
+        let now = Instant::now();
+        let seconds = now.duration_since(self.last_frame).as_secs_f32().min(0.25);
+        self.last_frame = now;
+        let (f, r, u) = movement(&self.held);
+        self.camera.fly(f, r, u, seconds);
+        if !self.ensure_swapchain()? {
+            std::thread::sleep(std::time::Duration::from_millis(30));
+            return Ok(());
+        }
+        let (Some(chain), Some(target), Some(pixels)) = (
+            self.swapchain.as_ref(),
+            self.target.as_ref(),
+            self.overlay_buffer.as_mut(),
+        ) else {
+            return Ok(());
+        };
+        let Some(index) = chain.acquire()? else {
+            self.stale = true;
+            return Ok(());
+        };
+        let (w, h) = chain.size();
+        let aspect = w as f32 / h as f32;
+        let passes = self.session.prepare(&self.camera.camera(), aspect)?;
+        let panel = if self.overlay {
+            let mut lines = vec![format!(
+                "sediment view grow  {:.1} fps  gpu: growth {:.2} ms shading {:.2} ms  {}",
+                self.fps,
+                self.last_gpu.0,
+                self.last_gpu.1,
+                match self.camera.mode {
+                    camera_control::CameraMode::Orbit => "orbit",
+                    camera_control::CameraMode::Fly => "fly",
+                }
+            )];
+            lines.extend(self.session.status());
+            lines.extend(GrowthSession::CONTROLS.iter().map(|s| s.to_string()));
+            lines.extend(CONTROLS.iter().map(|s| s.to_string()));
+            if !self.session.message.is_empty() {
+                lines.push(self.session.message.clone());
+            }
+            overlay::panel(&lines, w, h, chain.is_bgra())
+        } else {
+            None
+        };
+        if let Some(p) = &panel {
+            pixels.write(0, &p.pixels)?;
+        }
+        let (timer, session) = (&mut self.timer, &mut self.session);
+        let presented = chain.present(index, |cmd, image| {
+            timer.reset(cmd);
+            let span = timer.begin(cmd, "ring growth")?;
+            session.record_growth(cmd, passes)?;
+            timer.end(cmd, span);
+            let span = timer.begin(cmd, "shading")?;
+            session.record_shading(cmd, target)?;
+            timer.end(cmd, span);
+            target.copy_out(cmd);
+            cmd.blit_target(target, image, w, h);
+            if let Some(p) = &panel {
+                cmd.copy_pixels(pixels, image, (0, 0), (p.width, p.height));
+            }
+            Ok(())
+        })?;
+        if presented == Presented::Stale {
+            self.stale = true;
+        }
+        self.session.check()?;
+        let spans = self.timer.read()?;
+        let ms = |name: &str| -> f64 {
+            spans
+                .iter()
+                .filter(|s| s.name == name)
+                .map(|s| s.milliseconds)
+                .sum()
+        };
+        self.last_gpu = (ms("ring growth"), ms("shading"));
+        let frame_ms = now.elapsed().as_secs_f64() * 1e3;
+        self.fps = 0.9 * self.fps + 0.1 * (1e3 / frame_ms.max(1e-3));
+        report.frames += 1;
+        report.frame_ms.push(frame_ms);
+        report.growth_gpu_ms.push(self.last_gpu.0);
+        report.shading_gpu_ms.push(self.last_gpu.1);
+        report.size = Size::new(w, h);
+        self.frame += 1;
+        Ok(())
+    }
+
+    /// At exit: the grown mesh and the validation errors.
+    fn finish(self, report: &mut ViewReport) -> Result<()> {
+        self.ctx.wait_idle()?;
+        let mesh = self.session.mesh(&self.ctx)?;
+        report.grown = Some((self.session.plan().clone(), mesh));
+        report.validation_errors = self.ctx.take_validation_errors();
+        Ok(())
+    }
+}
+
+/// (forward, right, up) from the held movement keys.
+fn movement(held: &HashSet<char>) -> (f32, f32, f32) {
+    let axis = |plus: char, minus: char| {
+        f32::from(u8::from(held.contains(&plus))) - f32::from(u8::from(held.contains(&minus)))
+    };
+    (axis('w', 's'), axis('d', 'a'), axis('e', 'q'))
+}
