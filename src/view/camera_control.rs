@@ -180,7 +180,10 @@ mod tests {
         assert!(moved.dot(before.target - before.eye) > 0.0 && moved.y.abs() < 1e-6);
         let eye = c.eye();
         c.drag(50.0, 20.0);
-        assert!((c.eye() - eye).length() < 1e-4, "looking around keeps the eye");
+        assert!(
+            (c.eye() - eye).length() < 1e-4,
+            "looking around keeps the eye"
+        );
     }
 
     #[test]
@@ -198,7 +201,10 @@ mod tests {
         let parts: Vec<&str> = text.split_whitespace().collect();
         assert_eq!(parts[0], "--eye");
         assert_eq!(parts[2], "--target");
-        let v: Vec<f32> = parts[1].split(',').map(|x| x.parse().expect("f32")).collect();
+        let v: Vec<f32> = parts[1]
+            .split(',')
+            .map(|x| x.parse().expect("f32"))
+            .collect();
         assert!((Vec3::new(v[0], v[1], v[2]) - camera().eye).length() < 1e-3);
     }
 }

@@ -52,30 +52,48 @@ impl std::str::FromStr for Key {
     }
 }
 
-/// One synthesised key press before frame `frame` (0-based).
+/// A synthesised input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scripted {
+    Key(Key),
+    /// Ask the window system for this inner size (as a user dragging the border).
+    Resize(u32, u32),
+}
+
+/// One synthesised input before frame `frame` (0-based).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ScriptedKey {
     pub frame: u32,
-    pub key: Key,
+    pub input: Scripted,
 }
 
-/// Parses `FRAME:KEY[,FRAME:KEY...]`, e.g. `10:c,10:c,40:space`.
+/// Parses `FRAME:KEY[,FRAME:KEY...]`, e.g. `10:c,10:c,40:space`; `FRAME:resize=WxH`
+/// resizes the window.
 pub fn parse_script(text: &str) -> Result<Vec<ScriptedKey>> {
     let mut out = Vec::new();
     for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        let (frame, key) = item.split_once(':').ok_or_else(|| {
-            Error::invalid("--script", format!("\"{item}\" is not FRAME:KEY"))
-        })?;
+        let (frame, key) = item
+            .split_once(':')
+            .ok_or_else(|| Error::invalid("--script", format!("\"{item}\" is not FRAME:KEY")))?;
         let frame = frame.trim().parse::<u32>().map_err(|_| {
             Error::invalid("--script", format!("\"{frame}\" is not a frame number"))
         })?;
         // "," itself cannot be scripted (it separates items); "comma" names it.
-        let key = if key.trim() == "comma" {
-            Key::Char(',')
+        let input = if key.trim() == "comma" {
+            Scripted::Key(Key::Char(','))
+        } else if let Some(size) = key.trim().strip_prefix("resize=") {
+            let (w, h) = size
+                .split_once('x')
+                .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+                .filter(|&(w, h)| (1..=16384).contains(&w) && (1..=16384).contains(&h))
+                .ok_or_else(|| {
+                    Error::invalid("--script", format!("\"{size}\" is not WxH in 1..=16384"))
+                })?;
+            Scripted::Resize(w, h)
         } else {
-            key.trim().parse()?
+            Scripted::Key(key.trim().parse()?)
         };
-        out.push(ScriptedKey { frame, key });
+        out.push(ScriptedKey { frame, input });
     }
     out.sort_by_key(|k| k.frame);
     Ok(out)
@@ -87,17 +105,19 @@ mod tests {
 
     #[test]
     fn scripts_parse_in_frame_order_and_bad_ones_name_the_option() {
-        let s = parse_script("20:space, 5:C,5:f2,7:comma").expect("script");
+        let s = parse_script("20:space, 5:C,5:f2,7:comma,9:resize=64x48").expect("script");
+        let at = |frame, input| ScriptedKey { frame, input };
         assert_eq!(
             s,
             vec![
-                ScriptedKey { frame: 5, key: Key::Char('c') },
-                ScriptedKey { frame: 5, key: Key::F(2) },
-                ScriptedKey { frame: 7, key: Key::Char(',') },
-                ScriptedKey { frame: 20, key: Key::Space },
+                at(5, Scripted::Key(Key::Char('c'))),
+                at(5, Scripted::Key(Key::F(2))),
+                at(7, Scripted::Key(Key::Char(','))),
+                at(9, Scripted::Resize(64, 48)),
+                at(20, Scripted::Key(Key::Space)),
             ]
         );
-        for bad in ["x", "1:", "a:b", "3:shift"] {
+        for bad in ["x", "1:", "a:b", "3:shift", "3:resize=0x4", "3:resize=9"] {
             let e = parse_script(bad).expect_err(bad).to_string();
             assert!(e.contains("--script"), "{e}");
         }

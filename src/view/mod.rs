@@ -37,7 +37,7 @@ use crate::scene::camera::Camera;
 use crate::scene::grow::{GrowthScene, XfbGrowth};
 use camera_control::CameraControl;
 use grow_session::GrowthSession;
-use input::{Key, ScriptedKey};
+use input::{Key, Scripted, ScriptedKey};
 
 /// What to show.
 pub enum ViewScene {
@@ -63,7 +63,7 @@ pub struct ViewOptions {
     /// Where the screenshot key (F2) writes, and where the last frame goes on exit
     /// with `frames`. Default for the key: sediment-view-FRAME.png.
     pub screenshot: Option<PathBuf>,
-    /// Synthesised key presses.
+    /// Synthesised key presses and resizes.
     pub script: Vec<ScriptedKey>,
     pub overlay: bool,
 }
@@ -277,10 +277,9 @@ impl App<'_> {
                         NamedKey::F2 => Some(Key::F(2)),
                         _ => None,
                     },
-                    WinitKey::Character(s) => s
-                        .chars()
-                        .next()
-                        .map(|c| Key::Char(c.to_ascii_lowercase())),
+                    WinitKey::Character(s) => {
+                        s.chars().next().map(|c| Key::Char(c.to_ascii_lowercase()))
+                    }
                     _ => None,
                 };
                 let Some(key) = key else { return Ok(()) };
@@ -320,9 +319,19 @@ impl App<'_> {
             WindowEvent::RedrawRequested => {
                 let frame = state.frame;
                 for k in self.options.script.iter().filter(|k| k.frame == frame) {
-                    if state.key(k.key, self.options.screenshot.as_deref(), self.say)? {
-                        event_loop.exit();
-                        return Ok(());
+                    match k.input {
+                        Scripted::Key(key) => {
+                            if state.key(key, self.options.screenshot.as_deref(), self.say)? {
+                                event_loop.exit();
+                                return Ok(());
+                            }
+                        }
+                        Scripted::Resize(w, h) => {
+                            // The answer arrives as a Resized event (or, where the
+                            // window system applies it at once, a new inner size).
+                            let _ = state.window.request_inner_size(PhysicalSize::new(w, h));
+                            state.stale = true;
+                        }
                     }
                 }
                 state.frame(&mut self.report)?;
@@ -373,7 +382,10 @@ impl State {
     /// Writes the last rendered frame (the scene, without the panel) as PNG.
     fn screenshot(&self, path: &std::path::Path, say: &mut dyn FnMut(&str)) -> Result<()> {
         let Some(target) = &self.target else {
-            return Err(Error::invalid("screenshot", "no frame has been rendered yet"));
+            return Err(Error::invalid(
+                "screenshot",
+                "no frame has been rendered yet",
+            ));
         };
         crate::export::png::write_png(path, &target.read_image()?)?;
         say(&format!("wrote {}", path.display()));

@@ -7,6 +7,7 @@
 )]
 
 pub mod cli;
+pub mod display;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -56,9 +56,9 @@ struct ViewFlags {
     /// the current folder); with --frames, the last frame is written there on exit.
     #[arg(long, value_name = "FILE.png")]
     screenshot: Option<PathBuf>,
-    /// Synthesised key presses, FRAME:KEY,... (frames count from 0; keys as in the
-    /// controls, or space, tab, enter, esc, left, right, up, down, f2, comma), e.g.
-    /// "10:c,40:space".
+    /// Synthesised input, FRAME:KEY,... (frames count from 0; keys as in the
+    /// controls, or space, tab, enter, esc, left, right, up, down, f2, comma;
+    /// FRAME:resize=WxH resizes the window), e.g. "10:c,40:space,60:resize=640x400".
     #[arg(long, value_name = "FRAME:KEY,...")]
     script: Option<String>,
     /// Present as fast as possible (IMMEDIATE or MAILBOX) instead of waiting for the
@@ -97,7 +97,10 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
         check_extension(path, "--screenshot", &["png"])?;
     }
     if f.frames.is_some_and(|n| !(1..=100_000).contains(&n)) {
-        bail!(sediment::Error::invalid("--frames", "must be in 1..=100000"));
+        bail!(sediment::Error::invalid(
+            "--frames",
+            "must be in 1..=100000"
+        ));
     }
     let script = f.script.as_deref().map(parse_script).transpose()?;
     let options = ViewOptions {
@@ -150,9 +153,14 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
     };
     say!(
         "{} frames at {}x{}",
-        report.frames, report.size.width, report.size.height
+        report.frames,
+        report.size.width,
+        report.size.height
     );
-    line("while growing", report.frame_ms.get(1..growing).unwrap_or(&[]));
+    line(
+        "while growing",
+        report.frame_ms.get(1..growing).unwrap_or(&[]),
+    );
     line("all frames", report.frame_ms.get(1..).unwrap_or(&[]));
     if growing > 1 {
         let g = Stats::of(&report.growth_gpu_ms[1..growing]).median;

@@ -1,0 +1,280 @@
+//! `sediment view` under Xvfb with lavapipe and validation on: the non-interactive
+//! mode's screenshot against the headless render of the same state, a scripted
+//! parameter change reaching the growth pass, and bad input refused before a window
+//! opens.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use common::Tolerance;
+use common::display::Xvfb;
+
+fn view(display: &Xvfb, dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .args(args)
+        .current_dir(dir)
+        .env("DISPLAY", &display.display)
+        .output()
+        .expect("run the sediment binary")
+}
+
+fn assert_ok(out: &Output, what: &str) -> String {
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{what} failed: {}\n{stdout}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}
+
+fn load(path: &Path) -> image::RgbaImage {
+    image::open(path).expect("a PNG").to_rgba8()
+}
+
+#[test]
+fn the_viewer_screenshot_matches_the_headless_render() {
+    let x = Xvfb::start();
+    let dir = common::cli::scratch("view-fig9g");
+    let out = view(
+        &x,
+        &dir,
+        &[
+            "--validate",
+            "view",
+            "grow",
+            "--preset",
+            "fig9g",
+            "--frames",
+            "120",
+            "--screenshot",
+            "shot.png",
+        ],
+    );
+    let stdout = assert_ok(&out, "sediment view");
+    assert!(stdout.contains("120 frames at 720x480"), "{stdout}");
+    assert!(stdout.contains("while growing: 29 frames"), "{stdout}");
+    let headless = common::cli::sediment(&[
+        "--validate",
+        "grow",
+        "--preset",
+        "fig9g",
+        "-o",
+        &dir.join("grow.png").to_string_lossy(),
+    ]);
+    assert_ok(&headless, "sediment grow");
+    // The viewer grows append-only, the headless command re-streams; the same passes
+    // draw both (the golden tolerance of the Figure 9 renders).
+    let tolerance = Tolerance { mean: 1.0, p99: 16 };
+    let (_, d) = common::difference(&load(&dir.join("shot.png")), &load(&dir.join("grow.png")));
+    assert!(
+        d.mean <= tolerance.mean && d.p99 <= tolerance.p99,
+        "screenshot vs headless: mean {:.3}, p99 {}, max {}",
+        d.mean,
+        d.p99,
+        d.max
+    );
+}
+
+/// Base-ring heights (descending) and mean radii of the single stalactite in an OBJ
+/// file: the levels alternate base ring, tip ring (ring thickness below), so every
+/// other level is a base ring.
+fn base_rings(obj: &Path) -> Vec<(f32, f32)> {
+    let text = std::fs::read_to_string(obj).expect("read obj");
+    let points: Vec<[f32; 3]> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let v: Vec<f32> = l
+                .split_whitespace()
+                .take(3)
+                .map(|x| x.parse().expect("a number"))
+                .collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    let mut levels: Vec<(i64, Vec<[f32; 3]>)> = Vec::new();
+    for p in points {
+        let key = (p[1] * 1e4).round() as i64;
+        match levels.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, v)) => v.push(p),
+            None => levels.push((key, vec![p])),
+        }
+    }
+    levels.sort_by_key(|(k, _)| -k);
+    levels
+        .iter()
+        .step_by(2)
+        .map(|(k, pts)| {
+            let n = pts.len() as f32;
+            let (cx, cz) = (
+                pts.iter().map(|p| p[0]).sum::<f32>() / n,
+                pts.iter().map(|p| p[2]).sum::<f32>() / n,
+            );
+            let r = pts
+                .iter()
+                .map(|p| ((p[0] - cx).powi(2) + (p[2] - cz).powi(2)).sqrt())
+                .sum::<f32>()
+                / n;
+            (*k as f32 / 1e4, r)
+        })
+        .collect()
+}
+
+#[test]
+fn a_co2_change_mid_growth_reaches_the_growth_pass() {
+    let x = Xvfb::start();
+    let dir = common::cli::scratch("view-steer");
+    // One stalactite, normal CO2 (Table 2: radius -1 unit, height 2 units per ring);
+    // before frame 10 the script presses `c` (CO2 -> high: radius unchanged, height 3
+    // units), so passes 10..19 follow the high row.
+    let out = view(
+        &x,
+        &dir,
+        &[
+            "--validate",
+            "--size",
+            "320x240",
+            "view",
+            "grow",
+            "--count",
+            "1",
+            "--passes",
+            "20",
+            "--co2",
+            "normal",
+            "--radius-unit",
+            "0.002",
+            "--height-unit",
+            "0.035",
+            "--frames",
+            "25",
+            "--script",
+            "10:c",
+            "--mesh",
+            "grown.obj",
+        ],
+    );
+    assert_ok(&out, "sediment view with a script");
+    let rings = base_rings(&dir.join("grown.obj"));
+    // 20 passes: the base band and 20 more.
+    assert_eq!(rings.len(), 21, "{rings:?}");
+    let step = |i: usize| (rings[i].0 - rings[i + 1].0, rings[i + 1].1 - rings[i].1);
+    for i in 0..20 {
+        let (height, radius) = step(i);
+        let (want_h, want_r) = if i < 10 { (0.07, -0.002) } else { (0.105, 0.0) };
+        assert!(
+            (height - want_h).abs() < 1e-3 && (radius - want_r).abs() < 2e-4,
+            "ring {}: height step {height:.4} (want {want_h}), radius step {radius:.5} \
+             (want {want_r})",
+            i + 1
+        );
+    }
+}
+
+#[test]
+fn resizes_and_a_camera_found_interactively_render_headless() {
+    let x = Xvfb::start();
+    let dir = common::cli::scratch("view-camera");
+    // Resize twice (swapchain and targets recreated, validation on), fly forward and
+    // sideways, print the camera, then render it headless at the final size.
+    let out = view(
+        &x,
+        &dir,
+        &[
+            "--validate",
+            "view",
+            "grow",
+            "--preset",
+            "fig9b",
+            "--frames",
+            "40",
+            "--script",
+            "5:resize=400x300,12:resize=480x320,32:w,32:d,33:e,34:v",
+            "--screenshot",
+            "shot.png",
+        ],
+    );
+    let stdout = assert_ok(&out, "sediment view");
+    assert!(stdout.contains("40 frames at 480x320"), "{stdout}");
+    let options = stdout
+        .lines()
+        .find(|l| l.starts_with("--eye "))
+        .unwrap_or_else(|| panic!("no camera printed: {stdout}"));
+    let shot = load(&dir.join("shot.png"));
+    assert_eq!(shot.dimensions(), (480, 320));
+    let mut args = vec![
+        "--validate",
+        "--size",
+        "480x320",
+        "grow",
+        "--preset",
+        "fig9b",
+    ];
+    args.extend(options.split_whitespace());
+    let png = dir.join("grow.png");
+    let png = png.to_string_lossy();
+    args.extend(["-o", &png]);
+    assert_ok(
+        &common::cli::sediment(&args),
+        "sediment grow with the printed camera",
+    );
+    let (_, moved) = common::difference(&shot, &load(&dir.join("grow.png")));
+    assert!(
+        moved.mean <= 1.0 && moved.p99 <= 16,
+        "headless render of the printed camera: mean {:.3}, p99 {}",
+        moved.mean,
+        moved.p99
+    );
+    // The flight changed the view: the default camera's render differs.
+    let default = dir.join("default.png");
+    let default = default.to_string_lossy();
+    let plain = [
+        "--size", "480x320", "grow", "--preset", "fig9b", "-o", &default,
+    ];
+    assert_ok(&common::cli::sediment(&plain), "sediment grow");
+    let (_, d) = common::difference(&shot, &load(&dir.join("default.png")));
+    assert!(
+        d.mean > 2.0,
+        "the camera moved (mean difference {:.3})",
+        d.mean
+    );
+}
+
+#[test]
+fn bad_viewer_input_is_refused_before_a_window_opens() {
+    // No DISPLAY needed: every check runs first.
+    for (args, needle) in [
+        (vec!["view", "grow", "--script", "x"], "--script"),
+        (vec!["view", "grow", "--every", "0"], "--every"),
+        (vec!["view", "grow", "--frames", "0"], "--frames"),
+        (
+            vec!["view", "grow", "--screenshot", "a.jpg"],
+            "--screenshot",
+        ),
+        (vec!["view", "grow", "--eye", "1,2"], "--eye"),
+        (vec!["view", "grow", "--co2", "lots"], "--co2"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_sediment"))
+            .args(&args)
+            .env_remove("DISPLAY")
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} was accepted");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    // And with no display at all, a clear error rather than a panic.
+    let out = Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .args(["view", "grow", "--frames", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("Xvfb") && err.contains("DISPLAY"), "{err}");
+}
