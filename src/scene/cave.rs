@@ -274,8 +274,8 @@ fn growth_scene(scene: &CaveScene, sites: &[Site]) -> GrowthScene {
 }
 
 /// The wall the scene shows: smoothed, or blocky before smoothing (built on demand).
-fn shown_wall<'a>(scene: &CaveScene, model: &'a CaveModel) -> std::borrow::Cow<'a, Mesh> {
-    if scene.smooth {
+fn shown_wall(smooth: bool, model: &CaveModel) -> std::borrow::Cow<'_, Mesh> {
+    if smooth {
         std::borrow::Cow::Borrowed(&model.cave.mesh)
     } else {
         std::borrow::Cow::Owned(model.cave.blocky_mesh())
@@ -342,55 +342,81 @@ pub struct CaveFrames {
 const ROCK: Vec3 = Vec3::new(0.34, 0.29, 0.24);
 const CALCITE: Vec3 = Vec3::new(0.78, 0.7, 0.58);
 
-/// Renders `model` once per camera (growth, if any, runs once before the first).
-pub fn render(
-    ctx: &Arc<Context>,
-    scene: &CaveScene,
-    model: &CaveModel,
-    size: Size,
-    cameras: &[Camera],
-) -> Result<CaveFrames> {
-    let wall = shown_wall(scene, model);
-    let wall_gpu = GpuMesh::upload(ctx, "cave wall", &wall)?;
-    let wall_lines = if scene.wireframe {
-        Some(GpuMesh::upload_edges(ctx, "cave wall edges", &wall)?)
-    } else {
-        None
-    };
-    let short = if model.short_mesh.indices.is_empty() {
-        None
-    } else {
-        Some(GpuMesh::upload(
-            ctx,
-            "short speleothems",
-            &model.short_mesh,
-        )?)
-    };
-    let target = OffscreenTarget::new(ctx, size.width, size.height)?;
-    let mut pass = CaveWallPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?;
-    let plan = match &model.growth {
-        Some(g) => Some(g.plan()?),
-        None => None,
-    };
-    let mut growth = match &plan {
-        Some(p) => Some(RingGrowth::new(ctx, p, None)?),
-        None => None,
-    };
-    let mut surface = match &plan {
-        Some(p) => Some(SpeleothemSurfacePass::new(
-            ctx,
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
-            p,
-            scene.cave.volume.seed,
-        )?),
-        None => None,
-    };
-    let mut timer = GpuTimer::new(ctx, "cave timer", 2)?;
-    let fog = Vec3::new(0.012, 0.011, 0.012);
-    let mut out = Vec::with_capacity(cameras.len());
-    for (i, camera) in cameras.iter().enumerate() {
-        let start = Instant::now();
+/// The cave scene's passes — the wall (smoothed or blocky, lit or wireframe), the
+/// Short-profile speleothems and the GPU-grown ones — shared by `render` and the
+/// interactive viewer. The growth runs once, in the first frame recorded.
+pub struct CaveRenderer {
+    pass: CaveWallPass,
+    /// (faces, edges) of the smoothed wall, then of the blocky one; uploaded when
+    /// first shown.
+    walls: [(Option<GpuMesh>, Option<GpuMesh>); 2],
+    short: Option<GpuMesh>,
+    grown: Option<(GrowthPlan, RingGrowth, SpeleothemSurfacePass)>,
+    grown_done: bool,
+    pub smooth: bool,
+    pub wireframe: bool,
+    fog_density: f32,
+    lamp: Vec3,
+}
+
+const FOG: Vec3 = Vec3::new(0.012, 0.011, 0.012);
+
+impl CaveRenderer {
+    pub fn new(ctx: &Arc<Context>, scene: &CaveScene, model: &CaveModel) -> Result<Self> {
+        let short = if model.short_mesh.indices.is_empty() {
+            None
+        } else {
+            Some(GpuMesh::upload(
+                ctx,
+                "short speleothems",
+                &model.short_mesh,
+            )?)
+        };
+        let grown = match &model.growth {
+            Some(g) => {
+                let plan = g.plan()?;
+                let growth = RingGrowth::new(ctx, &plan, None)?;
+                let surface = SpeleothemSurfacePass::new(
+                    ctx,
+                    COLOR_FORMAT,
+                    DEPTH_FORMAT,
+                    &plan,
+                    scene.cave.volume.seed,
+                )?;
+                Some((plan, growth, surface))
+            }
+            None => None,
+        };
+        let mut renderer = Self {
+            pass: CaveWallPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            walls: [(None, None), (None, None)],
+            short,
+            grown,
+            grown_done: false,
+            smooth: scene.smooth,
+            wireframe: scene.wireframe,
+            fog_density: scene.fog,
+            lamp: Vec3::new(14.0, 12.5, 10.5) * (scene.cave.size_m / 24.0).powi(2),
+        };
+        renderer.upload_shown(ctx, model)?;
+        Ok(renderer)
+    }
+
+    /// Uploads the wall the current `smooth` / `wireframe` settings show, if needed.
+    pub fn upload_shown(&mut self, ctx: &Arc<Context>, model: &CaveModel) -> Result<()> {
+        let i = usize::from(!self.smooth);
+        let wall = || shown_wall(self.smooth, model);
+        if self.walls[i].0.is_none() {
+            self.walls[i].0 = Some(GpuMesh::upload(ctx, "cave wall", &wall())?);
+        }
+        if self.wireframe && self.walls[i].1.is_none() {
+            self.walls[i].1 = Some(GpuMesh::upload_edges(ctx, "cave wall edges", &wall())?);
+        }
+        Ok(())
+    }
+
+    /// The camera (it carries the lamp), before the submission that draws with it.
+    pub fn set_frame(&mut self, camera: &Camera, aspect: f32) -> Result<()> {
         let lighting = Lighting {
             sun_direction: Vec3::new(0.35, 1.0, 0.25),
             point: false,
@@ -399,68 +425,112 @@ pub fn render(
             ground_color: Vec3::new(0.02, 0.018, 0.016),
             exposure: 1.0,
         };
-        let base = lighting.frame_uniforms(camera, size.aspect());
-        let lamp = Vec3::new(14.0, 12.5, 10.5) * (scene.cave.size_m / 24.0).powi(2);
-        pass.set_frame(&CaveFrame {
-            base,
-            lamp: lamp.extend(0.0),
-            fog: fog.extend(scene.fog),
+        self.pass.set_frame(&CaveFrame {
+            base: lighting.frame_uniforms(camera, aspect),
+            lamp: self.lamp.extend(0.0),
+            fog: FOG.extend(self.fog_density),
         })?;
-        if let (Some(surface), Some(plan)) = (&mut surface, &plan) {
+        if let Some((plan, _, surface)) = &mut self.grown {
             // The grown speleothems' shader knows one light: the camera's lamp.
             let lamp_lighting = Lighting {
                 sun_direction: camera.eye,
                 point: true,
-                sun_color: lamp,
-                ..lighting.clone()
+                sun_color: self.lamp,
+                ..lighting
             };
             surface.set_frame(
-                &lamp_lighting.frame_uniforms(camera, size.aspect()),
+                &lamp_lighting.frame_uniforms(camera, aspect),
                 plan,
                 plan.passes,
             )?;
         }
-        let grow_now = i == 0;
+        Ok(())
+    }
+
+    /// Records the frame into `target`: the growth (first frame only, span "ring
+    /// growth"), then the cave (span "cave").
+    pub fn record(
+        &mut self,
+        cmd: &crate::gpu::Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()> {
+        if let (false, Some((plan, growth, _))) = (self.grown_done, self.grown.as_mut()) {
+            let span = timer.begin(cmd, "ring growth")?;
+            growth.record(cmd, plan.passes)?;
+            timer.end(cmd, span);
+            self.grown_done = true;
+        }
+        let span = timer.begin(cmd, "cave")?;
+        target.begin(cmd, [FOG.x, FOG.y, FOG.z, 1.0]);
+        let (faces, edges) = &self.walls[usize::from(!self.smooth)];
+        let missing = || Error::invalid("cave view", "the shown wall was not uploaded");
+        let faces = faces.as_ref().ok_or_else(missing)?;
+        match (self.wireframe, edges) {
+            (true, Some(lines)) => {
+                self.pass.draw(cmd, faces, Style::UnderLines(FOG))?;
+                self.pass
+                    .draw(cmd, lines, Style::Lines(Vec3::new(0.55, 0.6, 0.5)))?;
+            }
+            _ => self.pass.draw(
+                cmd,
+                faces,
+                Style::Lit {
+                    albedo: ROCK,
+                    shininess: 8.0,
+                    specular: 0.04,
+                },
+            )?,
+        }
+        if let Some(short) = &self.short {
+            self.pass.draw(
+                cmd,
+                short,
+                Style::Lit {
+                    albedo: CALCITE,
+                    shininess: 24.0,
+                    specular: 0.12,
+                },
+            )?;
+        }
+        if let Some((_, growth, surface)) = &self.grown {
+            surface.draw(cmd, growth.source())?;
+        }
+        target.end(cmd);
+        timer.end(cmd, span);
+        Ok(())
+    }
+
+    /// The grown speleothems' plan and vertices (after the growth's submission).
+    pub fn grown(&self, ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
+        match &self.grown {
+            Some((plan, growth, _)) if self.grown_done => {
+                growth.check_counts()?;
+                Ok(Some((plan.clone(), growth.read_back(ctx)?)))
+            }
+            _ => Ok(None),
+        }
+    }
+}
+
+/// Renders `model` once per camera (growth, if any, runs once before the first).
+pub fn render(
+    ctx: &Arc<Context>,
+    scene: &CaveScene,
+    model: &CaveModel,
+    size: Size,
+    cameras: &[Camera],
+) -> Result<CaveFrames> {
+    let target = OffscreenTarget::new(ctx, size.width, size.height)?;
+    let mut renderer = CaveRenderer::new(ctx, scene, model)?;
+    let mut timer = GpuTimer::new(ctx, "cave timer", 2)?;
+    let mut out = Vec::with_capacity(cameras.len());
+    for camera in cameras {
+        let start = Instant::now();
+        renderer.set_frame(camera, size.aspect())?;
         ctx.submit_and_wait("cave frame", |cmd| {
             timer.reset(cmd);
-            if let (true, Some(growth), Some(plan)) = (grow_now, growth.as_mut(), &plan) {
-                let span = timer.begin(cmd, "ring growth")?;
-                growth.record(cmd, plan.passes)?;
-                timer.end(cmd, span);
-            }
-            let span = timer.begin(cmd, "cave")?;
-            target.begin(cmd, [fog.x, fog.y, fog.z, 1.0]);
-            match &wall_lines {
-                Some(lines) => {
-                    pass.draw(cmd, &wall_gpu, Style::UnderLines(fog))?;
-                    pass.draw(cmd, lines, Style::Lines(Vec3::new(0.55, 0.6, 0.5)))?;
-                }
-                None => pass.draw(
-                    cmd,
-                    &wall_gpu,
-                    Style::Lit {
-                        albedo: ROCK,
-                        shininess: 8.0,
-                        specular: 0.04,
-                    },
-                )?,
-            }
-            if let Some(short) = &short {
-                pass.draw(
-                    cmd,
-                    short,
-                    Style::Lit {
-                        albedo: CALCITE,
-                        shininess: 24.0,
-                        specular: 0.12,
-                    },
-                )?;
-            }
-            if let (Some(surface), Some(growth)) = (&surface, &growth) {
-                surface.draw(cmd, growth.source())?;
-            }
-            target.end(cmd);
-            timer.end(cmd, span);
+            renderer.record(cmd, &target, &mut timer)?;
             target.copy_out(cmd);
             Ok(())
         })?;
@@ -470,15 +540,10 @@ pub fn render(
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
         });
     }
-    let grown = match (growth, plan) {
-        (Some(g), Some(p)) => {
-            g.check_counts()?;
-            let vertices = g.read_back(ctx)?;
-            Some((p, vertices))
-        }
-        _ => None,
-    };
-    Ok(CaveFrames { frames: out, grown })
+    Ok(CaveFrames {
+        frames: out,
+        grown: renderer.grown(ctx)?,
+    })
 }
 
 /// The cave (and its speleothems) as one exportable mesh.
@@ -487,7 +552,7 @@ pub fn export(
     model: &CaveModel,
     grown: Option<&(GrowthPlan, Vec<RingVertex>)>,
 ) -> TriangleSoup {
-    let wall = shown_wall(scene, model);
+    let wall = shown_wall(scene.smooth, model);
     let mut soup = TriangleSoup::from_indexed(&wall, ROCK.to_array());
     soup.append(TriangleSoup::from_indexed(
         &model.short_mesh,

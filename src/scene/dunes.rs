@@ -360,6 +360,231 @@ pub fn render(
     render_timed(ctx, scene, terrain, size, 0)
 }
 
+/// The desert scene's passes — sky, bump-mapped dunes with their precomputed ripple and
+/// shadow maps, dust — shared by `render` and the interactive viewer. The ripple maps
+/// are built once; the dune shadow map again whenever the sun moves.
+pub struct DunesRenderer {
+    maps: RippleMaps,
+    shadow: DuneShadowPass,
+    grain: Vec<u8>,
+    // Sampled by `surface`, rebuilt with it when the sun moves.
+    _textures: DuneTextures,
+    surface: DuneSurfacePass,
+    sky: SkyPass,
+    dust: DustPass,
+    dust_blobs: usize,
+    geometry: DuneGeometry,
+    /// Three periods each way: the field reaches toward the horizon without a seam.
+    mesh: Mesh,
+    /// The sun the shadow map was made for.
+    sun: Vec3,
+    /// GPU time of the precomputations (ripple maps, dune shadow map).
+    pub precompute: Vec<Span>,
+    view: Option<DunesView>,
+}
+
+/// What `set_frame` fixes for the next frame.
+struct DunesView {
+    view_proj: glam::Mat4,
+    eye: Vec3,
+    target: Vec3,
+    push: DunePush,
+    dust: bool,
+}
+
+const GRAIN_SIZE: u32 = 128;
+const SHADOW_RES: u32 = 256;
+
+impl DunesRenderer {
+    pub fn new(ctx: &Arc<Context>, scene: &DunesScene, terrain: &Terrain) -> Result<Self> {
+        scene.validate()?;
+        let n = scene.dune_size;
+        let maps = RippleMaps::build(
+            ctx,
+            &terrain.ripples,
+            scene.ripple_height_scale,
+            (scene.ripple_size - 1) as u32,
+        )?;
+        let mut precompute = maps.spans.clone();
+        let heights_cells: Vec<f32> = terrain
+            .dune_heights
+            .iter()
+            .map(|h| h / scene.cell)
+            .collect();
+        let shadow = DuneShadowPass::new(ctx, n as u32, &heights_cells, SHADOW_RES)?;
+        let sun = scene.sun_direction();
+        precompute.extend(shadow_map(ctx, &shadow, sun)?);
+        let grain = grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize);
+        let textures = DuneTextures::new(ctx, &maps, &shadow, &grain, GRAIN_SIZE)?;
+        let surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
+        let blobs = match &scene.dust {
+            Some(params) => {
+                let grid = DuneGrid {
+                    n,
+                    heights: &terrain.dune_heights,
+                };
+                let cell = scene.cell;
+                dust_at(
+                    params,
+                    &terrain.ripples,
+                    scene.field_size(),
+                    &|x, z| grid.sample(x / cell, z / cell),
+                    scene.seed,
+                    scene.dust_step,
+                )
+            }
+            None => Vec::new(),
+        };
+        let mesh = dune_mesh_tiled(n, scene.cell, &terrain.dune_heights, 3);
+        Ok(Self {
+            geometry: DuneGeometry::new(ctx, &mesh)?,
+            mesh,
+            dust: DustPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &blobs)?,
+            dust_blobs: blobs.len(),
+            sky: SkyPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            surface,
+            _textures: textures,
+            grain,
+            shadow,
+            maps,
+            sun,
+            precompute,
+            view: None,
+        })
+    }
+
+    /// Dust blobs the scene was built with (0: toggling dust shows nothing).
+    pub fn dust_blobs(&self) -> usize {
+        self.dust_blobs
+    }
+
+    /// Triangles drawn after culling, and in all.
+    pub fn triangles(&self) -> (u32, u32) {
+        (
+            self.geometry.visible_triangles(),
+            (self.mesh.indices.len() / 3) as u32,
+        )
+    }
+
+    /// The scene's sun and toggles (LOD, culling, shadows, ripples, dust) and the
+    /// camera for the next frame; a moved sun rebuilds the dune shadow map first.
+    pub fn set_frame(
+        &mut self,
+        ctx: &Arc<Context>,
+        scene: &DunesScene,
+        camera: &Camera,
+        aspect: f32,
+    ) -> Result<()> {
+        let sun = scene.sun_direction();
+        if (sun - self.sun).length() > 1e-6 {
+            self.precompute = shadow_map(ctx, &self.shadow, sun)?;
+            let textures =
+                DuneTextures::new(ctx, &self.maps, &self.shadow, &self.grain, GRAIN_SIZE)?;
+            self.surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
+            self._textures = textures;
+            self.sun = sun;
+        }
+        let frame = desert_lighting(sun).frame_uniforms(camera, aspect);
+        self.surface.set_frame(&frame)?;
+        self.geometry.set_visible(&visible_quads(
+            &self.mesh,
+            camera.eye,
+            frame.view_proj,
+            scene.cull,
+        ))?;
+        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        let wind = scene.wind_degrees.to_radians();
+        let push = DunePush {
+            tile: glam::Vec4::new(
+                scene.ripple_tile,
+                if scene.ripples {
+                    scene.ripple_strength
+                } else {
+                    0.0
+                },
+                0.35,
+                scene.field_size(),
+            ),
+            wind: glam::Vec4::new(wind.cos(), wind.sin(), flag(scene.lod), 0.0),
+            shadows: glam::Vec4::new(
+                flag(scene.shadows != Shadows::None),
+                flag(scene.shadows == Shadows::DuneAndRipple && scene.ripples),
+                0.04,
+                flag(scene.dune_shadows_per_pixel),
+            ),
+            albedo: glam::Vec4::new(0.72, 0.5, 0.3, 1.0),
+        };
+        self.view = Some(DunesView {
+            view_proj: frame.view_proj,
+            eye: camera.eye,
+            target: camera.target,
+            push,
+            dust: scene.dust.is_some(),
+        });
+        Ok(())
+    }
+
+    /// Records the frame into `target` (span "dunes"), after `set_frame`.
+    pub fn record(
+        &self,
+        cmd: &crate::gpu::Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()> {
+        let v = self
+            .view
+            .as_ref()
+            .ok_or_else(|| Error::invalid("dunes", "set_frame must come before record"))?;
+        let span = timer.begin(cmd, "dunes")?;
+        target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+        // Dunes first, then the sky where no dune covers (the depth test keeps it
+        // there), then the dust, translucent over both.
+        self.surface.draw(cmd, &self.geometry, &v.push)?;
+        self.sky.draw(
+            cmd,
+            v.view_proj,
+            v.eye,
+            self.sun,
+            desert_lighting(self.sun).exposure,
+        )?;
+        if v.dust {
+            let dust_color = glam::Vec4::new(0.86, 0.72, 0.55, 0.5);
+            self.dust
+                .draw(cmd, v.view_proj, v.eye, v.target, dust_color)?;
+        }
+        target.end(cmd);
+        timer.end(cmd, span);
+        Ok(())
+    }
+}
+
+fn desert_lighting(sun: Vec3) -> Lighting {
+    Lighting {
+        sun_direction: sun,
+        point: false,
+        sun_color: Vec3::new(3.0, 2.75, 2.4),
+        sky_color: Vec3::new(0.42, 0.5, 0.68),
+        ground_color: Vec3::new(0.45, 0.36, 0.27),
+        exposure: 1.0,
+    }
+}
+
+/// Marches the dune shadow map for `sun` on the GPU; its span.
+fn shadow_map(ctx: &Arc<Context>, shadow: &DuneShadowPass, sun: Vec3) -> Result<Vec<Span>> {
+    let horizontal = Vec3::new(sun.x, 0.0, sun.z);
+    let rise = sun.y / horizontal.length().max(1e-6);
+    let dir = horizontal.normalize_or(Vec3::X);
+    let mut timer = GpuTimer::new(ctx, "dune shadow timer", 2)?;
+    ctx.submit_and_wait("dune shadow map", |cmd| {
+        timer.reset(cmd);
+        let span = timer.begin(cmd, "dune shadow map")?;
+        shadow.record(cmd, [dir.x, dir.z], rise)?;
+        timer.end(cmd, span);
+        Ok(())
+    })?;
+    timer.read()
+}
+
 /// As [`render`], then the same frame `extra_frames` more times for timing: their GPU
 /// times land in [`DunesFrame::timed_ms`] (the first frame, which pays for lavapipe's
 /// shader compilation, is not among them).
@@ -370,154 +595,19 @@ pub fn render_timed(
     size: Size,
     extra_frames: u32,
 ) -> Result<DunesFrame> {
-    scene.validate()?;
     let start = Instant::now();
-    let n = scene.dune_size;
-    // Three periods each way: the field reaches toward the horizon without a seam.
-    let mesh = dune_mesh_tiled(n, scene.cell, &terrain.dune_heights, 3);
     let camera = scene
         .camera
         .clone()
         .unwrap_or_else(|| default_camera(scene, terrain));
-    let sun = scene.sun_direction();
-    let lighting = Lighting {
-        sun_direction: sun,
-        point: false,
-        sun_color: Vec3::new(3.0, 2.75, 2.4),
-        sky_color: Vec3::new(0.42, 0.5, 0.68),
-        ground_color: Vec3::new(0.45, 0.36, 0.27),
-        exposure: 1.0,
-    };
-    let frame_uniforms = lighting.frame_uniforms(&camera, size.aspect());
-
-    let maps = RippleMaps::build(
-        ctx,
-        &terrain.ripples,
-        scene.ripple_height_scale,
-        (scene.ripple_size - 1) as u32,
-    )?;
-    let mut precompute = maps.spans.clone();
-    let shadow_res = 256u32;
-    let heights_cells: Vec<f32> = terrain
-        .dune_heights
-        .iter()
-        .map(|h| h / scene.cell)
-        .collect();
-    let shadow = DuneShadowPass::new(ctx, n as u32, &heights_cells, shadow_res)?;
-    let horizontal = Vec3::new(sun.x, 0.0, sun.z);
-    let rise = sun.y / horizontal.length().max(1e-6);
-    let dir = horizontal.normalize_or(Vec3::X);
-    let mut timer = GpuTimer::new(ctx, "dunes timer", 2)?;
-    ctx.submit_and_wait("dune shadow map", |cmd| {
-        timer.reset(cmd);
-        let span = timer.begin(cmd, "dune shadow map")?;
-        shadow.record(cmd, [dir.x, dir.z], rise)?;
-        timer.end(cmd, span);
-        Ok(())
-    })?;
-    precompute.extend(timer.read()?);
-    let grain_size = 128u32;
-    let textures = DuneTextures::new(
-        ctx,
-        &maps,
-        &shadow,
-        &grain_texture(scene.seed ^ 0x6A11, grain_size as usize),
-        grain_size,
-    )?;
-
+    let mut renderer = DunesRenderer::new(ctx, scene, terrain)?;
     let target = OffscreenTarget::new(ctx, size.width, size.height)?;
-    let sky = SkyPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?;
-    let mut surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
-    surface.set_frame(&frame_uniforms)?;
-    let blobs = match &scene.dust {
-        Some(params) => {
-            let grid = DuneGrid {
-                n,
-                heights: &terrain.dune_heights,
-            };
-            let cell = scene.cell;
-            dust_at(
-                params,
-                &terrain.ripples,
-                scene.field_size(),
-                &|x, z| grid.sample(x / cell, z / cell),
-                scene.seed,
-                scene.dust_step,
-            )
-        }
-        None => Vec::new(),
-    };
-    let dust = DustPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &blobs)?;
-    let mut geometry = DuneGeometry::new(ctx, &mesh)?;
-    geometry.set_visible(&visible_quads(
-        &mesh,
-        camera.eye,
-        frame_uniforms.view_proj,
-        scene.cull,
-    ))?;
-    let wind = scene.wind_degrees.to_radians();
-    let push = DunePush {
-        tile: glam::Vec4::new(
-            scene.ripple_tile,
-            if scene.ripples {
-                scene.ripple_strength
-            } else {
-                0.0
-            },
-            0.35,
-            scene.field_size(),
-        ),
-        wind: glam::Vec4::new(
-            wind.cos(),
-            wind.sin(),
-            if scene.lod { 1.0 } else { 0.0 },
-            0.0,
-        ),
-        shadows: glam::Vec4::new(
-            if scene.shadows != Shadows::None {
-                1.0
-            } else {
-                0.0
-            },
-            if scene.shadows == Shadows::DuneAndRipple && scene.ripples {
-                1.0
-            } else {
-                0.0
-            },
-            0.04,
-            if scene.dune_shadows_per_pixel {
-                1.0
-            } else {
-                0.0
-            },
-        ),
-        albedo: glam::Vec4::new(0.72, 0.5, 0.3, 1.0),
-    };
+    renderer.set_frame(ctx, scene, &camera, size.aspect())?;
+    let mut timer = GpuTimer::new(ctx, "dunes timer", 2)?;
     let record_frame = |timer: &mut GpuTimer| {
         ctx.submit_and_wait("dunes frame", |cmd| {
             timer.reset(cmd);
-            let span = timer.begin(cmd, "dunes")?;
-            target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
-            // Dunes first, then the sky where no dune covers (the depth test keeps it
-            // there), then the dust, translucent over both.
-            surface.draw(cmd, &geometry, &push)?;
-            sky.draw(
-                cmd,
-                frame_uniforms.view_proj,
-                camera.eye,
-                sun,
-                lighting.exposure,
-            )?;
-            let dust_color = glam::Vec4::new(0.86, 0.72, 0.55, 0.5);
-            dust.draw(
-                cmd,
-                frame_uniforms.view_proj,
-                camera.eye,
-                camera.target,
-                dust_color,
-            )?;
-            target.end(cmd);
-            timer.end(cmd, span);
+            renderer.record(cmd, &target, timer)?;
             target.copy_out(cmd);
             Ok(())
         })
@@ -536,13 +626,14 @@ pub fn render_timed(
         timed_wall_ms.push(t.elapsed().as_secs_f64() * 1e3);
         timed_ms.push(timer.read()?.iter().map(|s| s.milliseconds).sum());
     }
+    let (visible_triangles, total_triangles) = renderer.triangles();
     Ok(DunesFrame {
         frame,
         timed_ms,
         timed_wall_ms,
-        precompute,
-        visible_triangles: geometry.visible_triangles(),
-        total_triangles: (mesh.indices.len() / 3) as u32,
-        mesh: dune_mesh(n, scene.cell, &terrain.dune_heights),
+        precompute: renderer.precompute.clone(),
+        visible_triangles,
+        total_triangles,
+        mesh: dune_mesh(scene.dune_size, scene.cell, &terrain.dune_heights),
     })
 }

@@ -204,34 +204,51 @@ pub fn default_camera(c: &CutAway) -> Camera {
     }
 }
 
-/// Renders the cut-away.
-pub fn render(ctx: &Arc<Context>, c: &CutAway, size: Size) -> Result<RenderedFrame> {
-    let start = Instant::now();
-    let camera = default_camera(c);
-    let lighting = Lighting {
-        sun_direction: Vec3::new(0.6, 0.8, -0.5),
-        ..Lighting::default()
-    };
-    let target = OffscreenTarget::new(ctx, size.width, size.height)?;
-    let mut pass = LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?;
-    pass.set_frame(&lighting.frame_uniforms(&camera, size.aspect()))?;
-    let parts: Vec<(GpuMesh, Vec3, f32)> = [
-        (&c.surface, CALCITE, 0.15),
-        (&c.light, BAND_LIGHT, 0.05),
-        (&c.dark, BAND_DARK, 0.05),
-        (&c.floor, FLOOR, 0.02),
-    ]
-    .into_iter()
-    .filter(|(m, _, _)| !m.indices.is_empty())
-    .map(|(m, color, spec)| Ok((GpuMesh::upload(ctx, "stalagmite part", m)?, color, spec)))
-    .collect::<Result<_>>()?;
-    let mut timer = GpuTimer::new(ctx, "layers timer", 1)?;
-    ctx.submit_and_wait("stalagmite cut-away", |cmd| {
-        timer.reset(cmd);
+/// The cut-away's pass and meshes, shared by `render` and the interactive viewer.
+pub struct CutAwayRenderer {
+    pass: LitMeshPass,
+    parts: Vec<(GpuMesh, Vec3, f32)>,
+}
+
+impl CutAwayRenderer {
+    pub fn new(ctx: &Arc<Context>, c: &CutAway) -> Result<Self> {
+        let parts = [
+            (&c.surface, CALCITE, 0.15),
+            (&c.light, BAND_LIGHT, 0.05),
+            (&c.dark, BAND_DARK, 0.05),
+            (&c.floor, FLOOR, 0.02),
+        ]
+        .into_iter()
+        .filter(|(m, _, _)| !m.indices.is_empty())
+        .map(|(m, color, spec)| Ok((GpuMesh::upload(ctx, "stalagmite part", m)?, color, spec)))
+        .collect::<Result<_>>()?;
+        Ok(Self {
+            pass: LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            parts,
+        })
+    }
+
+    /// The camera of the next frame.
+    pub fn set_frame(&mut self, camera: &Camera, aspect: f32) -> Result<()> {
+        let lighting = Lighting {
+            sun_direction: Vec3::new(0.6, 0.8, -0.5),
+            ..Lighting::default()
+        };
+        self.pass
+            .set_frame(&lighting.frame_uniforms(camera, aspect))
+    }
+
+    /// Records the frame into `target` (span "cut-away").
+    pub fn record(
+        &self,
+        cmd: &crate::gpu::Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()> {
         let span = timer.begin(cmd, "cut-away")?;
         target.begin(cmd, [0.02, 0.02, 0.025, 1.0]);
-        for (mesh, color, spec) in &parts {
-            pass.draw(
+        for (mesh, color, spec) in &self.parts {
+            self.pass.draw(
                 cmd,
                 mesh,
                 &ObjectPush {
@@ -243,6 +260,20 @@ pub fn render(ctx: &Arc<Context>, c: &CutAway, size: Size) -> Result<RenderedFra
         }
         target.end(cmd);
         timer.end(cmd, span);
+        Ok(())
+    }
+}
+
+/// Renders the cut-away.
+pub fn render(ctx: &Arc<Context>, c: &CutAway, size: Size) -> Result<RenderedFrame> {
+    let start = Instant::now();
+    let target = OffscreenTarget::new(ctx, size.width, size.height)?;
+    let mut renderer = CutAwayRenderer::new(ctx, c)?;
+    renderer.set_frame(&default_camera(c), size.aspect())?;
+    let mut timer = GpuTimer::new(ctx, "layers timer", 1)?;
+    ctx.submit_and_wait("stalagmite cut-away", |cmd| {
+        timer.reset(cmd);
+        renderer.record(cmd, &target, &mut timer)?;
         target.copy_out(cmd);
         Ok(())
     })?;

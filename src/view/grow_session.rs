@@ -10,9 +10,10 @@
 
 use std::sync::Arc;
 
+use super::Session;
 use super::input::Key;
 use crate::error::Result;
-use crate::gpu::{Commands, Context, OffscreenTarget};
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
 use crate::model::speleothem::plan::{GrowthParams, GrowthScene, ParamChange};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
@@ -31,6 +32,8 @@ pub struct GrowthSession {
     pub every: u32,
     frame: u64,
     step: bool,
+    /// Passes grown in the frame being recorded.
+    passes_now: u32,
     /// What the last key did, for the overlay.
     pub message: String,
 }
@@ -55,6 +58,7 @@ impl GrowthSession {
             every: 1,
             frame: 0,
             step: false,
+            passes_now: 0,
             message: String::new(),
         })
     }
@@ -205,37 +209,66 @@ impl GrowthSession {
             || (!self.paused && (self.frame - 1) % u64::from(self.every) == 0);
         u32::from(due && left > 0)
     }
+}
 
-    /// Before the frame's submission: decides this frame's passes and sets the camera.
-    pub fn prepare(&mut self, camera: &Camera, aspect: f32) -> Result<u32> {
-        let passes = self.due();
-        self.renderer
-            .set_frame(camera, aspect, &self.plan, self.passes_done() + passes)?;
-        Ok(passes)
+impl Session for GrowthSession {
+    fn name(&self) -> &'static str {
+        "grow"
     }
 
-    /// Records this frame's growth (`passes` from `prepare`).
-    pub fn record_growth(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
-        self.growth.record(cmd, passes)
+    fn key(&mut self, ctx: &Arc<Context>, key: Key) -> Result<bool> {
+        GrowthSession::key(self, ctx, key)
     }
 
-    /// Records the shading into `target`.
-    pub fn record_shading(&self, cmd: &Commands<'_>, target: &OffscreenTarget) -> Result<()> {
-        self.renderer.draw(cmd, target, self.growth.source())
+    /// Decides this frame's passes and sets the camera.
+    fn prepare(&mut self, _ctx: &Arc<Context>, camera: &Camera, aspect: f32) -> Result<()> {
+        self.passes_now = self.due();
+        self.renderer.set_frame(
+            camera,
+            aspect,
+            &self.plan,
+            self.passes_done() + self.passes_now,
+        )
     }
 
-    /// After the frame's submission: an error if a capture ran out of room.
-    pub fn check(&self) -> Result<()> {
+    fn record(
+        &mut self,
+        cmd: &Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()> {
+        let span = timer.begin(cmd, "ring growth")?;
+        self.growth.record(cmd, self.passes_now)?;
+        timer.end(cmd, span);
+        let span = timer.begin(cmd, "shading")?;
+        self.renderer.draw(cmd, target, self.growth.source())?;
+        timer.end(cmd, span);
+        Ok(())
+    }
+
+    /// An error if a capture ran out of room.
+    fn after(&mut self) -> Result<()> {
         self.growth.check_counts()
     }
 
-    /// The grown mesh as the re-streaming pass holds it.
-    pub fn mesh(&self, ctx: &Arc<Context>) -> Result<Vec<RingVertex>> {
-        self.growth.read_back(ctx, &self.plan)
+    fn message(&self) -> &str {
+        &self.message
     }
 
-    /// Overlay lines: the state and the parameters in force.
-    pub fn status(&self) -> Vec<String> {
+    fn controls(&self) -> &'static [&'static str] {
+        Self::CONTROLS
+    }
+
+    /// The grown mesh as the re-streaming pass holds it.
+    fn grown(&self, ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
+        Ok(Some((
+            self.plan.clone(),
+            self.growth.read_back(ctx, &self.plan)?,
+        )))
+    }
+
+    /// The state and the parameters in force.
+    fn status(&self) -> Vec<String> {
         let p = self.params();
         let state = if self.passes_done() >= self.plan.passes {
             "done - r restarts"
@@ -268,7 +301,9 @@ impl GrowthSession {
             ),
         ]
     }
+}
 
+impl GrowthSession {
     /// The growth keys, for the overlay and `--help`.
     pub const CONTROLS: &'static [&'static str] = &[
         "space pause  n one pass  r restart  t reseed  [ ] pass every k frames",

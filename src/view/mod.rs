@@ -11,6 +11,7 @@ pub mod camera_control;
 pub mod grow_session;
 pub mod input;
 pub mod overlay;
+pub mod scenes;
 
 use std::collections::HashSet;
 use std::path::PathBuf;
@@ -34,7 +35,10 @@ use crate::gpu::{
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::scene::Size;
 use crate::scene::camera::Camera;
+use crate::scene::cave::{CaveModel, CaveScene};
+use crate::scene::dunes::{DunesScene, Terrain};
 use crate::scene::grow::{GrowthScene, XfbGrowth};
+use crate::scene::layers::CutAway;
 use camera_control::CameraControl;
 use grow_session::GrowthSession;
 use input::{Key, Scripted, ScriptedKey};
@@ -48,6 +52,49 @@ pub enum ViewScene {
         /// One growth pass every `every` frames.
         every: u32,
     },
+    /// A generated cave (Cui, Chow & Zhang).
+    Cave {
+        scene: Box<CaveScene>,
+        model: Box<CaveModel>,
+    },
+    /// The desert (Onoue & Nishita).
+    Dunes {
+        scene: Box<DunesScene>,
+        terrain: Box<Terrain>,
+    },
+    /// A stalagmite's cut-away (Franke).
+    Layers { cut: Box<CutAway>, layers: usize },
+}
+
+/// One scene in the viewer: its keys, its frame and its lines on the panel.
+pub trait Session {
+    /// The scene's name on the panel.
+    fn name(&self) -> &'static str;
+    /// Handles a scene key; false when it is not one of the scene's.
+    fn key(&mut self, ctx: &Arc<Context>, key: Key) -> Result<bool>;
+    /// Before the frame's submission: the camera, and any CPU or one-off GPU work.
+    fn prepare(&mut self, ctx: &Arc<Context>, camera: &Camera, aspect: f32) -> Result<()>;
+    /// Records the frame into `target`, its passes timed as named spans.
+    fn record(
+        &mut self,
+        cmd: &crate::gpu::Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()>;
+    /// After the frame's submission finished.
+    fn after(&mut self) -> Result<()> {
+        Ok(())
+    }
+    /// Lines for the panel: the scene's state and parameters.
+    fn status(&self) -> Vec<String>;
+    /// The scene's keys, for the panel.
+    fn controls(&self) -> &'static [&'static str];
+    /// What the last key did.
+    fn message(&self) -> &str;
+    /// At exit: grown speleothems' plan and mesh, if the scene has any.
+    fn grown(&self, _ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
+        Ok(None)
+    }
 }
 
 /// How to show it.
@@ -73,12 +120,12 @@ pub struct ViewReport {
     pub frames: u32,
     /// Per frame: wall-clock milliseconds from the start of one frame to the next.
     pub frame_ms: Vec<f64>,
-    /// Per frame: GPU milliseconds of the growth pass(es) and of the shading.
+    /// Per frame: GPU milliseconds of the growth pass(es) and of everything else.
     pub growth_gpu_ms: Vec<f64>,
     pub shading_gpu_ms: Vec<f64>,
     /// Final size of the window's image.
     pub size: Size,
-    /// The plan and the mesh at the end (grow).
+    /// The plan and the mesh of grown speleothems at the end (grow, cave).
     pub grown: Option<(GrowthPlan, Vec<RingVertex>)>,
     pub validation_errors: Vec<String>,
 }
@@ -145,7 +192,7 @@ struct App<'a> {
 /// Everything that lives while the window is open. Field order is drop order: the
 /// swapchain before the surface before the window.
 struct State {
-    session: GrowthSession,
+    session: Box<dyn Session>,
     timer: GpuTimer,
     overlay_buffer: Option<Buffer>,
     target: Option<OffscreenTarget>,
@@ -221,7 +268,7 @@ impl App<'_> {
         // SAFETY: the window lives in the same `State` and is dropped after the
         // surface (field order).
         let surface = unsafe { Surface::new(&ctx, display, handle)? };
-        let session = match self.scene.take() {
+        let session: Box<dyn Session> = match self.scene.take() {
             Some(ViewScene::Grow {
                 scene,
                 growth,
@@ -229,7 +276,16 @@ impl App<'_> {
             }) => {
                 let mut s = GrowthSession::new(&ctx, *scene, growth)?;
                 s.every = every.max(1);
-                s
+                Box::new(s)
+            }
+            Some(ViewScene::Cave { scene, model }) => {
+                Box::new(scenes::CaveSession::new(&ctx, *scene, *model)?)
+            }
+            Some(ViewScene::Dunes { scene, terrain }) => {
+                Box::new(scenes::DunesSession::new(&ctx, *scene, &terrain)?)
+            }
+            Some(ViewScene::Layers { cut, layers }) => {
+                Box::new(scenes::LayersSession::new(&ctx, &cut, layers)?)
             }
             None => return Err(Error::invalid("view", "the scene was already shown")),
         };
@@ -451,12 +507,19 @@ impl State {
         };
         let (w, h) = chain.size();
         let aspect = w as f32 / h as f32;
-        let passes = self.session.prepare(&self.camera.camera(), aspect)?;
+        self.session
+            .prepare(&self.ctx, &self.camera.camera(), aspect)?;
         let panel = if self.overlay {
             let mut lines = vec![format!(
-                "sediment view grow  {:.1} fps  gpu: growth {:.2} ms shading {:.2} ms  {}",
+                "sediment view {}  {:.1} fps  cpu {:.1} ms  gpu: {}{:.2} ms  {}",
+                self.session.name(),
                 self.fps,
-                self.last_gpu.0,
+                1e3 / self.fps.max(1e-3),
+                if self.last_gpu.0 > 0.0 {
+                    format!("growth {:.2} ms, shading ", self.last_gpu.0)
+                } else {
+                    String::new()
+                },
                 self.last_gpu.1,
                 match self.camera.mode {
                     camera_control::CameraMode::Orbit => "orbit",
@@ -464,10 +527,10 @@ impl State {
                 }
             )];
             lines.extend(self.session.status());
-            lines.extend(GrowthSession::CONTROLS.iter().map(|s| s.to_string()));
+            lines.extend(self.session.controls().iter().map(|s| s.to_string()));
             lines.extend(CONTROLS.iter().map(|s| s.to_string()));
-            if !self.session.message.is_empty() {
-                lines.push(self.session.message.clone());
+            if !self.session.message().is_empty() {
+                lines.push(self.session.message().to_owned());
             }
             overlay::panel(&lines, w, h, chain.is_bgra())
         } else {
@@ -479,12 +542,7 @@ impl State {
         let (timer, session) = (&mut self.timer, &mut self.session);
         let presented = chain.present(index, |cmd, image| {
             timer.reset(cmd);
-            let span = timer.begin(cmd, "ring growth")?;
-            session.record_growth(cmd, passes)?;
-            timer.end(cmd, span);
-            let span = timer.begin(cmd, "shading")?;
-            session.record_shading(cmd, target)?;
-            timer.end(cmd, span);
+            session.record(cmd, target, timer)?;
             target.copy_out(cmd);
             cmd.blit_target(target, image, w, h);
             if let Some(p) = &panel {
@@ -495,16 +553,15 @@ impl State {
         if presented == Presented::Stale {
             self.stale = true;
         }
-        self.session.check()?;
+        self.session.after()?;
         let spans = self.timer.read()?;
-        let ms = |name: &str| -> f64 {
-            spans
-                .iter()
-                .filter(|s| s.name == name)
-                .map(|s| s.milliseconds)
-                .sum()
-        };
-        self.last_gpu = (ms("ring growth"), ms("shading"));
+        let growth: f64 = spans
+            .iter()
+            .filter(|s| s.name == "ring growth")
+            .map(|s| s.milliseconds)
+            .sum();
+        let total: f64 = spans.iter().map(|s| s.milliseconds).sum();
+        self.last_gpu = (growth, total - growth);
         let frame_ms = now.elapsed().as_secs_f64() * 1e3;
         self.fps = 0.9 * self.fps + 0.1 * (1e3 / frame_ms.max(1e-3));
         report.frames += 1;
@@ -519,8 +576,7 @@ impl State {
     /// At exit: the grown mesh and the validation errors.
     fn finish(self, report: &mut ViewReport) -> Result<()> {
         self.ctx.wait_idle()?;
-        let mesh = self.session.mesh(&self.ctx)?;
-        report.grown = Some((self.session.plan().clone(), mesh));
+        report.grown = self.session.grown(&self.ctx)?;
         report.validation_errors = self.ctx.take_validation_errors();
         Ok(())
     }

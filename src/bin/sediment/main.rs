@@ -103,7 +103,7 @@ enum Command {
     /// Open a window and render a scene continuously with the same passes as the
     /// headless commands: speleothems growing in real time while you steer the
     /// parameters, the camera orbiting or flying. Needs an X11 display (Xvfb works).
-    #[command(after_help = view::controls())]
+    #[command(after_help = view::all_controls())]
     View(Box<view::ViewArgs>),
 }
 

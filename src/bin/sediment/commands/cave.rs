@@ -10,82 +10,89 @@ use sediment::scene::cave;
 use crate::{Cli, fail_on_validation_errors, open_context, progress, vec3_arg};
 
 #[derive(clap::Args, Debug)]
-pub struct CaveArgs {
+/// The scene options, shared with `sediment view`.
+pub struct CaveSceneArgs {
     /// A reproduction of one of the paper's figures: fig5a/fig5b (wireframe/solid
     /// before smoothing), fig5c/fig5d (after), fig8 (a passage with stalactites and
     /// stalagmites, the default).
     #[arg(long, value_name = "NAME")]
-    preset: Option<String>,
+    pub preset: Option<String>,
+    /// Maximum octree depth, 5..=9 (the cube has 2^depth voxels a side; default 7).
+    #[arg(long, value_name = "N")]
+    pub depth: Option<u32>,
+    /// Side of the cave's cube in metres, 1..=10000 (default 24).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub cave_size: Option<f32>,
+    /// Laplacian weight lambda of eq. (1), 0..=1 (paper 0.5).
+    #[arg(long, value_name = "L", allow_negative_numbers = true)]
+    pub lambda: Option<f32>,
+    /// Smoothing iterations k, 0..=100 (default 4).
+    #[arg(long, value_name = "K")]
+    pub iterations: Option<u32>,
+    /// Wall noise frequency in features per cube side, 1..=64 (default 6).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub noise_scale: Option<f32>,
+    /// fBm octaves, 1..=8 (default 4).
+    #[arg(long, value_name = "N")]
+    pub octaves: Option<u32>,
+    /// Wall roughness (noise amplitude), 0..=0.2 of the side (default 0.05).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub roughness: Option<f32>,
+    /// Carving threshold, -0.1..=0.1 of the side: higher carves a wider cave (default 0).
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    pub threshold: Option<f32>,
+    /// Passage half-height, 0.04..=0.3 of the side (default 0.16).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub half_height: Option<f32>,
+    /// Passage half-width, 0.04..=0.3 of the side (default 0.13).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub half_width: Option<f32>,
+    /// How far the passage winds sideways, 0..=0.2 of the side (default 0.1).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub meander: Option<f32>,
+    /// Speleothems: short (Short et al.'s profile, as the paper), grown (the same
+    /// sites grown on the geometry-shader / transform-feedback pipeline), or none.
+    #[arg(long, value_name = "short|grown|none")]
+    pub speleothems: Option<String>,
+    /// Stalactite sites to try, 0..=200 (default 40; sites without room are skipped).
+    #[arg(long, value_name = "N")]
+    pub speleothem_count: Option<u32>,
+    /// Metres per unit of the paper's speleothem radius r (r is 5..50 units), (0, 1]
+    /// (default 0.03).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub unit: Option<f32>,
+    /// Stalagmite growth relative to its stalactite, 0.1..=10 (paper 1.5).
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pub growth_ratio: Option<f32>,
+    /// Growth passes with --speleothems grown, 1..=512 (default 30).
+    #[arg(long, value_name = "N")]
+    pub grown_passes: Option<u32>,
+    /// Draw the wall as wireframe (the paper's Fig. 5a/c).
+    #[arg(long)]
+    pub wireframe: bool,
+    /// Show the blocky wall before smoothing (the paper's Fig. 5a/b).
+    #[arg(long)]
+    pub no_smooth: bool,
+    /// Fog density per metre, 0..=1 (default 0.04).
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub fog: Option<f32>,
+    /// Camera position x,y,z in metres (the cave spans 0..cave-size on each axis; the
+    /// passage runs along x with its floor at y = cave-size / 4).
+    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
+    pub eye: Option<String>,
+    /// Point the camera looks at, x,y,z in metres.
+    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
+    pub target: Option<String>,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct CaveArgs {
+    #[command(flatten)]
+    pub scene: CaveSceneArgs,
     /// Print the paper's Table 1 counterpart (triangles before/after the crack-free
     /// split and generation time per phase, octree depths 5..9) and exit.
     #[arg(long)]
     table: bool,
-    /// Maximum octree depth, 5..=9 (the cube has 2^depth voxels a side; default 7).
-    #[arg(long, value_name = "N")]
-    depth: Option<u32>,
-    /// Side of the cave's cube in metres, 1..=10000 (default 24).
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    cave_size: Option<f32>,
-    /// Laplacian weight lambda of eq. (1), 0..=1 (paper 0.5).
-    #[arg(long, value_name = "L", allow_negative_numbers = true)]
-    lambda: Option<f32>,
-    /// Smoothing iterations k, 0..=100 (default 4).
-    #[arg(long, value_name = "K")]
-    iterations: Option<u32>,
-    /// Wall noise frequency in features per cube side, 1..=64 (default 6).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    noise_scale: Option<f32>,
-    /// fBm octaves, 1..=8 (default 4).
-    #[arg(long, value_name = "N")]
-    octaves: Option<u32>,
-    /// Wall roughness (noise amplitude), 0..=0.2 of the side (default 0.05).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    roughness: Option<f32>,
-    /// Carving threshold, -0.1..=0.1 of the side: higher carves a wider cave (default 0).
-    #[arg(long, value_name = "T", allow_negative_numbers = true)]
-    threshold: Option<f32>,
-    /// Passage half-height, 0.04..=0.3 of the side (default 0.16).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    half_height: Option<f32>,
-    /// Passage half-width, 0.04..=0.3 of the side (default 0.13).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    half_width: Option<f32>,
-    /// How far the passage winds sideways, 0..=0.2 of the side (default 0.1).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    meander: Option<f32>,
-    /// Speleothems: short (Short et al.'s profile, as the paper), grown (the same
-    /// sites grown on the geometry-shader / transform-feedback pipeline), or none.
-    #[arg(long, value_name = "short|grown|none")]
-    speleothems: Option<String>,
-    /// Stalactite sites to try, 0..=200 (default 40; sites without room are skipped).
-    #[arg(long, value_name = "N")]
-    speleothem_count: Option<u32>,
-    /// Metres per unit of the paper's speleothem radius r (r is 5..50 units), (0, 1]
-    /// (default 0.03).
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    unit: Option<f32>,
-    /// Stalagmite growth relative to its stalactite, 0.1..=10 (paper 1.5).
-    #[arg(long, value_name = "R", allow_negative_numbers = true)]
-    growth_ratio: Option<f32>,
-    /// Growth passes with --speleothems grown, 1..=512 (default 30).
-    #[arg(long, value_name = "N")]
-    grown_passes: Option<u32>,
-    /// Draw the wall as wireframe (the paper's Fig. 5a/c).
-    #[arg(long)]
-    wireframe: bool,
-    /// Show the blocky wall before smoothing (the paper's Fig. 5a/b).
-    #[arg(long)]
-    no_smooth: bool,
-    /// Fog density per metre, 0..=1 (default 0.04).
-    #[arg(long, value_name = "D", allow_negative_numbers = true)]
-    fog: Option<f32>,
-    /// Camera position x,y,z in metres (the cave spans 0..cave-size on each axis; the
-    /// passage runs along x with its floor at y = cave-size / 4).
-    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
-    eye: Option<String>,
-    /// Point the camera looks at, x,y,z in metres.
-    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
-    target: Option<String>,
     /// The frame as PNG (default cave.png).
     #[arg(short = 'o', long = "output", value_name = "FILE.png")]
     output: Option<PathBuf>,
@@ -100,7 +107,7 @@ pub struct CaveArgs {
     flythrough_frames: u32,
 }
 
-pub fn cave_scene(cli: &Cli, a: &CaveArgs) -> anyhow::Result<cave::CaveScene> {
+pub fn cave_scene(cli: &Cli, a: &CaveSceneArgs) -> anyhow::Result<cave::CaveScene> {
     let mut s = match &a.preset {
         Some(name) => cave::preset(name)?,
         None => cave::CaveScene::default(),
@@ -133,7 +140,7 @@ pub fn cave_scene(cli: &Cli, a: &CaveArgs) -> anyhow::Result<cave::CaveScene> {
 }
 
 pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
-    let mut scene = cave_scene(cli, a)?;
+    let mut scene = cave_scene(cli, &a.scene)?;
     if a.table {
         let rows = cave::table(&scene.cave, &mut |d| {
             progress(d as usize - 5, 5, "octree depths")
@@ -161,8 +168,14 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         }
         return Ok(());
     }
-    let eye = a.eye.as_deref().map(|v| vec3_arg("--eye", v)).transpose()?;
+    let eye = a
+        .scene
+        .eye
+        .as_deref()
+        .map(|v| vec3_arg("--eye", v))
+        .transpose()?;
     let target = a
+        .scene
         .target
         .as_deref()
         .map(|v| vec3_arg("--target", v))

@@ -12,85 +12,113 @@ use crate::{
 };
 
 #[derive(clap::Args, Debug)]
-pub struct DunesArgs {
+/// The scene options, shared with `sediment view`.
+pub struct DunesSceneArgs {
     /// A reproduction of one of the paper's figures: fig12 (no ripples), fig13
     /// (ripples), fig14/fig15 (low sun without/with dune shadows), fig16/fig17 (dune
     /// shadows without/with ripple shadows), fig18 (with sand dust; no footprints).
     #[arg(long, value_name = "NAME")]
-    preset: Option<String>,
+    pub preset: Option<String>,
     /// Ripple tile side in texels: a power of two in 16..=1024 (paper: 256).
     #[arg(long, value_name = "N")]
-    ripple_size: Option<usize>,
+    pub ripple_size: Option<usize>,
     /// Ripple simulation steps, 0..=100000.
     #[arg(long, value_name = "N")]
-    ripple_steps: Option<u32>,
+    pub ripple_steps: Option<u32>,
     /// Dune grid side in vertices, 8..=512 (paper: 64).
     #[arg(long, value_name = "N")]
-    dune_size: Option<usize>,
+    pub dune_size: Option<usize>,
     /// Dune simulation steps, 0..=100000.
     #[arg(long, value_name = "N")]
-    dune_steps: Option<u32>,
+    pub dune_steps: Option<u32>,
     /// Ripple saltation length L0 in texels (paper 7.3).
     #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
-    ripple_l0: Option<f64>,
+    pub ripple_l0: Option<f64>,
     /// Ripple saltation amount q (paper 0.6).
     #[arg(long, value_name = "Q", allow_negative_numbers = true)]
-    ripple_q: Option<f64>,
+    pub ripple_q: Option<f64>,
     /// Ripple hop growth with height b (paper 2.0).
     #[arg(long, value_name = "B", allow_negative_numbers = true)]
-    ripple_b: Option<f64>,
+    pub ripple_b: Option<f64>,
     /// Creep diffusion D for both simulations, 0..=1 (default 0.2).
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
-    diffusion: Option<f64>,
+    pub diffusion: Option<f64>,
     /// Angle of repose for dune avalanching in degrees, or "off" (default 33).
     #[arg(long, value_name = "DEG|off")]
-    repose: Option<String>,
+    pub repose: Option<String>,
     /// World metres per dune cell, > 0 (default 4).
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    cell: Option<f32>,
+    pub cell: Option<f32>,
     /// World metres covered by one ripple tile, > 0 (default 16: 64 ripple texels per
     /// 4 m dune cell, as in the paper).
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    ripple_tile: Option<f32>,
+    pub ripple_tile: Option<f32>,
     /// Ripple bump strength, 0..=4 (default 0.65; 1 uses the simulated slopes as they
     /// are).
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    ripple_strength: Option<f32>,
+    pub ripple_strength: Option<f32>,
     /// Ripple orientation relative to the dune field's wind (+x), degrees.
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
-    wind_direction: Option<f32>,
+    pub wind_direction: Option<f32>,
     /// Sun elevation above the horizon, 0.5..=89.5 degrees.
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
-    sun_elevation: Option<f32>,
+    pub sun_elevation: Option<f32>,
     /// Sun azimuth, degrees from +x toward +z.
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
-    sun_azimuth: Option<f32>,
+    pub sun_azimuth: Option<f32>,
     /// Level of detail over the ripple normal chain: on, or off (level 0 everywhere).
     #[arg(long, value_name = "on|off")]
-    lod: Option<String>,
+    pub lod: Option<String>,
     /// Back-face and frustum culling of dune quads: on or off.
     #[arg(long, value_name = "on|off")]
-    cull: Option<String>,
+    pub cull: Option<String>,
     /// Shadows: none, dune, or dune+ripple.
     #[arg(long, value_name = "none|dune|dune+ripple")]
-    shadows: Option<String>,
+    pub shadows: Option<String>,
     /// How dune shadows are found: map (the paper's ray march once per light into a
     /// shadow map, the default) or pixel (the same march in every pixel, slower; for
     /// comparison).
     #[arg(long, value_name = "map|pixel")]
-    dune_shadows: Option<String>,
+    pub dune_shadows: Option<String>,
     /// Sand dust blobs drifting with the wind (paper eq. 7).
     #[arg(long)]
-    dust: bool,
+    pub dust: bool,
     /// Time step at which the dust is shown, 0..=100000 (default 40).
     #[arg(long, value_name = "N")]
-    dust_step: Option<u32>,
+    pub dust_step: Option<u32>,
     /// Camera position x,y,z in metres (the field spans 0..(dune-size - 1) x cell).
     #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
-    eye: Option<String>,
+    pub eye: Option<String>,
     /// Point the camera looks at, x,y,z in metres.
     #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
-    target: Option<String>,
+    pub target: Option<String>,
+    /// Dune saltation length L0 in cells (paper 7.0).
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    pub dune_l0: Option<f64>,
+    /// Dune saltation base amount q0 (paper 1.5).
+    #[arg(long, value_name = "Q", allow_negative_numbers = true)]
+    pub dune_q0: Option<f64>,
+    /// Dune hop shortening with slope b (paper 2.0).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    pub dune_b: Option<f64>,
+    /// Dune lift increase with slope b' (paper 2.0).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    pub dune_b_prime: Option<f64>,
+    /// Dune wind speed-up: extra hop length in cells per unit of sand height above the
+    /// field's mean, >= 0 (default 2; 0 for the paper's law alone).
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    pub dune_speedup: Option<f64>,
+    /// Lee shadow zone behind dune crests in degrees, 0..90 exclusive, or "off" for the
+    /// paper's law alone (default 15): sand there is not eroded and catches the grains
+    /// flying into it, which makes the steep slip face.
+    #[arg(long, value_name = "DEG|off")]
+    pub shadow_zone: Option<String>,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct DunesArgs {
+    #[command(flatten)]
+    pub scene: DunesSceneArgs,
     /// The frame as PNG (default dunes.png).
     #[arg(short = 'o', long = "output", value_name = "FILE.png")]
     output: Option<PathBuf>,
@@ -101,27 +129,6 @@ pub struct DunesArgs {
     /// GIF frames, 2..=120 (default 12).
     #[arg(long, value_name = "N", default_value_t = 12)]
     gif_frames: u32,
-    /// Dune saltation length L0 in cells (paper 7.0).
-    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
-    dune_l0: Option<f64>,
-    /// Dune saltation base amount q0 (paper 1.5).
-    #[arg(long, value_name = "Q", allow_negative_numbers = true)]
-    dune_q0: Option<f64>,
-    /// Dune hop shortening with slope b (paper 2.0).
-    #[arg(long, value_name = "B", allow_negative_numbers = true)]
-    dune_b: Option<f64>,
-    /// Dune lift increase with slope b' (paper 2.0).
-    #[arg(long, value_name = "B", allow_negative_numbers = true)]
-    dune_b_prime: Option<f64>,
-    /// Dune wind speed-up: extra hop length in cells per unit of sand height above the
-    /// field's mean, >= 0 (default 2; 0 for the paper's law alone).
-    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
-    dune_speedup: Option<f64>,
-    /// Lee shadow zone behind dune crests in degrees, 0..90 exclusive, or "off" for the
-    /// paper's law alone (default 15): sand there is not eroded and catches the grains
-    /// flying into it, which makes the steep slip face.
-    #[arg(long, value_name = "DEG|off")]
-    shadow_zone: Option<String>,
     /// The dune field as a 16-bit greyscale PNG; the ripple tile goes beside it as
     /// FILE-ripples.png.
     #[arg(long, value_name = "FILE.png")]
@@ -137,7 +144,7 @@ pub struct DunesArgs {
     timing_frames: u32,
 }
 
-pub fn dunes_scene(cli: &Cli, a: &DunesArgs) -> anyhow::Result<dunes::DunesScene> {
+pub fn dunes_scene(cli: &Cli, a: &DunesSceneArgs) -> anyhow::Result<dunes::DunesScene> {
     let mut s = match &a.preset {
         Some(name) => dunes::preset(name)?,
         None => dunes::DunesScene::default(),
@@ -211,9 +218,15 @@ pub fn dunes_scene(cli: &Cli, a: &DunesArgs) -> anyhow::Result<dunes::DunesScene
 }
 
 pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
-    let mut scene = dunes_scene(cli, a)?;
-    let eye = a.eye.as_deref().map(|v| vec3_arg("--eye", v)).transpose()?;
+    let mut scene = dunes_scene(cli, &a.scene)?;
+    let eye = a
+        .scene
+        .eye
+        .as_deref()
+        .map(|v| vec3_arg("--eye", v))
+        .transpose()?;
     let target = a
+        .scene
         .target
         .as_deref()
         .map(|v| vec3_arg("--target", v))

@@ -10,62 +10,69 @@ use sediment::scene::Size;
 use crate::{Cli, fail_on_validation_errors, open_context, parse_size};
 
 #[derive(clap::Args, Debug)]
-pub struct LayersArgs {
+/// The scene options, shared with `sediment view`.
+pub struct LayersSceneArgs {
     /// A demo case: candlestick (constant supply), drying (steps 1, 0.6, 0.3: a cone),
     /// wetting (rising supply: overhang), uneven (uneven base), timeline (12 000 years
     /// in mm).
     #[arg(long, value_name = "NAME")]
-    preset: Option<String>,
+    pub preset: Option<String>,
     /// Layer thickness per time unit at the apex, > 0 (default 0.02; Franke units).
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    dic: Option<f64>,
+    pub dic: Option<f64>,
     /// Support points of the profile, 8..=2000 (default 160).
     #[arg(long, value_name = "N")]
-    pz: Option<usize>,
+    pub pz: Option<usize>,
     /// Layers, 1..=20000 (default 300).
     #[arg(long, value_name = "N")]
-    rep: Option<usize>,
+    pub rep: Option<usize>,
     /// Decay length r of the deposit, > 0 (default 1; the stationary radius is
     /// 0.886 r for the Gaussian, r / 2 linear, r exponential).
     #[arg(long = "r", value_name = "F", allow_negative_numbers = true)]
-    r: Option<f64>,
+    pub r: Option<f64>,
     /// Decay law: gaussian (Franke's exp(-(s/r)^2)), linear (Dreybrodt's), exponential.
     #[arg(long, value_name = "gaussian|linear|exponential")]
-    decay: Option<String>,
+    pub decay: Option<String>,
     /// Water supply over time, a factor on the stationary radius: constant,
     /// linear:A..B (from A to B), steps:A,B,... (equal runs), each 0.05..=20; or
     /// timeline:FILE.csv (real units: rows of years, temperature C, drip interval s,
     /// excess Ca mol/m^3).
     #[arg(long, value_name = "SPEC")]
-    supply: Option<String>,
+    pub supply: Option<String>,
     /// An uneven base: a CSV of x,y support points from the axis (x = 0) outwards,
     /// heights falling steadily (a rising base would pond water).
     #[arg(long, value_name = "FILE.csv")]
-    base: Option<PathBuf>,
+    pub base: Option<PathBuf>,
     /// Radius of the flat base in stationary radii, 2..=20 (default 4.5).
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    extent: Option<f64>,
+    pub extent: Option<f64>,
     /// Real units at constant cave conditions (the options below), in mm and years.
     #[arg(long)]
-    physical: bool,
+    pub physical: bool,
     /// Cave temperature, 0..=40 C (default 10).
     #[arg(long, value_name = "C", allow_negative_numbers = true)]
-    temperature: Option<f64>,
+    pub temperature: Option<f64>,
     /// Drip interval, 0.1..=1000000 s (default 100).
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
-    drip_interval: Option<f64>,
+    pub drip_interval: Option<f64>,
     /// Excess calcium c_in - c_eq, 0..=10 mol/m^3 (default 1).
     #[arg(long, value_name = "MOL_M3", allow_negative_numbers = true)]
-    excess_ca: Option<f64>,
+    pub excess_ca: Option<f64>,
     /// Water-film thickness: 0.1, 0.075 or 0.05 mm (default 0.1).
     #[arg(long, value_name = "MM", allow_negative_numbers = true)]
-    film: Option<f64>,
+    pub film: Option<f64>,
     /// Years of growth with --physical, > 0 (default 10000).
     #[arg(long, value_name = "YEARS", allow_negative_numbers = true)]
-    years: Option<f64>,
+    pub years: Option<f64>,
     /// Years per layer in real units, > 0 (default 40).
     #[arg(long, value_name = "YEARS", allow_negative_numbers = true)]
-    years_per_layer: Option<f64>,
+    pub years_per_layer: Option<f64>,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct LayersArgs {
+    #[command(flatten)]
+    pub scene: LayersSceneArgs,
     /// The cross-section as .svg or .png (default section.svg).
     #[arg(short = 'o', long = "output", value_name = "FILE.svg|FILE.png")]
     output: Option<PathBuf>,
@@ -96,7 +103,7 @@ pub struct LayersArgs {
     mesh: Option<PathBuf>,
 }
 
-pub fn layers_setup(a: &LayersArgs) -> anyhow::Result<sediment::scene::layers::LayersSetup> {
+pub fn layers_setup(a: &LayersSceneArgs) -> anyhow::Result<sediment::scene::layers::LayersSetup> {
     use sediment::model::layers::{Base, physical};
     use sediment::scene::layers::{self, PhysicalSetup};
     let mut s = match &a.preset {
@@ -185,7 +192,7 @@ pub fn layers_setup(a: &LayersArgs) -> anyhow::Result<sediment::scene::layers::L
 pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
     use sediment::export::section::{self, SectionStyle};
     use sediment::scene::layers as scene_layers;
-    let setup = layers_setup(a)?;
+    let setup = layers_setup(&a.scene)?;
     let output = a
         .output
         .clone()

@@ -1,19 +1,22 @@
 //! `sediment view`: the interactive viewer (library: `sediment::view`).
 
+use std::io::Write as _;
 use std::path::PathBuf;
 
 use anyhow::bail;
 use sediment::bench::report::Stats;
 use sediment::export::check_extension;
+use sediment::scene::camera::Camera;
 use sediment::scene::grow::{self, XfbGrowth};
 use sediment::view::grow_session::GrowthSession;
 use sediment::view::input::parse_script;
-use sediment::view::{self, ViewOptions, ViewScene};
+use sediment::view::{self, ViewOptions, ViewScene, scenes};
 
+use super::cave::{CaveSceneArgs, cave_scene};
+use super::dunes::{DunesSceneArgs, dunes_scene};
 use super::grow::{GrowSceneArgs, growth_camera, growth_scene};
-use std::io::Write as _;
-
-use crate::{Cli, context_options};
+use super::layers::{LayersSceneArgs, layers_setup};
+use crate::{Cli, context_options, progress, vec3_arg};
 
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
@@ -25,7 +28,20 @@ pub struct ViewArgs {
 enum ViewSceneArgs {
     /// Watch speleothems grow in real time and steer the growth while it runs (the
     /// paper's manual mode). Takes every scene option of `sediment grow`.
+    #[command(after_help = controls(GrowthSession::CONTROLS))]
     Grow(Box<ViewGrowArgs>),
+    /// Fly through a generated cave; switch wireframe and smoothing. Takes every
+    /// scene option of `sediment cave`.
+    #[command(after_help = controls(scenes::CaveSession::CONTROLS))]
+    Cave(Box<ViewCaveArgs>),
+    /// Fly over the desert; move the sun, switch LOD, culling, shadows, ripples and
+    /// dust. Takes every scene option of `sediment dunes`.
+    #[command(after_help = controls(scenes::DunesSession::CONTROLS))]
+    Dunes(Box<ViewDunesArgs>),
+    /// Turn around a stalagmite cut open to show its growth layers. Takes every
+    /// scene option of `sediment layers`.
+    #[command(after_help = controls(&[]))]
+    Layers(Box<ViewLayersArgs>),
 }
 
 #[derive(clap::Args, Debug)]
@@ -43,6 +59,30 @@ struct ViewGrowArgs {
     /// On exit, the grown mesh as .glb (glTF 2.0 binary) or .obj.
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
+    #[command(flatten)]
+    view: ViewFlags,
+}
+
+#[derive(clap::Args, Debug)]
+struct ViewCaveArgs {
+    #[command(flatten)]
+    scene: CaveSceneArgs,
+    #[command(flatten)]
+    view: ViewFlags,
+}
+
+#[derive(clap::Args, Debug)]
+struct ViewDunesArgs {
+    #[command(flatten)]
+    scene: DunesSceneArgs,
+    #[command(flatten)]
+    view: ViewFlags,
+}
+
+#[derive(clap::Args, Debug)]
+struct ViewLayersArgs {
+    #[command(flatten)]
+    scene: LayersSceneArgs,
     #[command(flatten)]
     view: ViewFlags,
 }
@@ -70,10 +110,10 @@ struct ViewFlags {
     no_overlay: bool,
 }
 
-/// The controls, for `sediment view --help`.
-pub fn controls() -> String {
+/// A scene's controls after the shared ones, for `--help`.
+pub fn controls(scene: &[&str]) -> String {
     let mut text = String::from("Controls:\n");
-    for line in view::CONTROLS.iter().chain(GrowthSession::CONTROLS) {
+    for line in view::CONTROLS.iter().chain(scene) {
         text.push_str("  ");
         text.push_str(line);
         text.push('\n');
@@ -81,18 +121,26 @@ pub fn controls() -> String {
     text
 }
 
-pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
-    let ViewSceneArgs::Grow(g) = &a.scene;
-    // Everything the user gave is checked before a window opens.
-    let scene = growth_scene(cli, &g.scene)?;
-    let camera = growth_camera(&scene, &g.scene)?;
-    if !(1..=120).contains(&g.every) {
-        bail!(sediment::Error::invalid("--every", "must be in 1..=120"));
+/// Every scene's controls, for `sediment view --help`.
+pub fn all_controls() -> String {
+    let mut text = controls(&[]);
+    for (name, keys) in [
+        ("grow", GrowthSession::CONTROLS),
+        ("cave", scenes::CaveSession::CONTROLS),
+        ("dunes", scenes::DunesSession::CONTROLS),
+    ] {
+        text.push_str(&format!("  {name}:\n"));
+        for line in keys {
+            text.push_str("    ");
+            text.push_str(line);
+            text.push('\n');
+        }
     }
-    if let Some(mesh) = &g.mesh {
-        check_extension(mesh, "--mesh", &["glb", "obj"])?;
-    }
-    let f = &g.view;
+    text
+}
+
+/// The viewer's own options (checked before a scene is built).
+fn view_options(cli: &Cli, f: &ViewFlags, camera: Camera) -> anyhow::Result<ViewOptions> {
     if let Some(path) = &f.screenshot {
         check_extension(path, "--screenshot", &["png"])?;
     }
@@ -103,7 +151,7 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
         ));
     }
     let script = f.script.as_deref().map(parse_script).transpose()?;
-    let options = ViewOptions {
+    Ok(ViewOptions {
         context: context_options(cli),
         size: cli.size,
         camera,
@@ -112,22 +160,118 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
         screenshot: f.screenshot.clone(),
         script: script.unwrap_or_default(),
         overlay: !f.no_overlay,
+    })
+}
+
+/// `--eye`/`--target` over a scene's default camera.
+fn camera_over(
+    mut camera: Camera,
+    eye: &Option<String>,
+    target: &Option<String>,
+) -> anyhow::Result<Camera> {
+    if let Some(e) = eye {
+        camera.eye = vec3_arg("--eye", e)?;
+    }
+    if let Some(t) = target {
+        camera.target = vec3_arg("--target", t)?;
+    }
+    if (camera.eye - camera.target).length() < 1e-6 {
+        bail!(sediment::Error::invalid(
+            "--eye/--target",
+            "the camera must not look at its own position"
+        ));
+    }
+    Ok(camera)
+}
+
+/// A placeholder camera for checking the options before the scene exists.
+fn any_camera() -> Camera {
+    Camera {
+        eye: glam::Vec3::Z,
+        target: glam::Vec3::ZERO,
+        up: glam::Vec3::Y,
+        fov_y_degrees: 45.0,
+        near: 0.1,
+        far: 10.0,
+    }
+}
+
+pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
+    // Everything the user gave is checked before anything is built or a window opens.
+    let (options, scene, growing) = match &a.scene {
+        ViewSceneArgs::Grow(g) => {
+            let scene = growth_scene(cli, &g.scene)?;
+            let camera = growth_camera(&scene, &g.scene)?;
+            if !(1..=120).contains(&g.every) {
+                bail!(sediment::Error::invalid("--every", "must be in 1..=120"));
+            }
+            if let Some(mesh) = &g.mesh {
+                check_extension(mesh, "--mesh", &["glb", "obj"])?;
+            }
+            let options = view_options(cli, &g.view, camera)?;
+            let growth = if g.growth == "restream" {
+                XfbGrowth::Restream
+            } else {
+                XfbGrowth::Append
+            };
+            let growing = scene.passes as usize * g.every as usize;
+            let scene = ViewScene::Grow {
+                scene: Box::new(scene),
+                growth,
+                every: g.every,
+            };
+            (options, scene, growing)
+        }
+        ViewSceneArgs::Cave(c) => {
+            let scene = cave_scene(cli, &c.scene)?;
+            camera_over(any_camera(), &c.scene.eye, &c.scene.target)?;
+            view_options(cli, &c.view, any_camera())?;
+            let model = sediment::scene::cave::build(&scene, &|phase, done, total| {
+                progress(done as usize, total as usize, phase);
+            })?;
+            eprintln!();
+            let camera = sediment::scene::cave::default_camera(&scene, &model);
+            let camera = camera_over(camera, &c.scene.eye, &c.scene.target)?;
+            let options = view_options(cli, &c.view, camera)?;
+            let scene = ViewScene::Cave {
+                scene: Box::new(scene),
+                model: Box::new(model),
+            };
+            (options, scene, 0)
+        }
+        ViewSceneArgs::Dunes(d) => {
+            let scene = dunes_scene(cli, &d.scene)?;
+            camera_over(any_camera(), &d.scene.eye, &d.scene.target)?;
+            view_options(cli, &d.view, any_camera())?;
+            let terrain = sediment::scene::dunes::simulate(&scene, &mut |done, total| {
+                progress(done as usize, total as usize, "simulation steps")
+            })?;
+            eprintln!();
+            let camera = sediment::scene::dunes::default_camera(&scene, &terrain);
+            let camera = camera_over(camera, &d.scene.eye, &d.scene.target)?;
+            let options = view_options(cli, &d.view, camera)?;
+            let scene = ViewScene::Dunes {
+                scene: Box::new(scene),
+                terrain: Box::new(terrain),
+            };
+            (options, scene, 0)
+        }
+        ViewSceneArgs::Layers(l) => {
+            let setup = layers_setup(&l.scene)?;
+            view_options(cli, &l.view, any_camera())?;
+            let (stalagmite, _) = setup.grow()?;
+            let layers = stalagmite.layers.len().saturating_sub(1);
+            let cut = sediment::scene::layers::cut_away(&stalagmite, (layers / 24).max(1));
+            let camera = sediment::scene::layers::default_camera(&cut);
+            let options = view_options(cli, &l.view, camera)?;
+            let scene = ViewScene::Layers {
+                cut: Box::new(cut),
+                layers,
+            };
+            (options, scene, 0)
+        }
     };
-    let passes = scene.passes;
-    let growth = if g.growth == "restream" {
-        XfbGrowth::Restream
-    } else {
-        XfbGrowth::Append
-    };
-    let report = view::run(
-        options,
-        ViewScene::Grow {
-            scene: Box::new(scene),
-            growth,
-            every: g.every,
-        },
-        &mut |line| say!("{line}"),
-    )?;
+    let report = view::run(options, scene, &mut |line| say!("{line}"))?;
     if !report.validation_errors.is_empty() {
         bail!(
             "the Vulkan validation layer reported {} error(s); the first: {}",
@@ -135,9 +279,9 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
             report.validation_errors[0]
         );
     }
-    // Frame times: the first frames pay for shader compilation, so the growth
-    // frames are those after the first.
-    let growing = (passes as usize * g.every as usize).min(report.frame_ms.len());
+    // Frame times: the first frame pays for shader compilation; with a growth, the
+    // growing frames are the ones after it until the last pass.
+    let growing = growing.min(report.frame_ms.len());
     let line = |label: &str, ms: &[f64]| {
         if ms.is_empty() {
             return;
@@ -166,8 +310,15 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
         let g = Stats::of(&report.growth_gpu_ms[1..growing]).median;
         let s = Stats::of(&report.shading_gpu_ms[1..growing]).median;
         say!("GPU while growing: growth {g:.2} ms, shading {s:.2} ms (medians)");
+    } else if report.frames > 1 {
+        let s = Stats::of(&report.shading_gpu_ms[1..]).median;
+        say!("GPU: {s:.2} ms per frame (median)");
     }
-    if let (Some(path), Some((plan, mesh))) = (&g.mesh, &report.grown) {
+    let mesh_path = match &a.scene {
+        ViewSceneArgs::Grow(g) => g.mesh.as_ref(),
+        _ => None,
+    };
+    if let (Some(path), Some((plan, mesh))) = (mesh_path, &report.grown) {
         sediment::export::mesh::write_mesh(path, &grow::export_mesh(plan, mesh))?;
         say!("wrote {} ({} triangles)", path.display(), mesh.len() / 3);
     }
