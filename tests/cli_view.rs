@@ -243,6 +243,92 @@ fn resizes_and_a_camera_found_interactively_render_headless() {
     );
 }
 
+/// `sediment view SCENE ... --frames 3 --screenshot` against the headless command's
+/// render of the same scene, both with `args`; `keys` are pressed in the viewer and
+/// `headless_extra` says the same to the headless command.
+fn view_matches_headless(
+    x: &Xvfb,
+    dir: &Path,
+    scene: &str,
+    args: &[&str],
+    keys: &str,
+    headless_extra: &[&str],
+    output_flag: &str,
+) {
+    let shot = format!("{scene}-view.png");
+    let mut v = vec!["--validate", "--size", "320x200", "view", scene];
+    v.extend(args);
+    v.extend(["--frames", "3", "--screenshot", &shot, "--script", keys]);
+    assert_ok(&view(x, dir, &v), &format!("sediment view {scene}"));
+    let png = dir.join(format!("{scene}-headless.png"));
+    let png = png.to_string_lossy();
+    let mut h = vec!["--validate", "--size", "320x200", scene];
+    h.extend(args);
+    h.extend(headless_extra);
+    h.extend([output_flag, &png]);
+    // In the scratch folder: `sediment layers` also writes its default section.svg.
+    let out = Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .args(&h)
+        .current_dir(dir)
+        .output()
+        .expect("run the sediment binary");
+    assert_ok(&out, &format!("sediment {scene}"));
+    let (_, d) = common::difference(
+        &load(&dir.join(&shot)),
+        &load(&dir.join(format!("{scene}-headless.png"))),
+    );
+    assert!(
+        d.mean <= 1.0 && d.p99 <= 16,
+        "{scene} with keys {keys}: mean {:.3}, p99 {}, max {}",
+        d.mean,
+        d.p99,
+        d.max
+    );
+}
+
+#[test]
+fn cave_dunes_and_layers_views_match_their_headless_renders_and_toggles() {
+    let x = Xvfb::start();
+    let dir = common::cli::scratch("view-scenes");
+    // The cave: `x` shows the wireframe the headless command draws with --wireframe.
+    let cave = ["--preset", "fig8", "--depth", "6"];
+    view_matches_headless(&x, &dir, "cave", &cave, "0:space", &[], "-o");
+    view_matches_headless(&x, &dir, "cave", &cave, "0:x", &["--wireframe"], "-o");
+    // The desert: `o` cycles dune+ripple shadows to none; left turns the sun 10 deg
+    // (both differ visibly from the unchanged frame: checked when written).
+    let dunes = [
+        "--preset",
+        "fig17",
+        "--ripple-size",
+        "64",
+        "--dune-size",
+        "32",
+        "--dune-steps",
+        "300",
+    ];
+    view_matches_headless(
+        &x,
+        &dir,
+        "dunes",
+        &dunes,
+        "0:o",
+        &["--shadows", "none"],
+        "-o",
+    );
+    view_matches_headless(
+        &x,
+        &dir,
+        "dunes",
+        &dunes,
+        "0:left",
+        &["--sun-azimuth", "190"],
+        "-o",
+    );
+    // The stalagmite cut-away.
+    let layers = ["--preset", "candlestick"];
+    view_matches_headless(&x, &dir, "layers", &layers, "0:space", &[], "--render");
+}
+
 #[test]
 fn bad_viewer_input_is_refused_before_a_window_opens() {
     // No DISPLAY needed: every check runs first.
