@@ -161,26 +161,15 @@ impl OffscreenTarget {
         cmd.end_rendering();
     }
 
+    /// Leaves the colour image ready to be copied or blitted from (after `end`),
+    /// without reading it back: what a window does with frames it does not save.
+    pub fn finish_for_transfer(&self, cmd: &Commands<'_>) {
+        self.to_transfer_src(cmd);
+    }
+
     /// Copies the colour image into the readback buffer (after `end`).
     pub fn copy_out(&self, cmd: &Commands<'_>) {
-        barrier::images(
-            cmd.ctx,
-            cmd.raw,
-            &[ImageTransition {
-                image: self.color.raw(),
-                range: self.color.full_range(),
-                from: (
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                to: (
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_READ,
-                ),
-            }],
-        );
+        self.to_transfer_src(cmd);
         let region = [super::image::color_copy_region(self.width, self.height)];
         // SAFETY: the image is in TRANSFER_SRC_OPTIMAL and the buffer holds W*H*4 bytes.
         unsafe {
@@ -200,6 +189,28 @@ impl OffscreenTarget {
                 vk::AccessFlags2::TRANSFER_WRITE,
             ),
             (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+    }
+
+    fn to_transfer_src(&self, cmd: &Commands<'_>) {
+        barrier::images(
+            cmd.ctx,
+            cmd.raw,
+            &[ImageTransition {
+                image: self.color.raw(),
+                range: self.color.full_range(),
+                from: (
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+                to: (
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    // Copies and blits.
+                    vk::PipelineStageFlags2::ALL_TRANSFER,
+                    vk::AccessFlags2::TRANSFER_READ,
+                ),
+            }],
         );
     }
 

@@ -211,6 +211,8 @@ struct State {
     vsync: bool,
     fps: f64,
     last_gpu: (f64, f64),
+    /// A screenshot to write after the next frame.
+    pending: Option<PathBuf>,
 }
 
 impl ApplicationHandler for App<'_> {
@@ -309,6 +311,7 @@ impl App<'_> {
             vsync: self.options.vsync,
             fps: 0.0,
             last_gpu: (0.0, 0.0),
+            pending: None,
         })
     }
 
@@ -390,13 +393,12 @@ impl App<'_> {
                         }
                     }
                 }
-                state.frame(&mut self.report)?;
-                if let Some(n) = self.options.frames
-                    && state.frame >= n
-                {
-                    if let Some(path) = &self.options.screenshot {
-                        state.screenshot(path, self.say)?;
-                    }
+                let last = self.options.frames.is_some_and(|n| state.frame + 1 >= n);
+                if let (true, Some(path)) = (last, &self.options.screenshot) {
+                    state.pending = Some(path.clone());
+                }
+                state.frame(&mut self.report, self.say)?;
+                if last {
                     event_loop.exit();
                 }
             }
@@ -420,8 +422,9 @@ impl State {
             Key::Char('h') => self.overlay = !self.overlay,
             Key::Char('v') => say(&self.camera.options()),
             Key::F(2) => {
+                // The frame being drawn next is read back and written after it.
                 let default = PathBuf::from(format!("sediment-view-{:05}.png", self.frame));
-                self.screenshot(screenshot.unwrap_or(&default), say)?;
+                self.pending = Some(screenshot.map_or(default, Into::into));
             }
             Key::Char(c @ ('w' | 'a' | 's' | 'd' | 'q' | 'e')) => {
                 // A scripted press of a movement key: a quarter second of movement.
@@ -435,7 +438,7 @@ impl State {
         Ok(false)
     }
 
-    /// Writes the last rendered frame (the scene, without the panel) as PNG.
+    /// Writes the frame just rendered (the scene, without the panel) as PNG.
     fn screenshot(&self, path: &std::path::Path, say: &mut dyn FnMut(&str)) -> Result<()> {
         let Some(target) = &self.target else {
             return Err(Error::invalid(
@@ -484,7 +487,7 @@ impl State {
         Ok(true)
     }
 
-    fn frame(&mut self, report: &mut ViewReport) -> Result<()> {
+    fn frame(&mut self, report: &mut ViewReport, say: &mut dyn FnMut(&str)) -> Result<()> {
         let now = Instant::now();
         let seconds = now.duration_since(self.last_frame).as_secs_f32().min(0.25);
         self.last_frame = now;
@@ -539,11 +542,17 @@ impl State {
         if let Some(p) = &panel {
             pixels.write(0, &p.pixels)?;
         }
+        let save = self.pending.is_some();
         let (timer, session) = (&mut self.timer, &mut self.session);
         let presented = chain.present(index, |cmd, image| {
             timer.reset(cmd);
             session.record(cmd, target, timer)?;
-            target.copy_out(cmd);
+            // Only a frame to be saved is read back.
+            if save {
+                target.copy_out(cmd);
+            } else {
+                target.finish_for_transfer(cmd);
+            }
             cmd.blit_target(target, image, w, h);
             if let Some(p) = &panel {
                 cmd.copy_pixels(pixels, image, (0, 0), (p.width, p.height));
@@ -554,6 +563,9 @@ impl State {
             self.stale = true;
         }
         self.session.after()?;
+        if let Some(path) = self.pending.take() {
+            self.screenshot(&path, say)?;
+        }
         let spans = self.timer.read()?;
         let growth: f64 = spans
             .iter()
