@@ -267,6 +267,27 @@ pub fn vec3_arg(name: &str, v: &str) -> anyhow::Result<glam::Vec3> {
     }
 }
 
+/// `--eye`/`--target` over a scene's default camera.
+pub fn camera_over(
+    mut camera: sediment::scene::camera::Camera,
+    eye: &Option<String>,
+    target: &Option<String>,
+) -> anyhow::Result<sediment::scene::camera::Camera> {
+    if let Some(e) = eye {
+        camera.eye = vec3_arg("--eye", e)?;
+    }
+    if let Some(t) = target {
+        camera.target = vec3_arg("--target", t)?;
+    }
+    if (camera.eye - camera.target).length() < 1e-6 {
+        bail!(sediment::Error::invalid(
+            "--eye/--target",
+            "the camera must not look at its own position"
+        ));
+    }
+    Ok(camera)
+}
+
 pub fn fail_on_validation_errors(ctx: &Context) -> anyhow::Result<()> {
     let errors = ctx.take_validation_errors();
     if !errors.is_empty() {

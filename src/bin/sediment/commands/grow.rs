@@ -11,7 +11,7 @@ use sediment::scene::grow::{self, GrowthScene};
 
 use sediment::scene::camera::Camera;
 
-use crate::{Cli, fail_on_validation_errors, open_context, progress, vec3_arg};
+use crate::{Cli, camera_over, fail_on_validation_errors, open_context, progress};
 
 /// The growth scene's options, shared by `sediment grow` and `sediment view grow`.
 #[derive(clap::Args, Debug)]
@@ -180,20 +180,7 @@ pub fn growth_scene(cli: &Cli, a: &GrowSceneArgs) -> anyhow::Result<GrowthScene>
 
 /// The camera of `--eye`/`--target` over the scene's default one.
 pub fn growth_camera(scene: &GrowthScene, a: &GrowSceneArgs) -> anyhow::Result<Camera> {
-    let mut camera = grow::default_camera(scene);
-    if let Some(e) = &a.eye {
-        camera.eye = vec3_arg("--eye", e)?;
-    }
-    if let Some(t) = &a.target {
-        camera.target = vec3_arg("--target", t)?;
-    }
-    if (camera.eye - camera.target).length() < 1e-6 {
-        bail!(sediment::Error::invalid(
-            "--eye/--target",
-            "the camera must not look at its own position"
-        ));
-    }
-    Ok(camera)
+    camera_over(grow::default_camera(scene), &a.eye, &a.target)
 }
 
 pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {

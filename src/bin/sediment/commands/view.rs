@@ -16,7 +16,7 @@ use super::cave::{CaveSceneArgs, cave_scene};
 use super::dunes::{DunesSceneArgs, dunes_scene};
 use super::grow::{GrowSceneArgs, growth_camera, growth_scene};
 use super::layers::{LayersSceneArgs, layers_setup};
-use crate::{Cli, context_options, progress, vec3_arg};
+use crate::{Cli, camera_over, context_options, progress};
 
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
@@ -161,27 +161,6 @@ fn view_options(cli: &Cli, f: &ViewFlags, camera: Camera) -> anyhow::Result<View
         script: script.unwrap_or_default(),
         overlay: !f.no_overlay,
     })
-}
-
-/// `--eye`/`--target` over a scene's default camera.
-fn camera_over(
-    mut camera: Camera,
-    eye: &Option<String>,
-    target: &Option<String>,
-) -> anyhow::Result<Camera> {
-    if let Some(e) = eye {
-        camera.eye = vec3_arg("--eye", e)?;
-    }
-    if let Some(t) = target {
-        camera.target = vec3_arg("--target", t)?;
-    }
-    if (camera.eye - camera.target).length() < 1e-6 {
-        bail!(sediment::Error::invalid(
-            "--eye/--target",
-            "the camera must not look at its own position"
-        ));
-    }
-    Ok(camera)
 }
 
 /// A placeholder camera for checking the options before the scene exists.
