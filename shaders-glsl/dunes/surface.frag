@@ -94,9 +94,10 @@ void main() {
     vec2 uv = vec2(c.x * xz.x + c.y * xz.y, -c.y * xz.x + c.x * xz.y);
     // LOD: the sampler's derivative-based level selection over our own chain (the
     // GPU equivalent of choosing a level from each quad's projected area); off: level 0.
-    vec3 r = dune.wind.z > 0.5
+    // (Stored as 8-bit unorm, n * 0.5 + 0.5: see DuneTextures::new.)
+    vec3 r = (dune.wind.z > 0.5
         ? texture(sampler2D(ripple_normals, repeat_sampler), uv).xyz
-        : textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0).xyz;
+        : textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0).xyz) * 2.0 - 1.0;
     r = normalize(vec3(r.xy * dune.tile.y, max(r.z, 1e-3)));
     // Back from tile to world orientation, then into the dune frame (tilted normal).
     vec2 rxy = vec2(c.x * r.x - c.y * r.y, c.y * r.x + c.x * r.y);

@@ -87,18 +87,41 @@ impl DuneTextures {
             )
         };
         let s = maps.size;
-        let offsets: Vec<u64> = maps
+        // The normal chain as 8-bit unorm (n * 0.5 + 0.5): lavapipe filters 8-bit
+        // textures on a fast fixed-point path, and this is the one mipmapped (trilinear)
+        // fetch of every dune pixel; 32-bit floats made it a third of the frame.
+        let packed: Vec<u32> = maps
+            .levels
+            .read::<[f32; 4]>()?
+            .iter()
+            .map(|n| {
+                let b = |v: f32| ((v.clamp(-1.0, 1.0) * 0.5 + 0.5) * 255.0).round() as u32;
+                b(n[0]) | b(n[1]) << 8 | b(n[2]) << 16 | b(n[3]) << 24
+            })
+            .collect();
+        let staging = Buffer::with_data(
+            ctx,
+            "ripple normal chain staging",
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            &packed,
+        )?;
+        let byte_offsets: Vec<u64> = maps
             .level_offsets
             .iter()
-            .map(|&o| u64::from(o) * 16)
+            .map(|&o| u64::from(o) * 4)
             .collect();
         Ok(Self {
             normals: Image::sampled_from_buffer(
                 ctx,
                 "ripple normal chain",
-                float4(s, s),
-                &maps.levels,
-                &offsets,
+                ImageDesc::new_2d(
+                    s,
+                    s,
+                    vk::Format::R8G8B8A8_UNORM,
+                    vk::ImageUsageFlags::SAMPLED,
+                ),
+                &staging,
+                &byte_offsets,
             )?,
             horizon_a: Image::sampled_from_buffer(
                 ctx,
