@@ -5,7 +5,7 @@
 mod common;
 
 use common::Tolerance;
-use sediment::model::speleothem::grow_reference;
+use sediment::model::speleothem::{RingVertex, grow_reference};
 use sediment::scene::Size;
 use sediment::scene::cave::{self, CaveScene, Speleothems};
 
@@ -67,6 +67,22 @@ fn grown_speleothems_in_the_cave_equal_the_cpu_reference() {
         let (plan, gpu) = out.grown.expect("grown vertices");
         let cpu = grow_reference(&plan, plan.passes);
         assert_eq!(gpu.len(), cpu.len(), "vertex count");
+        // The cave grows append-only, whose triangles come in another order: compare
+        // them sorted by what each vertex is (speleothem, ring, segment, ID).
+        let sorted = |mesh: &[RingVertex]| {
+            let key = |v: &RingVertex| {
+                let p = v.position() * 1e3;
+                (
+                    [v.speleothem(), v.ring() as usize, v.segment() as usize],
+                    v.id() as i64,
+                    [p.x.round() as i64, p.y.round() as i64, p.z.round() as i64],
+                )
+            };
+            let mut t: Vec<&[RingVertex]> = mesh.chunks_exact(3).collect();
+            t.sort_by_key(|t| [key(&t[0]), key(&t[1]), key(&t[2])]);
+            t.concat()
+        };
+        let (gpu, cpu) = (sorted(&gpu), sorted(&cpu));
         let worst = gpu
             .iter()
             .zip(&cpu)

@@ -23,8 +23,8 @@ use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::RenderedFrame;
 use crate::render::cave_wall::{CaveFrame, CaveWallPass, Style};
 use crate::render::lit_mesh::GpuMesh;
-use crate::render::ring_growth::RingGrowth;
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
+use crate::scene::grow::{Growth, XfbGrowth};
 
 /// Which speleothems the cave gets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -351,7 +351,7 @@ pub struct CaveRenderer {
     /// first shown.
     walls: [(Option<GpuMesh>, Option<GpuMesh>); 2],
     short: Option<GpuMesh>,
-    grown: Option<(GrowthPlan, RingGrowth, SpeleothemSurfacePass)>,
+    grown: Option<(GrowthPlan, Growth, SpeleothemSurfacePass)>,
     grown_done: bool,
     pub smooth: bool,
     pub wireframe: bool,
@@ -375,7 +375,8 @@ impl CaveRenderer {
         let grown = match &model.growth {
             Some(g) => {
                 let plan = g.plan()?;
-                let growth = RingGrowth::new(ctx, &plan, None)?;
+                // Append-only: all passes in one submission at O(one ring) each.
+                let growth = Growth::new(ctx, &plan, XfbGrowth::Append)?;
                 let surface = SpeleothemSurfacePass::new(
                     ctx,
                     COLOR_FORMAT,
@@ -506,7 +507,7 @@ impl CaveRenderer {
         match &self.grown {
             Some((plan, growth, _)) if self.grown_done => {
                 growth.check_counts()?;
-                Ok(Some((plan.clone(), growth.read_back(ctx)?)))
+                Ok(Some((plan.clone(), growth.read_back(ctx, plan)?)))
             }
             _ => Ok(None),
         }
