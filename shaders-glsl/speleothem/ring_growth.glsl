@@ -89,21 +89,12 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
     uint sp = uint(t[0].normal_sp.w + 0.5);
     uint base = 4u * (pass_index * speleothem_count + sp);
     vec4 s0 = plan.steps[base];
-    vec4 s1 = plan.steps[base + 1u];
-    vec4 s2 = plan.steps[base + 2u];
-    vec4 s3 = plan.steps[base + 3u];
-    float height = s0.x;
-    float radius = s0.y;
     float thicken = s0.z;
-    uint action = uint(s0.w + 0.5);
-    vec3 wind = s1.xyz;
-    float sign = s1.w;
-    vec3 g = vec3(0.0, sign, 0.0);
-    Target to = Target(mode, s2.w, 2.0 * float(pass_index + 1u));
 
     bool front = t[0].pos_id.w <= 0.0 && t[1].pos_id.w <= 0.0 && t[2].pos_id.w <= 0.0;
     if (!front) {
-        // Behind the front: only the paper's pass re-streams it.
+        // Behind the front (most triangles): only the paper's pass re-streams it, and
+        // it needs nothing of the plan but the thickening.
         if (mode == EMIT_ALL) {
             for (int k = 0; k < 3; ++k) {
                 emit(moved(t[k], t[k].normal_sp.xyz * thicken, 2.0));
@@ -111,6 +102,16 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
         }
         return;
     }
+    vec4 s1 = plan.steps[base + 1u];
+    vec4 s2 = plan.steps[base + 2u];
+    vec4 s3 = plan.steps[base + 3u];
+    float height = s0.x;
+    float radius = s0.y;
+    uint action = uint(s0.w + 0.5);
+    vec3 wind = s1.xyz;
+    float sign = s1.w;
+    vec3 g = vec3(0.0, sign, 0.0);
+    Target to = Target(mode, s2.w, 2.0 * float(pass_index + 1u));
     if (action == 0u) {
         // A front waiting out a pass (PIL 0, a stalagmite before dripping starts, or
         // stopped at the cave boundary) stays the front: IDs unchanged, so it grows
