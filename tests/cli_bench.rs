@@ -30,11 +30,7 @@ fn a_small_run_writes_its_reports_and_compares_with_itself() {
         "--validate",
     ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     assert!(
         stdout.contains("| floor | fullscreen | frame |"),
         "{stdout}"
@@ -49,11 +45,7 @@ fn a_small_run_writes_its_reports_and_compares_with_itself() {
     );
     let out = sediment(&["bench", "--compare", &s("a.json"), &s("a.json")]);
     let table = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     let rows: Vec<&str> = table
         .lines()
         .filter(|l| l.starts_with("| ") && !l.starts_with("| scene"))

@@ -9,11 +9,7 @@ use common::cli::{assert_each_refused, gltf_validate, scratch, sediment};
 #[test]
 fn table_prints_every_depth_beside_the_paper() {
     let out = sediment(&["cave", "--table"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     let stdout = String::from_utf8_lossy(&out.stdout);
     let rows: Vec<&str> = stdout
         .lines()
@@ -62,11 +58,7 @@ fn a_grown_cave_renders_and_exports() {
         "160x120",
         "--validate",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     let frame = image::open(&png).expect("frame");
     assert_eq!((frame.width(), frame.height()), (160, 120));
     gltf_validate(std::path::Path::new(&glb));
@@ -85,11 +77,7 @@ fn a_grown_cave_renders_and_exports() {
         "--size",
         "32x24",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     let text = std::fs::read_to_string(&obj).expect("obj");
     let count = |prefix: &str| text.lines().filter(|l| l.starts_with(prefix)).count();
     assert!(count("v ") > 1000 && count("vn ") == count("v ") && count("f ") > 300);

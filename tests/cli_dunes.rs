@@ -44,11 +44,7 @@ fn frame_heightmaps_and_mesh_are_written() {
     ];
     args.extend(SMALL);
     let out = sediment(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         stdout.contains("GPU frame over 3 timing frames: median"),
@@ -88,11 +84,7 @@ fn the_forming_dunes_animate() {
     ];
     args.extend(SMALL);
     let out = sediment(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
         std::fs::File::open(&gif).expect("GIF written"),
     ))

@@ -39,11 +39,7 @@ fn fig9f_writes_png_gif_and_a_valid_glb() {
         "4",
         "--validate",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     let img = image::open(&png).expect("PNG readable");
     assert_eq!((img.width(), img.height()), (160, 120));
     let gif_bytes = std::fs::read(&gif).expect("GIF written");
@@ -67,11 +63,7 @@ fn fig9f_writes_png_gif_and_a_valid_glb() {
         "--size",
         "64x48",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     let text = std::fs::read_to_string(&obj).expect("OBJ written");
     let faces = text.lines().filter(|l| l.starts_with("f ")).count();
     assert!(faces > 1000, "{faces} faces");

@@ -22,11 +22,7 @@ fn steps_supply_writes_a_section_and_a_render() {
         "160x120",
         "--validate",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     let text = std::fs::read_to_string(&svg).expect("svg");
     assert!(text.starts_with("<svg") && text.matches("<polyline").count() == 302);
     let frame = image::open(&png).expect("render");
@@ -64,11 +60,7 @@ fn a_physical_timeline_gives_dated_layers_in_millimetres() {
         "supply",
     ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_success(&out, "sediment");
     // W0 and R0 of the first row, as the unit tests compute them by hand.
     assert!(
         stdout.contains("W0 = 4.6332e-12 m/s = 0.1462 mm/yr, R0 = 50.47 mm"),

@@ -20,16 +20,6 @@ fn view(display: &Xvfb, dir: &Path, args: &[&str]) -> Output {
         .expect("run the sediment binary")
 }
 
-fn assert_ok(out: &Output, what: &str) -> String {
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{what} failed: {}\n{stdout}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    stdout
-}
-
 fn load(path: &Path) -> image::RgbaImage {
     image::open(path).expect("a PNG").to_rgba8()
 }
@@ -53,7 +43,7 @@ fn the_viewer_screenshot_matches_the_headless_render() {
             "shot.png",
         ],
     );
-    let stdout = assert_ok(&out, "sediment view");
+    let stdout = common::cli::assert_success(&out, "sediment view");
     assert!(stdout.contains("120 frames at 720x480"), "{stdout}");
     assert!(stdout.contains("while growing: 29 frames"), "{stdout}");
     let headless = common::cli::sediment(&[
@@ -64,7 +54,7 @@ fn the_viewer_screenshot_matches_the_headless_render() {
         "-o",
         &dir.join("grow.png").to_string_lossy(),
     ]);
-    assert_ok(&headless, "sediment grow");
+    common::cli::assert_success(&headless, "sediment grow");
     // The viewer grows append-only, the headless command re-streams; the same passes
     // draw both (the golden tolerance of the Figure 9 renders).
     let tolerance = Tolerance { mean: 1.0, p99: 16 };
@@ -157,7 +147,7 @@ fn a_co2_change_mid_growth_reaches_the_growth_pass() {
             "grown.obj",
         ],
     );
-    assert_ok(&out, "sediment view with a script");
+    common::cli::assert_success(&out, "sediment view with a script");
     let rings = base_rings(&dir.join("grown.obj"));
     // 20 passes: the base band and 20 more.
     assert_eq!(rings.len(), 21, "{rings:?}");
@@ -197,7 +187,7 @@ fn resizes_and_a_camera_found_interactively_render_headless() {
             "shot.png",
         ],
     );
-    let stdout = assert_ok(&out, "sediment view");
+    let stdout = common::cli::assert_success(&out, "sediment view");
     assert!(stdout.contains("40 frames at 480x320"), "{stdout}");
     let options = stdout
         .lines()
@@ -217,7 +207,7 @@ fn resizes_and_a_camera_found_interactively_render_headless() {
     let png = dir.join("grow.png");
     let png = png.to_string_lossy();
     args.extend(["-o", &png]);
-    assert_ok(
+    common::cli::assert_success(
         &common::cli::sediment(&args),
         "sediment grow with the printed camera",
     );
@@ -234,7 +224,7 @@ fn resizes_and_a_camera_found_interactively_render_headless() {
     let plain = [
         "--size", "480x320", "grow", "--preset", "fig9b", "-o", &default,
     ];
-    assert_ok(&common::cli::sediment(&plain), "sediment grow");
+    common::cli::assert_success(&common::cli::sediment(&plain), "sediment grow");
     let (_, d) = common::difference(&shot, &load(&dir.join("default.png")));
     assert!(
         d.mean > 2.0,
@@ -259,7 +249,7 @@ fn view_matches_headless(
     let mut v = vec!["--validate", "--size", "320x200", "view", scene];
     v.extend(args);
     v.extend(["--frames", "3", "--screenshot", &shot, "--script", keys]);
-    assert_ok(&view(x, dir, &v), &format!("sediment view {scene}"));
+    common::cli::assert_success(&view(x, dir, &v), &format!("sediment view {scene}"));
     let png = dir.join(format!("{scene}-headless.png"));
     let png = png.to_string_lossy();
     let mut h = vec!["--validate", "--size", "320x200", scene];
@@ -272,7 +262,7 @@ fn view_matches_headless(
         .current_dir(dir)
         .output()
         .expect("run the sediment binary");
-    assert_ok(&out, &format!("sediment {scene}"));
+    common::cli::assert_success(&out, &format!("sediment {scene}"));
     let (_, d) = common::difference(
         &load(&dir.join(&shot)),
         &load(&dir.join(format!("{scene}-headless.png"))),

@@ -11,6 +11,17 @@ pub fn sediment(args: &[&str]) -> Output {
         .expect("run the sediment binary")
 }
 
+/// Fails the test unless `out` succeeded, showing what `what` printed; its stdout.
+pub fn assert_success(out: &Output, what: &str) -> String {
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{what} failed: {}\n{stdout}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}
+
 /// An empty folder for one test (emptied if a previous run left it behind).
 pub fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("sediment-test-{name}-{}", std::process::id()));
