@@ -102,7 +102,6 @@ pub struct ViewOptions {
     pub context: ContextOptions,
     /// The window's initial inner size.
     pub size: Size,
-    pub camera: Camera,
     /// Wait for the display's refresh (FIFO); off measures uncapped frame rates.
     pub vsync: bool,
     /// Render this many frames, then exit (non-interactive).
@@ -138,9 +137,11 @@ pub const CONTROLS: &[&str] = &[
 
 /// Opens the window and runs until it is closed (or `frames` are done). `say` gets
 /// the lines meant for the user's terminal (camera options, screenshots written).
+/// `camera` is where the view starts.
 pub fn run(
     options: ViewOptions,
     scene: ViewScene,
+    camera: &Camera,
     say: &mut dyn FnMut(&str),
 ) -> Result<ViewReport> {
     let event_loop = EventLoop::builder()
@@ -153,6 +154,7 @@ pub fn run(
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App {
         options,
+        camera: CameraControl::from_camera(camera),
         scene: Some(scene),
         say,
         state: None,
@@ -181,6 +183,8 @@ pub fn run(
 
 struct App<'a> {
     options: ViewOptions,
+    /// The camera the window opens with.
+    camera: CameraControl,
     scene: Option<ViewScene>,
     say: &'a mut dyn FnMut(&str),
     // Dropped before the window (inside `State`, fields drop in order).
@@ -300,7 +304,7 @@ impl App<'_> {
             surface,
             ctx,
             window,
-            camera: CameraControl::from_camera(&self.options.camera),
+            camera: self.camera.clone(),
             held: HashSet::new(),
             dragging: false,
             cursor: None,

@@ -267,25 +267,47 @@ pub fn vec3_arg(name: &str, v: &str) -> anyhow::Result<glam::Vec3> {
     }
 }
 
-/// `--eye`/`--target` over a scene's default camera.
-pub fn camera_over(
-    mut camera: sediment::scene::camera::Camera,
-    eye: &Option<String>,
-    target: &Option<String>,
-) -> anyhow::Result<sediment::scene::camera::Camera> {
-    if let Some(e) = eye {
-        camera.eye = vec3_arg("--eye", e)?;
+/// `--eye` / `--target`, parsed before anything is built and applied to a scene's
+/// default camera once the scene exists.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CameraOverride {
+    eye: Option<glam::Vec3>,
+    target: Option<glam::Vec3>,
+}
+
+impl CameraOverride {
+    pub fn parse(eye: &Option<String>, target: &Option<String>) -> anyhow::Result<Self> {
+        let parse = |name, v: &Option<String>| v.as_deref().map(|v| vec3_arg(name, v)).transpose();
+        Ok(Self {
+            eye: parse("--eye", eye)?,
+            target: parse("--target", target)?,
+        })
     }
-    if let Some(t) = target {
-        camera.target = vec3_arg("--target", t)?;
+
+    /// True when either option was given.
+    pub fn is_some(&self) -> bool {
+        self.eye.is_some() || self.target.is_some()
     }
-    if (camera.eye - camera.target).length() < 1e-6 {
-        bail!(sediment::Error::invalid(
-            "--eye/--target",
-            "the camera must not look at its own position"
-        ));
+
+    /// `camera` with the given eye and target.
+    pub fn over(
+        &self,
+        mut camera: sediment::scene::camera::Camera,
+    ) -> anyhow::Result<sediment::scene::camera::Camera> {
+        if let Some(e) = self.eye {
+            camera.eye = e;
+        }
+        if let Some(t) = self.target {
+            camera.target = t;
+        }
+        if (camera.eye - camera.target).length() < 1e-6 {
+            bail!(sediment::Error::invalid(
+                "--eye/--target",
+                "the camera must not look at its own position"
+            ));
+        }
+        Ok(camera)
     }
-    Ok(camera)
 }
 
 pub fn fail_on_validation_errors(ctx: &Context) -> anyhow::Result<()> {

@@ -7,7 +7,7 @@ use anyhow::bail;
 use sediment::export::check_extension;
 use sediment::scene::cave;
 
-use crate::{Cli, fail_on_validation_errors, open_context, progress, vec3_arg};
+use crate::{CameraOverride, Cli, fail_on_validation_errors, open_context, progress};
 
 #[derive(clap::Args, Debug)]
 /// The scene options, shared with `sediment view`.
@@ -168,18 +168,7 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         }
         return Ok(());
     }
-    let eye = a
-        .scene
-        .eye
-        .as_deref()
-        .map(|v| vec3_arg("--eye", v))
-        .transpose()?;
-    let target = a
-        .scene
-        .target
-        .as_deref()
-        .map(|v| vec3_arg("--target", v))
-        .transpose()?;
+    let camera_override = CameraOverride::parse(&a.scene.eye, &a.scene.target)?;
     if let Some(o) = &a.output {
         check_extension(o, "-o", &["png"])?;
     }
@@ -219,13 +208,7 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         c.timings.split_ms,
         c.timings.smooth_ms
     );
-    let mut camera = cave::default_camera(&scene, &model);
-    if let Some(e) = eye {
-        camera.eye = e;
-    }
-    if let Some(t) = target {
-        camera.target = t;
-    }
+    let camera = camera_override.over(cave::default_camera(&scene, &model))?;
     scene.camera = Some(camera.clone());
     let mut cameras = vec![camera];
     if a.flythrough.is_some() {

@@ -8,7 +8,7 @@ use sediment::export::check_extension;
 use sediment::scene::dunes;
 
 use crate::{
-    Cli, degrees_or_off, fail_on_validation_errors, on_off, open_context, progress, vec3_arg,
+    CameraOverride, Cli, degrees_or_off, fail_on_validation_errors, on_off, open_context, progress,
 };
 
 #[derive(clap::Args, Debug)]
@@ -219,18 +219,7 @@ pub fn dunes_scene(cli: &Cli, a: &DunesSceneArgs) -> anyhow::Result<dunes::Dunes
 
 pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
     let mut scene = dunes_scene(cli, &a.scene)?;
-    let eye = a
-        .scene
-        .eye
-        .as_deref()
-        .map(|v| vec3_arg("--eye", v))
-        .transpose()?;
-    let target = a
-        .scene
-        .target
-        .as_deref()
-        .map(|v| vec3_arg("--target", v))
-        .transpose()?;
+    let camera_override = CameraOverride::parse(&a.scene.eye, &a.scene.target)?;
     if a.timing_frames > 1000 {
         bail!(sediment::Error::invalid(
             "--timing-frames",
@@ -269,15 +258,8 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         cell_steps / 1e6 / sim_s.max(1e-9),
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
-    if eye.is_some() || target.is_some() {
-        let mut camera = dunes::default_camera(&scene, &terrain);
-        if let Some(e) = eye {
-            camera.eye = e;
-        }
-        if let Some(t) = target {
-            camera.target = t;
-        }
-        scene.camera = Some(camera);
+    if camera_override.is_some() {
+        scene.camera = Some(camera_override.over(dunes::default_camera(&scene, &terrain))?);
     }
     let out = dunes::render_timed(&ctx, &scene, &terrain, cli.size, a.timing_frames)?;
     let mut gif_frames = Vec::new();

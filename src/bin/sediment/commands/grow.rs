@@ -11,7 +11,7 @@ use sediment::scene::grow::{self, GrowthScene};
 
 use sediment::scene::camera::Camera;
 
-use crate::{Cli, camera_over, fail_on_validation_errors, open_context, progress};
+use crate::{CameraOverride, Cli, fail_on_validation_errors, open_context, progress};
 
 /// The growth scene's options, shared by `sediment grow` and `sediment view grow`.
 #[derive(clap::Args, Debug)]
@@ -180,7 +180,7 @@ pub fn growth_scene(cli: &Cli, a: &GrowSceneArgs) -> anyhow::Result<GrowthScene>
 
 /// The camera of `--eye`/`--target` over the scene's default one.
 pub fn growth_camera(scene: &GrowthScene, a: &GrowSceneArgs) -> anyhow::Result<Camera> {
-    camera_over(grow::default_camera(scene), &a.eye, &a.target)
+    CameraOverride::parse(&a.eye, &a.target)?.over(grow::default_camera(scene))
 }
 
 pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {

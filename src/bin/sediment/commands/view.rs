@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use anyhow::bail;
 use sediment::bench::report::Stats;
 use sediment::export::check_extension;
-use sediment::scene::camera::Camera;
 use sediment::scene::grow::{self, XfbGrowth};
 use sediment::view::grow_session::GrowthSession;
 use sediment::view::input::parse_script;
@@ -16,7 +15,7 @@ use super::cave::{CaveSceneArgs, cave_scene};
 use super::dunes::{DunesSceneArgs, dunes_scene};
 use super::grow::{GrowSceneArgs, growth_camera, growth_scene};
 use super::layers::{LayersSceneArgs, layers_setup};
-use crate::{Cli, camera_over, context_options, progress};
+use crate::{CameraOverride, Cli, context_options, progress};
 
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
@@ -140,7 +139,7 @@ pub fn all_controls() -> String {
 }
 
 /// The viewer's own options (checked before a scene is built).
-fn view_options(cli: &Cli, f: &ViewFlags, camera: Camera) -> anyhow::Result<ViewOptions> {
+fn view_options(cli: &Cli, f: &ViewFlags) -> anyhow::Result<ViewOptions> {
     if let Some(path) = &f.screenshot {
         check_extension(path, "--screenshot", &["png"])?;
     }
@@ -154,7 +153,6 @@ fn view_options(cli: &Cli, f: &ViewFlags, camera: Camera) -> anyhow::Result<View
     Ok(ViewOptions {
         context: context_options(cli),
         size: cli.size,
-        camera,
         vsync: !f.no_vsync,
         frames: f.frames,
         screenshot: f.screenshot.clone(),
@@ -163,21 +161,9 @@ fn view_options(cli: &Cli, f: &ViewFlags, camera: Camera) -> anyhow::Result<View
     })
 }
 
-/// A placeholder camera for checking the options before the scene exists.
-fn any_camera() -> Camera {
-    Camera {
-        eye: glam::Vec3::Z,
-        target: glam::Vec3::ZERO,
-        up: glam::Vec3::Y,
-        fov_y_degrees: 45.0,
-        near: 0.1,
-        far: 10.0,
-    }
-}
-
 pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
     // Everything the user gave is checked before anything is built or a window opens.
-    let (options, scene, growing) = match &a.scene {
+    let (options, camera, scene, growing) = match &a.scene {
         ViewSceneArgs::Grow(g) => {
             let scene = growth_scene(cli, &g.scene)?;
             let camera = growth_camera(&scene, &g.scene)?;
@@ -187,7 +173,7 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
             if let Some(mesh) = &g.mesh {
                 check_extension(mesh, "--mesh", &["glb", "obj"])?;
             }
-            let options = view_options(cli, &g.view, camera)?;
+            let options = view_options(cli, &g.view)?;
             let growth = if g.growth == "restream" {
                 XfbGrowth::Restream
             } else {
@@ -199,58 +185,55 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
                 growth,
                 every: g.every,
             };
-            (options, scene, growing)
+            (options, camera, scene, growing)
         }
         ViewSceneArgs::Cave(c) => {
             let scene = cave_scene(cli, &c.scene)?;
-            camera_over(any_camera(), &c.scene.eye, &c.scene.target)?;
-            view_options(cli, &c.view, any_camera())?;
+            let camera_override = CameraOverride::parse(&c.scene.eye, &c.scene.target)?;
+            let options = view_options(cli, &c.view)?;
             let model = sediment::scene::cave::build(&scene, &|phase, done, total| {
                 progress(done as usize, total as usize, phase);
             })?;
             eprintln!();
-            let camera = sediment::scene::cave::default_camera(&scene, &model);
-            let camera = camera_over(camera, &c.scene.eye, &c.scene.target)?;
-            let options = view_options(cli, &c.view, camera)?;
+            let camera =
+                camera_override.over(sediment::scene::cave::default_camera(&scene, &model))?;
             let scene = ViewScene::Cave {
                 scene: Box::new(scene),
                 model: Box::new(model),
             };
-            (options, scene, 0)
+            (options, camera, scene, 0)
         }
         ViewSceneArgs::Dunes(d) => {
             let scene = dunes_scene(cli, &d.scene)?;
-            camera_over(any_camera(), &d.scene.eye, &d.scene.target)?;
-            view_options(cli, &d.view, any_camera())?;
+            let camera_override = CameraOverride::parse(&d.scene.eye, &d.scene.target)?;
+            let options = view_options(cli, &d.view)?;
             let terrain = sediment::scene::dunes::simulate(&scene, &mut |done, total| {
                 progress(done as usize, total as usize, "simulation steps")
             })?;
             eprintln!();
-            let camera = sediment::scene::dunes::default_camera(&scene, &terrain);
-            let camera = camera_over(camera, &d.scene.eye, &d.scene.target)?;
-            let options = view_options(cli, &d.view, camera)?;
+            let camera =
+                camera_override.over(sediment::scene::dunes::default_camera(&scene, &terrain))?;
             let scene = ViewScene::Dunes {
                 scene: Box::new(scene),
                 terrain: Box::new(terrain),
             };
-            (options, scene, 0)
+            (options, camera, scene, 0)
         }
         ViewSceneArgs::Layers(l) => {
             let setup = layers_setup(&l.scene)?;
-            view_options(cli, &l.view, any_camera())?;
+            let options = view_options(cli, &l.view)?;
             let (stalagmite, _) = setup.grow()?;
             let layers = stalagmite.layers.len().saturating_sub(1);
             let cut = sediment::scene::layers::cut_away(&stalagmite, (layers / 24).max(1));
             let camera = sediment::scene::layers::default_camera(&cut);
-            let options = view_options(cli, &l.view, camera)?;
             let scene = ViewScene::Layers {
                 cut: Box::new(cut),
                 layers,
             };
-            (options, scene, 0)
+            (options, camera, scene, 0)
         }
     };
-    let report = view::run(options, scene, &mut |line| say!("{line}"))?;
+    let report = view::run(options, scene, &camera, &mut |line| say!("{line}"))?;
     if !report.validation_errors.is_empty() {
         bail!(
             "the Vulkan validation layer reported {} error(s); the first: {}",
