@@ -139,7 +139,7 @@ impl GrowthSession {
         self.scene.params = self.params();
         self.scene.changes.clear();
         self.scene.seed = seed;
-        self.rebuild(ctx, 0)?;
+        self.rebuild(ctx, self.scene.plan()?, 0)?;
         self.message = format!("restarted (seed {seed})");
         Ok(())
     }
@@ -185,12 +185,13 @@ impl GrowthSession {
             self.plan = plan;
             return Ok(());
         }
-        self.rebuild(ctx, done)
+        self.rebuild(ctx, plan, done)
     }
 
-    /// A new growth of the current scene, regrown to `passes` in one submission.
-    fn rebuild(&mut self, ctx: &Arc<Context>, passes: u32) -> Result<()> {
-        self.plan = self.scene.plan()?;
+    /// A new growth of `plan` (the current scene's), regrown to `passes` in one
+    /// submission.
+    fn rebuild(&mut self, ctx: &Arc<Context>, plan: GrowthPlan, passes: u32) -> Result<()> {
+        self.plan = plan;
         self.growth = Growth::new(ctx, &self.plan, self.kind)?;
         self.renderer = GrowthRenderer::new(ctx, &self.scene, &self.plan)?;
         if passes > 0 {
