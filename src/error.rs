@@ -85,6 +85,13 @@ pub enum Error {
     #[error("Invalid value for {argument}: {message}")]
     InvalidArgument { argument: String, message: String },
 
+    /// A part of sediment used another wrongly: never the user's input.
+    #[error(
+        "Internal error in sediment ({place}): {message}. This is a bug in sediment, not in \
+         your input or your driver; please report it with the command that caused it."
+    )]
+    Internal { place: String, message: String },
+
     #[error("Shader module {path}: {message}")]
     Shader { path: String, message: String },
 
@@ -140,6 +147,14 @@ impl Error {
                 presets.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
             ),
         )
+    }
+
+    /// A programming error inside sediment (a pass or GPU object used wrongly).
+    pub fn internal(place: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::Internal {
+            place: place.into(),
+            message: message.into(),
+        }
     }
 
     /// Shorthand for an out-of-range or malformed user argument.

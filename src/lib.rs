@@ -11,12 +11,14 @@ pub mod bench;
 pub mod demo;
 pub mod error;
 pub mod export;
+pub mod frame;
 pub mod gpu;
 pub mod model;
 pub mod pod;
 pub mod render;
 pub mod scene;
 pub mod shaders;
+pub mod text;
 pub mod view;
 
 pub use error::{Error, Result};

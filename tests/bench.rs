@@ -4,9 +4,11 @@
 
 mod common;
 
-use sediment::bench::{self, BenchOptions, CpuGrowth, report::Report};
+use sediment::bench::{self, BenchOptions, report::Report};
 use sediment::model::speleothem::plan::GrowthScene;
 use sediment::model::speleothem::{grow_reference, vertex_counts};
+use sediment::render::growth::Growth;
+use sediment::render::ring_growth_cpu::CpuGrowth;
 use sediment::scene::Size;
 
 #[test]
@@ -14,16 +16,23 @@ fn the_cpu_growth_path_uploads_the_reference_mesh() {
     common::with_gpu(|ctx| {
         let plan = GrowthScene {
             passes: 12,
-            ..bench::growth_scene()
+            ..sediment::scene::grow::bench::growth_scene()
         }
         .plan()
         .expect("plan");
         let mut growth = CpuGrowth::new(ctx, &plan).expect("set-up");
+        let pass = |growth: &mut CpuGrowth| {
+            ctx.submit_and_wait("cpu pass", |cmd| growth.record(cmd, 1))
+                .expect("pass")
+        };
         for _ in 0..plan.passes {
-            growth.advance().expect("pass");
+            pass(&mut growth);
         }
-        assert!(growth.advance().is_err(), "no pass beyond the plan");
         let reference = grow_reference(&plan, plan.passes);
+        assert_eq!(growth.uploaded().expect("read back"), reference);
+        // A pass beyond the plan is clamped away, as on every path.
+        pass(&mut growth);
+        assert_eq!(growth.passes_done(), plan.passes, "no pass beyond the plan");
         assert_eq!(growth.uploaded().expect("read back"), reference);
         // Every pass added its band: the planned vertex count, which grows each pass.
         let counts = vertex_counts(&plan);

@@ -4,8 +4,11 @@
 
 mod common;
 
+use std::sync::Arc;
+
 use common::Tolerance;
-use sediment::model::speleothem::{RingVertex, grow_reference};
+use common::growth::{assert_matches, sorted_triangles};
+use sediment::model::speleothem::grow_reference;
 use sediment::scene::Size;
 use sediment::scene::cave::{self, CaveScene, Speleothems};
 
@@ -23,10 +26,10 @@ fn small(name: &str) -> CaveScene {
 }
 
 fn frame(ctx: &std::sync::Arc<sediment::gpu::Context>, scene: &CaveScene) -> image::RgbaImage {
-    let model = cave::build(scene, &|_, _, _| {}).expect("cave");
+    let model = Arc::new(cave::build(scene, &|_, _, _| {}).expect("cave"));
     let camera = cave::default_camera(scene, &model);
     let mut out = cave::render(ctx, scene, &model, Size::new(240, 160), &[camera]).expect("render");
-    out.frames.remove(0).image
+    out.frames.remove(0).0
 }
 
 #[test]
@@ -58,7 +61,7 @@ fn grown_speleothems_in_the_cave_equal_the_cpu_reference() {
             speleothems: Speleothems::Grown,
             ..small("fig8")
         };
-        let model = cave::build(&scene, &|_, _, _| {}).expect("cave");
+        let model = Arc::new(cave::build(&scene, &|_, _, _| {}).expect("cave"));
         let growth = model.growth.as_ref().expect("a growth");
         assert_eq!(growth.sites.len(), model.sites.len());
         assert!(!model.sites.is_empty());
@@ -66,31 +69,15 @@ fn grown_speleothems_in_the_cave_equal_the_cpu_reference() {
         let out = cave::render(ctx, &scene, &model, Size::new(64, 48), &[camera]).expect("render");
         let (plan, gpu) = out.grown.expect("grown vertices");
         let cpu = grow_reference(&plan, plan.passes);
-        assert_eq!(gpu.len(), cpu.len(), "vertex count");
-        // The cave grows append-only, whose triangles come in another order: compare
-        // them sorted by what each vertex is (speleothem, ring, segment, ID).
-        let sorted = |mesh: &[RingVertex]| {
-            let key = |v: &RingVertex| {
-                let p = v.position() * 1e3;
-                (
-                    [v.speleothem(), v.ring() as usize, v.segment() as usize],
-                    v.id() as i64,
-                    [p.x.round() as i64, p.y.round() as i64, p.z.round() as i64],
-                )
-            };
-            let mut t: Vec<&[RingVertex]> = mesh.chunks_exact(3).collect();
-            t.sort_by_key(|t| [key(&t[0]), key(&t[1]), key(&t[2])]);
-            t.concat()
-        };
-        let (gpu, cpu) = (sorted(&gpu), sorted(&cpu));
-        let worst = gpu
-            .iter()
-            .zip(&cpu)
-            .map(|(g, c)| (g.position() - c.position()).length())
-            .fold(0.0f32, f32::max);
-        assert!(
-            worst < 1e-3 * scene.cave.size_m,
-            "worst position difference {worst} m"
+        // The cave grows append-only, whose triangles come in another order; the
+        // growth's units are the default chamber's scaled by size / 16, so its scale
+        // is the chamber's height scaled alike.
+        let scale = 2.4 * scene.cave.size_m / 16.0;
+        assert_matches(
+            "the cave's grown speleothems",
+            &sorted_triangles(&gpu),
+            &sorted_triangles(&cpu),
+            scale,
         );
         // Every base ring starts inside the rock: the sites' sunk heights.
         for (site, s) in growth.sites.iter().zip(&model.sites) {

@@ -35,10 +35,11 @@ fn figures_12_to_18_match_their_goldens() {
         let terrain: Terrain = dunes::simulate(&small("fig12"), &mut |_, _| {}).expect("simulate");
         for (name, _) in dunes::PRESETS {
             let scene = small(name);
-            let out = dunes::render(ctx, &scene, &terrain, Size::new(240, 160)).expect("render");
+            let out =
+                dunes::render(ctx, &scene, &terrain, Size::new(240, 160), None, 0).expect("render");
             common::assert_golden(
                 &format!("dunes-{name}-240x160"),
-                &out.frame.image,
+                &out.image,
                 DUNES_TOLERANCE,
             );
         }
@@ -51,9 +52,8 @@ fn effects_change_the_picture_where_they_should() {
         let terrain = dunes::simulate(&small("fig12"), &mut |_, _| {}).expect("simulate");
         let size = Size::new(240, 160);
         let render = |name: &str| {
-            dunes::render(ctx, &small(name), &terrain, size)
+            dunes::render(ctx, &small(name), &terrain, size, None, 0)
                 .expect("render")
-                .frame
                 .image
         };
         let (f14, f15, f16, f17) = (
@@ -90,7 +90,7 @@ fn lod_against_level_0_stays_within_the_papers_difference() {
         };
         let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
         let size = Size::new(720, 480);
-        let on = dunes::render(ctx, &scene, &terrain, size).expect("LOD on");
+        let on = dunes::render(ctx, &scene, &terrain, size, None, 0).expect("LOD on");
         let off = dunes::render(
             ctx,
             &DunesScene {
@@ -99,9 +99,11 @@ fn lod_against_level_0_stays_within_the_papers_difference() {
             },
             &terrain,
             size,
+            None,
+            0,
         )
         .expect("LOD off");
-        let diff = mean_abs_diff(&on.frame.image, &off.frame.image);
+        let diff = mean_abs_diff(&on.image, &off.image);
         eprintln!("mean absolute difference, LOD on vs off, 720x480: {diff:.3}/255 (paper: 3.92)");
         assert!(diff > 0.0, "LOD changes something");
         assert!(
@@ -117,7 +119,7 @@ fn culling_drops_quads_without_changing_the_picture() {
         let scene = small("fig13");
         let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
         let size = Size::new(240, 160);
-        let culled = dunes::render(ctx, &scene, &terrain, size).expect("cull on");
+        let culled = dunes::render(ctx, &scene, &terrain, size, None, 0).expect("cull on");
         let all = dunes::render(
             ctx,
             &DunesScene {
@@ -126,13 +128,43 @@ fn culling_drops_quads_without_changing_the_picture() {
             },
             &terrain,
             size,
+            None,
+            0,
         )
         .expect("cull off");
         assert!(culled.visible_triangles < all.visible_triangles);
         assert_eq!(all.visible_triangles, all.total_triangles);
-        let diff = mean_abs_diff(&culled.frame.image, &all.frame.image);
+        let diff = mean_abs_diff(&culled.image, &all.image);
         assert!(diff < 0.05, "culling changed the picture by {diff}");
     });
+}
+
+/// The dune-shadow mask of `scene` seen by its default camera: per pixel, `None` off
+/// the terrain (sky) and where the map's bilinear filter mixes lit and shadowed texels
+/// (an edge: neither), else whether the pixel is lit.
+fn shadow_mask(
+    ctx: &std::sync::Arc<sediment::gpu::Context>,
+    scene: &DunesScene,
+    terrain: &Terrain,
+    size: Size,
+) -> Vec<Option<bool>> {
+    use sediment::frame::{FrameRunner, Time};
+    let mut frame = dunes::DunesFrame::new(ctx, scene.clone(), terrain).expect("frame");
+    frame.show_shadow_mask(true);
+    let mut runner = FrameRunner::new(ctx, size).expect("runner");
+    let camera = dunes::default_camera(scene, terrain);
+    let (image, _) = runner
+        .render(&mut frame, &camera, Time::At(0))
+        .expect("render");
+    image
+        .pixels()
+        .map(|p| {
+            let terrain = p[1] == 0 && p[2] == 255;
+            // sRGB-encoded: 0 and 255 are exactly shadowed and lit.
+            let definite = p[0] <= 8 || p[0] >= 247;
+            (terrain && definite).then_some(p[0] >= 128)
+        })
+        .collect()
 }
 
 #[test]
@@ -141,20 +173,47 @@ fn per_pixel_dune_shadows_agree_with_the_shadow_map() {
         let scene = small("fig15");
         let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
         let size = Size::new(240, 160);
-        let map = dunes::render(ctx, &scene, &terrain, size).expect("map");
-        let pixel = dunes::render(
-            ctx,
-            &DunesScene {
-                dune_shadows_per_pixel: true,
-                ..scene.clone()
-            },
-            &terrain,
-            size,
-        )
-        .expect("per pixel");
+        let map = dunes::render(ctx, &scene, &terrain, size, None, 0).expect("map");
+        let per_pixel = DunesScene {
+            dune_shadows_per_pixel: true,
+            ..scene.clone()
+        };
+        let pixel = dunes::render(ctx, &per_pixel, &terrain, size, None, 0).expect("per pixel");
         // The same march, once sampled from a 256² map and once exact per pixel: only
         // the map's resolution shows at shadow edges.
-        let diff = mean_abs_diff(&map.frame.image, &pixel.frame.image);
+        let diff = mean_abs_diff(&map.image, &pixel.image);
         assert!(diff < 2.0, "map vs per-pixel shadows differ by {diff}/255");
+        // Pixel class by pixel class: lit or shadowed, wherever both are defined (the
+        // march is everywhere on the terrain, the map off its filtered edges).
+        let (a, b) = (
+            shadow_mask(ctx, &scene, &terrain, size),
+            shadow_mask(ctx, &per_pixel, &terrain, size),
+        );
+        let both: Vec<(bool, bool)> = a
+            .iter()
+            .zip(&b)
+            .filter_map(|(x, y)| Some(((*x)?, (*y)?)))
+            .collect();
+        let terrain_pixels = b.iter().filter(|x| x.is_some()).count();
+        // The edges are a small part: at most a tenth of the terrain is left out.
+        assert!(
+            both.len() * 10 >= terrain_pixels * 9 && terrain_pixels * 2 > b.len(),
+            "{} of {terrain_pixels} terrain pixels of {} compared",
+            both.len(),
+            b.len()
+        );
+        let shadowed = both.iter().filter(|(_, exact)| !exact).count();
+        let agree = both.iter().filter(|(m, p)| m == p).count();
+        let agreement = agree as f64 / both.len() as f64;
+        eprintln!(
+            "dune shadows, map vs per-pixel march: {agree} of {} terrain pixels agree \
+             ({:.2} %; {} on the map's edges left out); {shadowed} shadowed by the march",
+            both.len(),
+            100.0 * agreement,
+            terrain_pixels - both.len()
+        );
+        // Enough shadow that losing part of it shows: a tenth of the terrain or more.
+        assert!(shadowed * 10 >= both.len(), "{shadowed} shadowed pixels");
+        assert!(agreement >= 0.99, "agreement {:.4}", agreement);
     });
 }

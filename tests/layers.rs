@@ -63,7 +63,7 @@ fn cut_away_matches_its_golden() {
             .expect("grow");
         let cut = layers::cut_away(&s, 18);
         assert!(!cut.light.indices.is_empty() && !cut.dark.indices.is_empty());
-        let frame = layers::render(ctx, &cut, Size::new(240, 160)).expect("render");
+        let frame = layers::render(ctx, &cut, Size::new(240, 160), None).expect("render");
         common::assert_golden(
             "layers-drying-cutaway-240x160",
             &frame.image,

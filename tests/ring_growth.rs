@@ -12,6 +12,7 @@ use sediment::model::speleothem::table2::{Co2, DripInterval, Pil};
 use sediment::model::speleothem::{
     GrowthPlan, RingVertex, StopReason, grow_reference, ring_measure, vertex_counts,
 };
+use sediment::render::growth::{Growth, GrowthPath};
 use sediment::render::ring_growth::RingGrowth;
 use sediment::render::ring_growth_append::AppendGrowth;
 use sediment::render::ring_growth_compute::ComputeGrowth;
@@ -41,9 +42,32 @@ fn compare(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan: &Grow
             "{name} (compute): the GPU's draw count"
         );
     }
-    let gpu = compute.read_back().expect("read back");
+    let gpu = compute.read_back(ctx, plan).expect("read back");
     assert_matches_reference(&format!("{name} (compute)"), &gpu, plan);
     compare_append(ctx, name, plan);
+    // Every path behind the one growth interface, split over two submissions.
+    let cpu = common::growth::sorted_triangles(&grow_reference(plan, plan.passes));
+    for path in GrowthPath::ALL {
+        let mut growth = path.start(ctx, plan).expect("growth set-up");
+        let half = plan.passes / 2;
+        for passes in [half, plan.passes - half] {
+            ctx.submit_and_wait(name, |cmd| growth.record(cmd, passes))
+                .expect("growth submission");
+        }
+        assert_eq!(growth.passes_done(), plan.passes, "{name} ({path})");
+        let counts = growth.counts().expect("no overflow");
+        assert_eq!(
+            Some(&counts.vertices),
+            vertex_counts(plan).last(),
+            "{name} ({path}): the path's own vertex count"
+        );
+        let gpu = growth.read_back(ctx, plan).expect("read back");
+        assert_matches(
+            &format!("{name} ({path}, via the Growth trait)"),
+            &common::growth::sorted_triangles(&gpu),
+            &cpu,
+        );
+    }
 }
 
 /// The append-only GS/XFB path against the reference: the same triangles (in another
@@ -72,7 +96,11 @@ fn compare_append(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan
     }
     let gpu = growth.read_back(ctx, plan).expect("read back");
     let cpu = grow_reference(plan, plan.passes);
-    assert_matches(&name, &sorted_triangles(&gpu), &sorted_triangles(&cpu));
+    assert_matches(
+        &name,
+        &common::growth::sorted_triangles(&gpu),
+        &common::growth::sorted_triangles(&cpu),
+    );
 }
 
 /// Vertices on the growth front after each pass, counted on the CPU reference.
@@ -86,26 +114,6 @@ fn front_sizes(plan: &GrowthPlan) -> Vec<u64> {
                 * 3
         })
         .collect()
-}
-
-/// The triangles of a mesh in a canonical order: by speleothem, ring, segment and ID
-/// of each vertex, then by position (rounded) between coincident keys.
-fn sorted_triangles(mesh: &[RingVertex]) -> Vec<RingVertex> {
-    let key = |v: &RingVertex| {
-        let p = v.position() * 1e3;
-        (
-            [
-                v.speleothem() as i64,
-                i64::from(v.ring()),
-                i64::from(v.segment()),
-            ],
-            v.id() as i64,
-            [p.x.round() as i64, p.y.round() as i64, p.z.round() as i64],
-        )
-    };
-    let mut triangles: Vec<&[RingVertex]> = mesh.chunks_exact(3).collect();
-    triangles.sort_by_key(|t| [key(&t[0]), key(&t[1]), key(&t[2])]);
-    triangles.concat()
 }
 
 /// The GS/XFB path against the reference, with its stream-query counts.
@@ -123,7 +131,7 @@ fn compare_xfb(ctx: &std::sync::Arc<sediment::gpu::Context>, name: &str, plan: &
         );
         assert_eq!(c.needed, c.written, "{name}: pass {pass}");
     }
-    let gpu = growth.read_back(ctx).expect("read back");
+    let gpu = growth.read_back(ctx, plan).expect("read back");
     assert_matches_reference(name, &gpu, plan);
 }
 
@@ -132,35 +140,13 @@ fn assert_matches_reference(name: &str, gpu: &[RingVertex], plan: &GrowthPlan) {
     assert_matches(name, gpu, &grow_reference(plan, plan.passes));
 }
 
-/// `gpu[i]` equals `cpu[i]` for every i, within the stated tolerances.
+/// `gpu[i]` equals `cpu[i]` for every i, at the chamber's scale (its height).
 fn assert_matches(name: &str, gpu: &[RingVertex], cpu: &[RingVertex]) {
-    assert_eq!(gpu.len(), cpu.len(), "{name}: vertex count");
-    // Positions within 1e-4 of the scene's scale (the cave height), IDs and integer
-    // attributes exact, the rest within 1e-4.
-    let scale = 2.4f32;
-    let differs = |g: &RingVertex, c: &RingVertex| {
-        let close = |a: f32, b: f32, tol: f32| (a - b).abs() <= tol;
-        (0..3).any(|k| !close(g.pos_id[k], c.pos_id[k], 1e-4 * scale))
-            || g.pos_id[3] != c.pos_id[3]
-            || g.normal_sp[3] != c.normal_sp[3]
-            || g.extra[0] != c.extra[0]
-            || g.extra[3] != c.extra[3]
-            || (0..3).any(|k| !close(g.normal_sp[k], c.normal_sp[k], 1e-4))
-            || (1..3).any(|k| !close(g.extra[k], c.extra[k], 1e-4 * scale.max(c.extra[k].abs())))
-    };
-    let wrong: Vec<usize> = (0..gpu.len())
-        .filter(|&i| differs(&gpu[i], &cpu[i]))
-        .collect();
-    assert!(
-        wrong.is_empty(),
-        "{name}: out of {} vertices, {} differed; first at {}: GPU {:?} CPU {:?}",
-        gpu.len(),
-        wrong.len(),
-        wrong[0],
-        gpu[wrong[0]],
-        cpu[wrong[0]]
-    );
+    common::growth::assert_matches(name, gpu, cpu, CHAMBER_HEIGHT);
 }
+
+/// The default chamber's height: the scale of every scenario here.
+const CHAMBER_HEIGHT: f32 = 2.4;
 
 #[test]
 fn every_table2_row_class_matches_the_cpu_reference() {
@@ -271,7 +257,7 @@ fn growth_split_over_submissions_matches_one_submission() {
                 .expect("submit");
         }
         growth.check_counts().expect("no overflow");
-        let gpu = growth.read_back(ctx).expect("read back");
+        let gpu = growth.read_back(ctx, &plan).expect("read back");
         let cpu = grow_reference(&plan, 9);
         assert_eq!(gpu.len(), cpu.len());
         let worst = gpu
@@ -291,8 +277,8 @@ fn growth_split_over_submissions_matches_one_submission() {
         let gpu = append.read_back(ctx, &plan).expect("read back");
         assert_matches(
             "append-only over 3 submissions",
-            &sorted_triangles(&gpu),
-            &sorted_triangles(&cpu),
+            &common::growth::sorted_triangles(&gpu),
+            &common::growth::sorted_triangles(&cpu),
         );
     });
 }
@@ -343,7 +329,7 @@ fn table2_holds_on_the_gpu_output() {
             ctx.submit_and_wait("table 2", |cmd| growth.record(cmd, 4))
                 .expect("submit");
             growth.check_counts().expect("counts");
-            let mesh = growth.read_back(ctx).expect("read back");
+            let mesh = growth.read_back(ctx, &plan).expect("read back");
             measured_steps(&mesh, &plan, index, 4)
         };
         let std = DripInterval::Standard;

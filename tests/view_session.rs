@@ -4,40 +4,36 @@
 
 mod common;
 
-use sediment::gpu::{GpuTimer, OffscreenTarget};
+use sediment::frame::{FrameRunner, Scene, Time};
 use sediment::model::speleothem::grow_reference;
 use sediment::model::speleothem::plan::{GrowthParams, GrowthScene};
 use sediment::model::speleothem::table2::Pil;
-use sediment::scene::grow::{XfbGrowth, default_camera};
-use sediment::view::Session;
-use sediment::view::grow_session::GrowthSession;
+use sediment::render::growth::GrowthPath;
+use sediment::scene::Size;
+use sediment::scene::grow::{GrowthFrame, default_camera};
 use sediment::view::input::Key;
 
-/// Runs `frames` frames of the session (one pass each).
+/// Runs `frames` viewer ticks of the session (one pass each).
 fn frames(
     ctx: &std::sync::Arc<sediment::gpu::Context>,
-    session: &mut GrowthSession,
+    session: &mut GrowthFrame,
     scene: &GrowthScene,
     n: u32,
 ) {
-    let target = OffscreenTarget::new(ctx, 64, 48).expect("target");
-    let mut timer = GpuTimer::new(ctx, "session timer", 2).expect("timer");
+    let mut runner = FrameRunner::new(ctx, Size::new(64, 48)).expect("runner");
     let camera = default_camera(scene);
     for _ in 0..n {
-        session.prepare(ctx, &camera, 64.0 / 48.0).expect("prepare");
-        ctx.submit_and_wait("session frame", |cmd| {
-            timer.reset(cmd);
-            session.record(cmd, &target, &mut timer)
-        })
-        .expect("frame");
-        session.after().expect("counts");
+        runner
+            .frame(session, &camera, Time::Tick, false)
+            .expect("frame");
+        session.counts().expect("counts");
     }
 }
 
 #[test]
 fn steering_ends_in_the_reference_mesh_of_the_same_changes() {
     common::with_gpu(|ctx| {
-        for kind in [XfbGrowth::Append, XfbGrowth::Restream] {
+        for kind in [GrowthPath::XfbAppend, GrowthPath::XfbRestream] {
             let scene = GrowthScene {
                 count: 2,
                 passes: 16,
@@ -45,7 +41,7 @@ fn steering_ends_in_the_reference_mesh_of_the_same_changes() {
                 params: GrowthParams::default(),
                 ..GrowthScene::default()
             };
-            let mut session = GrowthSession::new(ctx, scene.clone(), kind).expect("session");
+            let mut session = GrowthFrame::new(ctx, scene.clone(), kind).expect("session");
             frames(ctx, &mut session, &scene, 5);
             assert_eq!(session.plan().speleothems.len(), 2, "stalactites only");
             // PIL 1 -> 2 at pass 5: stalagmites appear (regrow), then CO2 at pass 9

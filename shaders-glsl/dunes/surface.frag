@@ -27,7 +27,8 @@ layout(set = 0, binding = 7) uniform texture2D dune_heights;    // one period, c
 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
-    vec4 wind;     // xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0)
+    vec4 wind;     // xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0),
+                   // w 1: write the dune-shadow mask instead of shading (for tests)
     vec4 shadows;  // x dune shadows on, y ripple shadows on, z softness, w per-pixel march (1) or map (0)
     vec4 albedo;   // rgb sand albedo
 } dune;
@@ -46,7 +47,11 @@ float march_dune_shadow(vec3 world, vec3 l) {
     float n = float(textureSize(sampler2D(dune_heights, repeat_sampler), 0).x);
     float cell = dune.tile.w / n;
     vec2 p = world.xz / cell;
-    float y = world.y / cell + 1e-3;
+    // From the heightfield point under the pixel (bilinear, as the map's texels start),
+    // not the drawn triangle's: the two methods then differ only by the map's
+    // resolution, and a grazing sun does not shadow the points where the triangulated
+    // mesh dips below the heightfield.
+    float y = textureLod(sampler2D(dune_heights, repeat_sampler), (p + 0.5) / n, 0.0).r + 1e-3;
     vec2 h = vec2(l.x, l.z);
     float len = max(length(h), 1e-6);
     vec2 dir = h / len;
@@ -111,6 +116,12 @@ void main() {
         vec2 suv = in_world.xz / dune.tile.w;
         // The map covers one period of the field and tiles with it.
         lit *= texture(sampler2D(dune_shadow, repeat_sampler), suv).r;
+    }
+    if (dune.wind.w > 0.5) {
+        // The dune-shadow term alone (red), marked as terrain (blue, no green): the
+        // map and the per-pixel march compared pixel by pixel.
+        out_color = vec4(lit, 0.0, 1.0, 1.0);
+        return;
     }
     // A uniform branch: implicit-LOD sampling inside per-pixel control flow is slow on
     // CPU rasterisers.

@@ -33,6 +33,30 @@ pub fn memory(
     unsafe { ctx.device.cmd_pipeline_barrier2(cmd, &dep) };
 }
 
+/// A stage/access scope of a barrier.
+pub type Scope = (vk::PipelineStageFlags2, vk::AccessFlags2);
+
+/// Several global memory barriers (source scope, destination scope) in one pipeline
+/// barrier (none: nothing recorded).
+pub fn memories(ctx: &Context, cmd: vk::CommandBuffer, scopes: &[(Scope, Scope)]) {
+    if scopes.is_empty() {
+        return;
+    }
+    let barriers: Vec<vk::MemoryBarrier2<'_>> = scopes
+        .iter()
+        .map(|(src, dst)| {
+            vk::MemoryBarrier2::default()
+                .src_stage_mask(src.0)
+                .src_access_mask(src.1)
+                .dst_stage_mask(dst.0)
+                .dst_access_mask(dst.1)
+        })
+        .collect();
+    let dep = vk::DependencyInfo::default().memory_barriers(&barriers);
+    // SAFETY: `cmd` is in the recording state on this device.
+    unsafe { ctx.device.cmd_pipeline_barrier2(cmd, &dep) };
+}
+
 /// One image layout transition with its scopes.
 pub struct ImageTransition {
     pub image: vk::Image,

@@ -59,7 +59,7 @@ pub struct Buffer {
 impl Buffer {
     pub fn new(ctx: &Arc<Context>, name: &str, desc: BufferDesc) -> Result<Self> {
         if desc.size == 0 {
-            return Err(Error::invalid(
+            return Err(Error::internal(
                 format!("buffer \"{name}\" size"),
                 "a buffer must hold at least one byte",
             ));
@@ -140,7 +140,7 @@ impl Buffer {
         let start = usize::try_from(offset).unwrap_or(usize::MAX);
         let end = start.saturating_add(bytes.len());
         let Some(dst) = slice.get_mut(start..end) else {
-            return Err(Error::invalid(
+            return Err(Error::internal(
                 "buffer write",
                 format!(
                     "{} bytes at offset {offset} do not fit in {} bytes",
@@ -160,7 +160,7 @@ impl Buffer {
             .as_ref()
             .and_then(Allocation::mapped_slice)
             .map(|s| &s[..size.min(s.len())])
-            .ok_or_else(|| Error::invalid("buffer read", "the buffer is not host-visible"))
+            .ok_or_else(|| Error::internal("buffer read", "the buffer is not host-visible"))
     }
 
     fn mapped_mut(&mut self) -> Result<&mut [u8]> {
@@ -172,7 +172,7 @@ impl Buffer {
                 let n = size.min(s.len());
                 &mut s[..n]
             })
-            .ok_or_else(|| Error::invalid("buffer write", "the buffer is not host-visible"))
+            .ok_or_else(|| Error::internal("buffer write", "the buffer is not host-visible"))
     }
 
     /// Reads a host-visible buffer as a vector of `T` (whole elements only).

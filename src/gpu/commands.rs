@@ -97,6 +97,14 @@ impl Commands<'_> {
         unsafe { self.ctx.device.cmd_dispatch(self.raw, x, y, z) };
     }
 
+    /// A dispatch whose writes every later command sees: the next stage of a
+    /// multi-stage compute pass, a draw reading its output as vertices or as an
+    /// indirect count (a full barrier).
+    pub fn dispatch_then_sync(&self, x: u32, y: u32, z: u32) {
+        self.dispatch(x, y, z);
+        self.full_barrier();
+    }
+
     /// Copies `size` bytes between buffers.
     pub fn copy_buffer(&self, src: &Buffer, dst: &Buffer, size: u64) {
         let region = [vk::BufferCopy {

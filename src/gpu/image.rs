@@ -147,7 +147,7 @@ impl Image {
     ) -> Result<Self> {
         let expected = width as usize * height as usize * 4;
         if rgba.len() != expected {
-            return Err(Error::invalid(
+            return Err(Error::internal(
                 format!("texture \"{name}\""),
                 format!(
                     "{} bytes given for {width}x{height} RGBA8 ({expected})",
@@ -310,53 +310,105 @@ impl Image {
                     )
                 };
             }
-            // Every level to shader reads: blit sources from TRANSFER_SRC, the last
-            // written level(s) from TRANSFER_DST.
-            let blitted = desc.mip_levels > given;
-            let sources = vk::ImageSubresourceRange {
-                base_mip_level: 0,
-                level_count: if blitted { desc.mip_levels - 1 } else { 0 },
-                ..range
-            };
-            let written = if blitted {
-                level_range(desc.mip_levels - 1)
-            } else {
-                range
-            };
-            let mut transitions = vec![super::barrier::ImageTransition {
-                image: image.raw,
-                range: written,
-                from: (
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::PipelineStageFlags2::ALL_TRANSFER,
-                    vk::AccessFlags2::TRANSFER_WRITE,
-                ),
-                to: (
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                    vk::AccessFlags2::SHADER_SAMPLED_READ,
-                ),
-            }];
-            if blitted {
-                transitions.push(super::barrier::ImageTransition {
-                    image: image.raw,
-                    range: sources,
-                    from: (
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        vk::PipelineStageFlags2::ALL_TRANSFER,
-                        vk::AccessFlags2::TRANSFER_READ,
-                    ),
-                    to: (
-                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                        vk::AccessFlags2::SHADER_SAMPLED_READ,
-                    ),
-                });
-            }
+            // Every level to shader reads, from the layout the copies and blits left it
+            // in.
+            let to_read = (
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                vk::AccessFlags2::SHADER_SAMPLED_READ,
+            );
+            let transitions: Vec<super::barrier::ImageTransition> =
+                layouts_after_copies_and_blits(given, desc.mip_levels)
+                    .into_iter()
+                    .map(|(base, count, layout)| super::barrier::ImageTransition {
+                        image: image.raw,
+                        range: vk::ImageSubresourceRange {
+                            base_mip_level: base,
+                            level_count: count,
+                            ..range
+                        },
+                        from: if layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
+                            (
+                                layout,
+                                vk::PipelineStageFlags2::ALL_TRANSFER,
+                                vk::AccessFlags2::TRANSFER_READ,
+                            )
+                        } else {
+                            (
+                                layout,
+                                vk::PipelineStageFlags2::ALL_TRANSFER,
+                                vk::AccessFlags2::TRANSFER_WRITE,
+                            )
+                        },
+                        to: to_read,
+                    })
+                    .collect();
             super::barrier::images(ctx, cmd.raw, &transitions);
             Ok(())
         })?;
         Ok(image)
+    }
+
+    /// Reads mip level `level` of a sampled RGBA8 image back (tightly packed rows),
+    /// leaving it in SHADER_READ_ONLY_OPTIMAL as `sampled_from_buffer` made it. The
+    /// image needs TRANSFER_SRC usage. Submits its own copy and waits.
+    pub fn read_level(&self, ctx: &Arc<Context>, level: u32) -> Result<Vec<u8>> {
+        if level >= self.desc.mip_levels {
+            return Err(Error::internal(
+                "image readback",
+                format!("level {level} of a {}-level image", self.desc.mip_levels),
+            ));
+        }
+        let (w, h) = (
+            (self.desc.width >> level).max(1),
+            (self.desc.height >> level).max(1),
+        );
+        let bytes = u64::from(w) * u64::from(h) * 4;
+        let readback = super::Buffer::new(
+            ctx,
+            "image level readback",
+            super::BufferDesc::readback(bytes, vk::BufferUsageFlags::TRANSFER_DST),
+        )?;
+        let range = vk::ImageSubresourceRange {
+            base_mip_level: level,
+            level_count: 1,
+            ..self.full_range()
+        };
+        let sampled = (
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            vk::AccessFlags2::SHADER_SAMPLED_READ,
+        );
+        let source = (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+        );
+        ctx.submit_and_wait("read image level", |cmd| {
+            let transition = |from, to| super::barrier::ImageTransition {
+                image: self.raw,
+                range,
+                from,
+                to,
+            };
+            super::barrier::images(ctx, cmd.raw, &[transition(sampled, source)]);
+            let mut region = color_copy_region(w, h);
+            region.image_subresource.mip_level = level;
+            // SAFETY: the level is in TRANSFER_SRC_OPTIMAL and the buffer holds it.
+            unsafe {
+                ctx.device.cmd_copy_image_to_buffer(
+                    cmd.raw,
+                    self.raw,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    readback.raw(),
+                    &[region],
+                )
+            };
+            super::barrier::images(ctx, cmd.raw, &[transition(source, sampled)]);
+            cmd.transfer_to_host_barrier();
+            Ok(())
+        })?;
+        Ok(readback.mapped()?.to_vec())
     }
 
     pub fn raw(&self) -> vk::Image {
@@ -381,6 +433,28 @@ impl Image {
             layer_count: 1,
         }
     }
+}
+
+/// The layout each mip level is left in by `sampled_from_buffer_with_mips`, as runs
+/// (first level, count, layout): the `given` levels are copied (TRANSFER_DST); each
+/// level after them is blitted from the one before, which becomes a TRANSFER_SRC
+/// first — so levels `given - 1 .. levels - 1` end as sources and the last as a
+/// destination, while the given levels before `given - 1` stay destinations.
+fn layouts_after_copies_and_blits(given: u32, levels: u32) -> Vec<(u32, u32, vk::ImageLayout)> {
+    let (dst, src) = (
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    );
+    if levels <= given {
+        return vec![(0, levels, dst)];
+    }
+    let mut runs = vec![
+        (0, given - 1, dst),
+        (given - 1, levels - given, src),
+        (levels - 1, 1, dst),
+    ];
+    runs.retain(|r| r.1 > 0);
+    runs
 }
 
 /// A copy of mip level 0 of a whole colour image to or from a tightly packed buffer.
@@ -414,6 +488,38 @@ impl Drop for Image {
         }
         if let Some(allocation) = self.allocation.take() {
             let _ = self.ctx.allocator().free(allocation);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Replays the layouts the upload records (all levels to TRANSFER_DST, then each
+    /// blit's source level to TRANSFER_SRC) and checks the final barrier starts every
+    /// level from the layout it is in, exactly once.
+    #[test]
+    fn the_final_barrier_starts_each_level_from_its_recorded_layout() {
+        for levels in 1..=9u32 {
+            for given in 1..=levels {
+                let mut recorded = vec![vk::ImageLayout::TRANSFER_DST_OPTIMAL; levels as usize];
+                for k in given..levels {
+                    recorded[k as usize - 1] = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+                }
+                let mut declared = vec![None; levels as usize];
+                for (base, count, layout) in layouts_after_copies_and_blits(given, levels) {
+                    for level in base..base + count {
+                        assert!(declared[level as usize].is_none(), "level {level} twice");
+                        declared[level as usize] = Some(layout);
+                    }
+                }
+                let declared: Vec<_> = declared
+                    .into_iter()
+                    .map(|d| d.expect("every level"))
+                    .collect();
+                assert_eq!(declared, recorded, "{given} given of {levels} levels");
+            }
         }
     }
 }

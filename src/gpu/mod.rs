@@ -33,6 +33,4 @@ pub use swapchain::{Presented, Surface, Swapchain};
 pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget};
 pub use timing::{GpuTimer, Span, SpanId};
 pub use validation::ValidationLog;
-pub use xfb::{
-    CAPTURE_USAGE, COUNTER_USAGE, StreamCounts, StreamQueries, capture_buffer, counter_buffer,
-};
+pub use xfb::{CaptureMode, StreamCounts, StreamQueries, XfbStream};

@@ -126,7 +126,7 @@ impl PipelineLayout {
     pub fn push<T: super::Pod>(&self, cmd: vk::CommandBuffer, value: &T) -> Result<()> {
         let bytes = super::as_bytes(std::slice::from_ref(value));
         if bytes.len() as u32 != self.push_constant_bytes {
-            return Err(Error::invalid(
+            return Err(Error::internal(
                 "push constants",
                 format!(
                     "{} bytes pushed but the layout declares {}",
@@ -152,7 +152,7 @@ impl PipelineLayout {
             ..
         }) = self.set_layouts.iter().find(|s| s.set == set)
         else {
-            return Err(Error::invalid(
+            return Err(Error::internal(
                 "descriptor set",
                 format!("the layout has no set {set}"),
             ));
@@ -234,7 +234,7 @@ impl DescriptorSet {
             .find(|b| b.0 == binding)
             .map(|b| b.1)
             .ok_or_else(|| {
-                Error::invalid(
+                Error::internal(
                     "descriptor write",
                     format!("set {} has no binding {binding}", self.set),
                 )

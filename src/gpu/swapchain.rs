@@ -236,7 +236,7 @@ impl Swapchain {
         record: impl FnOnce(&Commands<'_>, vk::Image) -> Result<()>,
     ) -> Result<Presented> {
         let image = *self.images.get(index as usize).ok_or_else(|| {
-            Error::invalid("swapchain", format!("image {index} was never acquired"))
+            Error::internal("swapchain", format!("image {index} was never acquired"))
         })?;
         let rendered = self.rendered[index as usize];
         let range = vk::ImageSubresourceRange {

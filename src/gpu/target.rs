@@ -218,7 +218,7 @@ impl OffscreenTarget {
     pub fn read_image(&self) -> Result<image::RgbaImage> {
         let bytes = self.readback.mapped()?.to_vec();
         image::RgbaImage::from_raw(self.width, self.height, bytes).ok_or_else(|| {
-            Error::invalid("readback", "the readback buffer is smaller than the frame")
+            Error::internal("readback", "the readback buffer is smaller than the frame")
         })
     }
 }

@@ -66,7 +66,7 @@ impl GpuTimer {
     pub fn begin(&mut self, cmd: &Commands<'_>, name: &str) -> Result<SpanId> {
         let index = self.names.len();
         if index as u32 >= self.capacity {
-            return Err(Error::invalid(
+            return Err(Error::internal(
                 "GPU timer",
                 format!("more than {} spans in one recording", self.capacity),
             ));

@@ -1,215 +1,353 @@
-//! Safe wrappers, written once, over VK_EXT_transform_feedback, which ash 0.38 exposes
-//! only as raw function pointers: binding capture buffers, begin/end with counter
-//! buffers, `vkCmdDrawIndirectByteCountEXT` (Vulkan's DrawAuto), the stream query, and
-//! the barriers a capture needs (validation does not check them, and lavapipe tolerates
-//! their absence, so they must be right by construction).
+//! Transform feedback (VK_EXT_transform_feedback), which ash 0.38 exposes only as raw
+//! function pointers, wrapped once: an [`XfbStream`] — a capture buffer and the counter
+//! holding its byte count — that places its own barriers from the state its last use
+//! left it in, `vkCmdDrawIndirectByteCountEXT` (Vulkan's DrawAuto) through it, and the
+//! stream query. Validation does not check these barriers and lavapipe tolerates their
+//! absence, so they are right by construction here, and nowhere else.
 
+use std::cell::Cell;
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::{Buffer, BufferDesc, Commands, Context};
+use super::{Buffer, BufferDesc, Commands, Context, Pod};
 use crate::error::{Error, Result, VkContext};
 
 /// Usage a capture buffer needs: written by XFB, read back as vertices, copyable.
-pub const CAPTURE_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
+const CAPTURE_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
     vk::BufferUsageFlags::TRANSFORM_FEEDBACK_BUFFER_EXT.as_raw()
         | vk::BufferUsageFlags::VERTEX_BUFFER.as_raw()
-        | vk::BufferUsageFlags::STORAGE_BUFFER.as_raw()
-        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw()
-        | vk::BufferUsageFlags::TRANSFER_DST.as_raw(),
+        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
 );
 
-/// A counter buffer is both written by XFB and read by the indirect draw.
-pub const COUNTER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
+/// A counter buffer is written by XFB, read by the indirect draw and by a resumed
+/// capture, filled and copied.
+const COUNTER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
     vk::BufferUsageFlags::TRANSFORM_FEEDBACK_COUNTER_BUFFER_EXT.as_raw()
         | vk::BufferUsageFlags::INDIRECT_BUFFER.as_raw()
         | vk::BufferUsageFlags::TRANSFER_SRC.as_raw()
         | vk::BufferUsageFlags::TRANSFER_DST.as_raw(),
 );
 
-/// A device-local capture buffer of `bytes`.
-pub fn capture_buffer(ctx: &Arc<Context>, name: &str, bytes: u64) -> Result<Buffer> {
-    Buffer::new(ctx, name, BufferDesc::gpu_only(bytes, CAPTURE_USAGE))
+/// Where a capture starts writing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CaptureMode {
+    /// At the start of the buffer: the capture replaces what was there.
+    Restart,
+    /// At the byte count the counter holds: the capture appends (a stream's first
+    /// append starts at zero).
+    Append,
 }
 
-/// A counter buffer (one u32 byte counter per capture buffer, 4-byte aligned).
-pub fn counter_buffer(ctx: &Arc<Context>, name: &str, counters: u32) -> Result<Buffer> {
-    Buffer::new(
-        ctx,
-        name,
-        BufferDesc::gpu_only(u64::from(counters.max(1)) * 4, COUNTER_USAGE),
-    )
+/// What the last use of a stream left its buffer and counter in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum State {
+    /// Nothing on the GPU has touched it; the counter is undefined.
+    Fresh,
+    /// Ready to be captured into (`prepare_captures`), inside the next rendering scope.
+    Writable,
+    /// Capturing between `begin` and `end`.
+    Capturing,
+    /// Written by a capture, not yet visible to anything.
+    Captured,
+    /// Captured vertices and byte count visible to vertex input, indirect draws,
+    /// copies and a resumed capture, which may be reading them.
+    Readable,
 }
 
-impl Commands<'_> {
-    /// Binds `buffer[offset..offset+size]` as capture buffer `binding` (stream 0 writes
-    /// binding 0 in sediment's shaders). `size` `None` means the rest of the buffer.
-    pub fn bind_capture_buffer(
-        &self,
-        binding: u32,
-        buffer: &Buffer,
-        offset: u64,
-        size: Option<u64>,
-    ) {
-        let buffers = [buffer.raw()];
-        let offsets = [offset];
-        let sizes = [size.unwrap_or(vk::WHOLE_SIZE)];
-        // SAFETY: `raw` is recording; the buffer has TRANSFORM_FEEDBACK_BUFFER usage
-        // (CAPTURE_USAGE) and the arrays hold one element each, as `binding_count` says.
+/// A transform-feedback capture buffer and its byte counter, owning their barriers.
+///
+/// Its life is a cycle: [`XfbStream::prepare_captures`] (outside a rendering scope),
+/// [`begin`](XfbStream::begin) and [`end`](XfbStream::end) around the draws that emit
+/// (inside one), [`XfbStream::finish_captures`] (outside again), after which it can
+/// be drawn ([`draw`](XfbStream::draw)) or read back. State is tracked per stream
+/// across command buffers, so every barrier a use needs is placed once, by the stream.
+pub struct XfbStream {
+    state: Cell<State>,
+    counter: Buffer,
+    buffer: Buffer,
+}
+
+impl XfbStream {
+    /// A device-local capture buffer of `bytes` and its counter.
+    pub fn new(ctx: &Arc<Context>, name: &str, bytes: u64) -> Result<Self> {
+        Ok(Self {
+            state: Cell::new(State::Fresh),
+            counter: Buffer::new(
+                ctx,
+                &format!("{name} counter"),
+                BufferDesc::gpu_only(4, COUNTER_USAGE),
+            )?,
+            buffer: Buffer::new(ctx, name, BufferDesc::gpu_only(bytes.max(4), CAPTURE_USAGE))?,
+        })
+    }
+
+    /// Capacity in bytes.
+    pub fn size(&self) -> u64 {
+        self.buffer.size()
+    }
+
+    /// Makes each stream ready to be captured into with its mode, in one barrier,
+    /// before the rendering scope of the capture:
+    /// - read since its last capture (drawn, copied, or the input of a pass): those
+    ///   reads finish first (write-after-read), and the write-after-write chain from
+    ///   the capture before runs through the barrier that made it readable;
+    /// - captured and not yet made readable (an append after an append): its data and
+    ///   counter writes come before the new capture's (write-after-write), and the
+    ///   counter's byte count before the resumed capture reads it;
+    /// - fresh and appending: its counter is filled with zero first.
+    pub fn prepare_captures(cmd: &Commands<'_>, streams: &[(&XfbStream, CaptureMode)]) {
+        let mut after_reads = false;
+        let mut after_capture = false;
+        let mut after_fill = false;
+        for (stream, mode) in streams {
+            match (stream.state.get(), mode) {
+                (State::Readable, _) => after_reads = true,
+                (State::Captured, _) => after_capture = true,
+                (State::Fresh, CaptureMode::Append) => {
+                    cmd.fill_buffer(&stream.counter, 0, 4, 0);
+                    after_fill = true;
+                }
+                _ => {}
+            }
+            stream.state.set(State::Writable);
+        }
+        let capture = (
+            vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT,
+            vk::AccessFlags2::TRANSFORM_FEEDBACK_WRITE_EXT
+                | vk::AccessFlags2::TRANSFORM_FEEDBACK_COUNTER_WRITE_EXT
+                | vk::AccessFlags2::TRANSFORM_FEEDBACK_COUNTER_READ_EXT,
+        );
+        let mut barriers = Vec::new();
+        if after_reads {
+            barriers.push((
+                (
+                    vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT
+                        | vk::PipelineStageFlags2::DRAW_INDIRECT
+                        | vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT
+                        | vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::NONE,
+                ),
+                capture,
+            ));
+        }
+        if after_capture {
+            barriers.push((
+                (
+                    vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT,
+                    vk::AccessFlags2::TRANSFORM_FEEDBACK_WRITE_EXT
+                        | vk::AccessFlags2::TRANSFORM_FEEDBACK_COUNTER_WRITE_EXT,
+                ),
+                capture,
+            ));
+        }
+        if after_fill {
+            barriers.push((
+                (
+                    vk::PipelineStageFlags2::ALL_TRANSFER,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                ),
+                capture,
+            ));
+        }
+        super::barrier::memories(cmd.ctx, cmd.raw, &barriers);
+    }
+
+    /// Makes what the streams captured visible to vertex input, indirect draws,
+    /// copies and resumed captures, in one barrier, after the capture's rendering
+    /// scope.
+    pub fn finish_captures(cmd: &Commands<'_>, streams: &[&XfbStream]) {
+        let mut any = false;
+        for stream in streams {
+            if stream.state.get() == State::Captured {
+                any = true;
+                stream.state.set(State::Readable);
+            }
+        }
+        if any {
+            readable_barrier(cmd);
+        }
+    }
+
+    /// Binds the stream as capture buffer 0 and starts capturing (stream 0, inside a
+    /// rendering scope, with the emitting pipeline bound, after `prepare_captures`).
+    pub fn begin(&self, cmd: &Commands<'_>, mode: CaptureMode) -> Result<()> {
+        if self.state.get() != State::Writable {
+            return Err(Error::internal(
+                "transform feedback",
+                format!(
+                    "capture begun on a stream in state {:?} (prepare_captures first)",
+                    self.state.get()
+                ),
+            ));
+        }
+        self.state.set(State::Capturing);
+        let buffers = [self.buffer.raw()];
+        let offsets = [0u64];
+        let sizes = [vk::WHOLE_SIZE];
+        // SAFETY: `raw` is recording inside a rendering scope; the buffer has
+        // TRANSFORM_FEEDBACK_BUFFER usage and each array holds the one binding.
         unsafe {
-            (self.ctx.xfb.fp().cmd_bind_transform_feedback_buffers_ext)(
-                self.raw,
-                binding,
+            (cmd.ctx.xfb.fp().cmd_bind_transform_feedback_buffers_ext)(
+                cmd.raw,
+                0,
                 1,
                 buffers.as_ptr(),
                 offsets.as_ptr(),
                 sizes.as_ptr(),
             )
         };
-    }
-
-    /// Starts capture. With `resume = Some((counter, offset))` capture continues at the
-    /// byte count stored in the counter (append); with `None` it starts at the bound
-    /// offset. Must be inside a rendering scope with a pipeline bound.
-    pub fn begin_capture(&self, resume: Option<(&Buffer, u64)>) {
-        let (buffers, offsets) = match resume {
-            Some((b, o)) => (vec![b.raw()], vec![o]),
-            None => (Vec::new(), Vec::new()),
-        };
-        // SAFETY: `raw` is recording inside a rendering scope; a counter buffer, when
-        // given, has TRANSFORM_FEEDBACK_COUNTER usage and a barrier from its last write
-        // (see `counter_write_to_read`). count 0 with null arrays is allowed.
+        let counters = [self.counter.raw()];
+        let counter_offsets = [0u64];
+        let resume = mode == CaptureMode::Append;
+        // SAFETY: capture is not active; with `Append` the counter has
+        // TRANSFORM_FEEDBACK_COUNTER usage and `prepare_captures` made its byte count
+        // visible; with zero counter buffers the arrays may be null.
         unsafe {
-            (self.ctx.xfb.fp().cmd_begin_transform_feedback_ext)(
-                self.raw,
+            (cmd.ctx.xfb.fp().cmd_begin_transform_feedback_ext)(
+                cmd.raw,
                 0,
-                buffers.len() as u32,
-                if buffers.is_empty() {
-                    std::ptr::null()
+                u32::from(resume),
+                if resume {
+                    counters.as_ptr()
                 } else {
-                    buffers.as_ptr()
+                    std::ptr::null()
                 },
-                if offsets.is_empty() {
-                    std::ptr::null()
+                if resume {
+                    counter_offsets.as_ptr()
                 } else {
-                    offsets.as_ptr()
+                    std::ptr::null()
                 },
             )
         };
+        Ok(())
     }
 
-    /// Ends capture, storing the byte count reached into `counter` at `offset`.
-    pub fn end_capture(&self, counter: Option<(&Buffer, u64)>) {
-        let (buffers, offsets) = match counter {
-            Some((b, o)) => (vec![b.raw()], vec![o]),
-            None => (Vec::new(), Vec::new()),
-        };
-        // SAFETY: capture is active on `raw` (begun by `begin_capture`).
+    /// Ends capturing, storing the byte count reached in the stream's counter.
+    pub fn end(&self, cmd: &Commands<'_>) -> Result<()> {
+        if self.state.get() != State::Capturing {
+            return Err(Error::internal(
+                "transform feedback",
+                "capture ended on a stream that was not capturing",
+            ));
+        }
+        self.state.set(State::Captured);
+        let counters = [self.counter.raw()];
+        let offsets = [0u64];
+        // SAFETY: capture is active on `raw` (begun by `begin`); the counter has
+        // TRANSFORM_FEEDBACK_COUNTER usage.
         unsafe {
-            (self.ctx.xfb.fp().cmd_end_transform_feedback_ext)(
-                self.raw,
+            (cmd.ctx.xfb.fp().cmd_end_transform_feedback_ext)(
+                cmd.raw,
                 0,
-                buffers.len() as u32,
-                if buffers.is_empty() {
-                    std::ptr::null()
-                } else {
-                    buffers.as_ptr()
-                },
-                if offsets.is_empty() {
-                    std::ptr::null()
-                } else {
-                    offsets.as_ptr()
-                },
+                1,
+                counters.as_ptr(),
+                offsets.as_ptr(),
             )
         };
+        Ok(())
     }
 
-    /// Draws as many vertices as the counter says were captured (`byte count /
-    /// vertex_stride`): the CPU never reads the count.
-    pub fn draw_indirect_byte_count(
-        &self,
-        counter: &Buffer,
-        counter_offset: u64,
-        vertex_stride: u32,
-        instance_count: u32,
-    ) {
-        // SAFETY: `raw` is recording inside a rendering scope with a pipeline and vertex
-        // buffer bound; the counter has INDIRECT_BUFFER usage and was made visible to
-        // indirect reads (`counter_write_to_read`).
+    /// Binds the stream as vertex buffer 0 and draws as many vertices as its counter
+    /// says were captured (byte count / `vertex_stride`): the CPU never reads the count.
+    /// Inside a rendering scope, after `finish_captures`.
+    pub fn draw(&self, cmd: &Commands<'_>, vertex_stride: u32, instances: u32) -> Result<()> {
+        if self.state.get() != State::Readable {
+            return Err(Error::internal(
+                "transform feedback",
+                format!(
+                    "a stream in state {:?} drawn (finish_captures first)",
+                    self.state.get()
+                ),
+            ));
+        }
+        cmd.bind_vertex_buffer(&self.buffer, 0);
+        // SAFETY: `raw` is recording inside a rendering scope with a pipeline and this
+        // vertex buffer bound; the counter has INDIRECT_BUFFER usage and its byte count
+        // was made visible to indirect reads (`finish_captures`).
         unsafe {
-            (self.ctx.xfb.fp().cmd_draw_indirect_byte_count_ext)(
-                self.raw,
-                instance_count,
+            (cmd.ctx.xfb.fp().cmd_draw_indirect_byte_count_ext)(
+                cmd.raw,
+                instances,
                 0,
-                counter.raw(),
-                counter_offset,
+                self.counter.raw(),
+                0,
                 0,
                 vertex_stride,
             )
         };
+        Ok(())
     }
 
-    /// Captured vertices become visible to the vertex-input stage and to copies/shaders.
-    pub fn capture_to_vertex_read_barrier(&self) {
-        super::barrier::memory(
-            self.ctx,
-            self.raw,
-            (
-                vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT,
-                vk::AccessFlags2::TRANSFORM_FEEDBACK_WRITE_EXT,
-            ),
-            (
-                vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT
-                    | vk::PipelineStageFlags2::COPY
-                    | vk::PipelineStageFlags2::ALL_COMMANDS,
-                vk::AccessFlags2::VERTEX_ATTRIBUTE_READ
-                    | vk::AccessFlags2::TRANSFER_READ
-                    | vk::AccessFlags2::SHADER_STORAGE_READ,
-            ),
-        );
+    /// The captured data as `T`s, read back (submits its own copy and waits).
+    pub fn read_back<T: Pod>(&self, ctx: &Arc<Context>) -> Result<Vec<T>> {
+        let bytes = self.buffer.size();
+        let readback = Buffer::new(
+            ctx,
+            "capture readback",
+            BufferDesc::readback(bytes + 4, vk::BufferUsageFlags::TRANSFER_DST),
+        )?;
+        if self.state.get() == State::Fresh {
+            return Ok(Vec::new());
+        }
+        ctx.submit_and_wait("capture readback", |cmd| {
+            Self::finish_captures(cmd, &[self]);
+            if self.state.get() != State::Readable {
+                return Err(Error::internal(
+                    "transform feedback",
+                    "a stream read back in the middle of a capture",
+                ));
+            }
+            cmd.copy_buffer(&self.buffer, &readback, bytes);
+            cmd.copy_buffer_region(&self.counter, 0, &readback, bytes, 4);
+            cmd.transfer_to_host_barrier();
+            Ok(())
+        })?;
+        let data = readback.mapped()?;
+        let mut word = [0u8; 4];
+        word.copy_from_slice(&data[bytes as usize..bytes as usize + 4]);
+        let used = u64::from(u32::from_le_bytes(word)).min(bytes);
+        Ok(crate::gpu::from_bytes(&data[..used as usize]))
     }
+}
 
-    /// Counter writes become visible to the indirect draw, to a resumed capture and to
-    /// copies.
-    pub fn counter_write_to_read_barrier(&self) {
-        super::barrier::memory(
-            self.ctx,
-            self.raw,
+/// Captured data and counters visible to their readers: vertex input and copies (and
+/// shaders) for the data; indirect draws, resumed captures and copies for the counter.
+fn readable_barrier(cmd: &Commands<'_>) {
+    super::barrier::memories(
+        cmd.ctx,
+        cmd.raw,
+        &[
             (
-                vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT,
-                vk::AccessFlags2::TRANSFORM_FEEDBACK_COUNTER_WRITE_EXT,
+                (
+                    vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT,
+                    vk::AccessFlags2::TRANSFORM_FEEDBACK_WRITE_EXT,
+                ),
+                (
+                    vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT
+                        | vk::PipelineStageFlags2::COPY
+                        | vk::PipelineStageFlags2::ALL_COMMANDS,
+                    vk::AccessFlags2::VERTEX_ATTRIBUTE_READ
+                        | vk::AccessFlags2::TRANSFER_READ
+                        | vk::AccessFlags2::SHADER_STORAGE_READ,
+                ),
             ),
             (
-                vk::PipelineStageFlags2::DRAW_INDIRECT
-                    | vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT
-                    | vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::INDIRECT_COMMAND_READ
-                    | vk::AccessFlags2::TRANSFORM_FEEDBACK_COUNTER_READ_EXT
-                    | vk::AccessFlags2::TRANSFER_READ,
+                (
+                    vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT,
+                    vk::AccessFlags2::TRANSFORM_FEEDBACK_COUNTER_WRITE_EXT,
+                ),
+                (
+                    vk::PipelineStageFlags2::DRAW_INDIRECT
+                        | vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT
+                        | vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::INDIRECT_COMMAND_READ
+                        | vk::AccessFlags2::TRANSFORM_FEEDBACK_COUNTER_READ_EXT
+                        | vk::AccessFlags2::TRANSFER_READ,
+                ),
             ),
-        );
-    }
-
-    /// A reused capture buffer's previous reads (as vertex input) finish before it is
-    /// overwritten (ping-pong: write-after-read).
-    pub fn vertex_read_to_capture_barrier(&self) {
-        super::barrier::memory(
-            self.ctx,
-            self.raw,
-            (
-                vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT
-                    | vk::PipelineStageFlags2::DRAW_INDIRECT,
-                vk::AccessFlags2::NONE,
-            ),
-            (
-                vk::PipelineStageFlags2::TRANSFORM_FEEDBACK_EXT,
-                vk::AccessFlags2::TRANSFORM_FEEDBACK_WRITE_EXT
-                    | vk::AccessFlags2::TRANSFORM_FEEDBACK_COUNTER_WRITE_EXT
-                    | vk::AccessFlags2::TRANSFORM_FEEDBACK_COUNTER_READ_EXT,
-            ),
-        );
-    }
+        ],
+    );
 }
 
 /// Primitives a capture wrote, and how many it would have written with room enough.
@@ -261,7 +399,7 @@ impl StreamQueries {
     /// Resets queries `first..first + count`; record outside a rendering scope.
     pub fn reset_range(&self, cmd: &Commands<'_>, first: u32, count: u32) -> Result<()> {
         if first.saturating_add(count) > self.count {
-            return Err(Error::invalid(
+            return Err(Error::internal(
                 "stream query",
                 format!(
                     "range {first}..{} outside the pool's {} queries",
@@ -306,7 +444,7 @@ impl StreamQueries {
         if index < self.count {
             Ok(())
         } else {
-            Err(Error::invalid(
+            Err(Error::internal(
                 "stream query",
                 format!("index {index} outside the pool's {} queries", self.count),
             ))
@@ -316,6 +454,10 @@ impl StreamQueries {
     /// Reads queries `0..n` (after the submission finished).
     pub fn results(&self, n: u32) -> Result<Vec<StreamCounts>> {
         let n = n.min(self.count);
+        if n == 0 {
+            // vkGetQueryPoolResults with no queries is invalid (dataSize 0).
+            return Ok(Vec::new());
+        }
         let mut data = vec![[0u64; 2]; n as usize];
         // SAFETY: the queries were written by a completed submission; each result is two
         // u64s (primitives written, primitives needed) as the spec defines.

@@ -24,6 +24,7 @@
 //! reports it, rather than produce self-intersecting layers. (A base narrower than the
 //! stationary cap does the same while the cap widens to its stationary radius.)
 
+pub mod cut_away;
 pub mod physical;
 
 #[cfg(test)]
@@ -65,6 +66,18 @@ impl Decay {
         radius / self.stationary_radius(1.0)
     }
 }
+
+impl std::fmt::Display for Decay {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Decay::Gaussian => "gaussian",
+            Decay::Linear => "linear",
+            Decay::Exponential => "exponential",
+        })
+    }
+}
+
+crate::serde_as_text!(Decay, Supply);
 
 impl std::str::FromStr for Decay {
     type Err = Error;
@@ -140,6 +153,20 @@ impl Supply {
                 "--supply",
                 "supply factors must be in 0.05..=20 (and steps need at least one)",
             ))
+        }
+    }
+}
+
+/// As `--supply` takes it: `constant`, `linear:A..B`, `steps:A,B,...`.
+impl std::fmt::Display for Supply {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Supply::Constant => f.write_str("constant"),
+            Supply::Linear { from, to } => write!(f, "linear:{from}..{to}"),
+            Supply::Steps(levels) => {
+                let levels: Vec<String> = levels.iter().map(f64::to_string).collect();
+                write!(f, "steps:{}", levels.join(","))
+            }
         }
     }
 }

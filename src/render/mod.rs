@@ -5,26 +5,18 @@ pub mod cave_wall;
 pub mod dune_shadow;
 pub mod dune_surface;
 pub mod dust;
+pub mod growth;
 pub mod lit_mesh;
 pub mod ring_growth;
 pub mod ring_growth_append;
 pub mod ring_growth_compute;
+pub mod ring_growth_cpu;
 pub mod ripple_maps;
 pub mod sky;
 pub mod speleothem_surface;
 pub mod xfb_selftest;
 
-use crate::gpu::Span;
 use crate::shaders::ShaderInterface;
-
-/// A rendered frame and what it cost.
-pub struct RenderedFrame {
-    pub image: image::RgbaImage,
-    /// GPU time of each named pass.
-    pub gpu_spans: Vec<Span>,
-    /// Wall-clock time of the whole render (set-up, record, submit, wait, readback).
-    pub wall_ms: f64,
-}
 
 /// Every shader interface the passes declare; the reflection test holds each against
 /// its SPIR-V and checks that no non-geometry module is left undeclared.

@@ -11,11 +11,11 @@
 
 use std::sync::Arc;
 
+use super::growth::{Growth, GrowthCounts, GrowthPath, MeshSource};
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Pipeline,
-    PipelineLayout, Pod, StreamCounts, StreamQueries, VertexLayout, capture_buffer, counter_buffer,
-    vk,
+    Buffer, CaptureMode, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Pipeline,
+    PipelineLayout, Pod, StreamCounts, StreamQueries, VertexLayout, XfbStream, vk,
 };
 use crate::model::speleothem::{
     GrowthPlan, RingVertex, VERTEX_STRIDE, initial_rings, vertex_counts,
@@ -57,58 +57,6 @@ pub fn ring_vertex_layout() -> VertexLayout {
             (1, vk::Format::R32G32B32A32_SFLOAT, 16),
             (2, vk::Format::R32G32B32A32_SFLOAT, 32),
         ],
-    }
-}
-
-/// Where to draw the current mesh from.
-pub enum MeshSource<'a> {
-    /// Before any pass: the base primitives, with a known vertex count.
-    Counted { buffer: &'a Buffer, vertices: u32 },
-    /// After a pass: the capture buffer and the counter holding its byte count.
-    Captured {
-        buffer: &'a Buffer,
-        counter: &'a Buffer,
-        counter_offset: u64,
-    },
-    /// The append-only path after a pass: the vertices frozen so far (drawn shifted by
-    /// each speleothem's accumulated thickening, see `model::speleothem::unfreeze`) and
-    /// the current front band, both captures with byte counters.
-    Appended {
-        frozen: Captured<'a>,
-        front: Captured<'a>,
-    },
-}
-
-/// A capture buffer and the counter (buffer, byte offset) holding its byte count.
-#[derive(Clone, Copy)]
-pub struct Captured<'a> {
-    pub buffer: &'a Buffer,
-    pub counter: &'a Buffer,
-    pub counter_offset: u64,
-}
-
-impl Captured<'_> {
-    /// The captured vertices, read back (submits its own copy and waits).
-    pub fn read_back(&self, ctx: &Arc<Context>) -> Result<Vec<RingVertex>> {
-        let bytes = self.buffer.size();
-        let readback = Buffer::new(
-            ctx,
-            "ring growth readback",
-            BufferDesc::readback(bytes + 4, vk::BufferUsageFlags::TRANSFER_DST),
-        )?;
-        ctx.submit_and_wait("ring growth readback", |cmd| {
-            cmd.capture_to_vertex_read_barrier();
-            cmd.counter_write_to_read_barrier();
-            cmd.copy_buffer(self.buffer, &readback, bytes);
-            cmd.copy_buffer_region(self.counter, self.counter_offset, &readback, bytes, 4);
-            cmd.transfer_to_host_barrier();
-            Ok(())
-        })?;
-        let data = readback.mapped()?;
-        let mut word = [0u8; 4];
-        word.copy_from_slice(&data[bytes as usize..bytes as usize + 4]);
-        let used = u64::from(u32::from_le_bytes(word)).min(bytes);
-        Ok(crate::gpu::from_bytes(&data[..used as usize]))
     }
 }
 
@@ -194,11 +142,11 @@ impl GrowthPipeline {
     }
 }
 
-/// A growth in progress on the GPU.
+/// A growth in progress on the GPU, re-streaming the whole mesh every pass.
 pub struct RingGrowth {
     queries: StreamQueries,
-    counters: Buffer,
-    captures: [Buffer; 2],
+    /// Ping-pong: pass `p` captures into `captures[p % 2]` from the other one.
+    captures: [XfbStream; 2],
     input: Buffer,
     growth: GrowthPipeline,
     initial_vertices: u32,
@@ -230,14 +178,12 @@ impl RingGrowth {
         let capacity_vertices = capacity_vertices.unwrap_or(predicted).max(3);
         let bytes = capacity_vertices * u64::from(VERTEX_STRIDE);
         let captures = [
-            capture_buffer(ctx, "ring growth capture A", bytes)?,
-            capture_buffer(ctx, "ring growth capture B", bytes)?,
+            XfbStream::new(ctx, "ring growth capture A", bytes)?,
+            XfbStream::new(ctx, "ring growth capture B", bytes)?,
         ];
-        let counters = counter_buffer(ctx, "ring growth counters", 2)?;
         let queries = StreamQueries::new(ctx, "ring growth stream queries", plan.passes)?;
         Ok(Self {
             queries,
-            counters,
             captures,
             input,
             growth,
@@ -248,62 +194,8 @@ impl RingGrowth {
         })
     }
 
-    pub fn passes_done(&self) -> u32 {
-        self.passes_done
-    }
-
     pub fn capacity_vertices(&self) -> u64 {
         self.capacity_vertices
-    }
-
-    /// Continues with `plan` (the same scene re-planned after a parameter change, whose
-    /// passes so far are unchanged); false when it does not fit this growth's buffers.
-    pub fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
-        let needed = vertex_counts(plan).into_iter().max().unwrap_or(0);
-        if needed > self.capacity_vertices {
-            return Ok(false);
-        }
-        self.growth.write_plan(plan)
-    }
-
-    /// Records the next `passes` growth passes (clamped to the plan) into `cmd`.
-    pub fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
-        let first = self.passes_done;
-        let last = (first + passes).min(self.total_passes);
-        if last == first {
-            return Ok(());
-        }
-        self.queries.reset_range(cmd, first, last - first)?;
-        // Writes of earlier submissions (or the counter fill) become visible first.
-        cmd.capture_to_vertex_read_barrier();
-        cmd.counter_write_to_read_barrier();
-        for pass in first..last {
-            let dst = (pass % 2) as usize;
-            if pass >= 1 {
-                // `dst` was the vertex input of the previous pass (write-after-read).
-                cmd.vertex_read_to_capture_barrier();
-            }
-            cmd.begin_rendering_without_attachments(1, 1);
-            self.growth.bind(cmd, pass, EmitMode::All)?;
-            cmd.bind_capture_buffer(0, &self.captures[dst], 0, None);
-            self.queries.begin(cmd, pass)?;
-            cmd.begin_capture(None);
-            if pass == 0 {
-                cmd.bind_vertex_buffer(&self.input, 0);
-                cmd.draw(self.initial_vertices, 1);
-            } else {
-                let src = 1 - dst;
-                cmd.bind_vertex_buffer(&self.captures[src], 0);
-                cmd.draw_indirect_byte_count(&self.counters, src as u64 * 4, VERTEX_STRIDE, 1);
-            }
-            cmd.end_capture(Some((&self.counters, dst as u64 * 4)));
-            self.queries.end(cmd, pass)?;
-            cmd.end_rendering();
-            cmd.capture_to_vertex_read_barrier();
-            cmd.counter_write_to_read_barrier();
-        }
-        self.passes_done = last;
-        Ok(())
     }
 
     /// After the submission: every pass's stream counts, or an error for the first
@@ -321,36 +213,86 @@ impl RingGrowth {
         Ok(counts)
     }
 
-    /// The current mesh, for drawing.
-    pub fn source(&self) -> MeshSource<'_> {
+    /// The stream the last pass captured into.
+    fn last(&self) -> &XfbStream {
+        &self.captures[((self.passes_done.max(1) - 1) % 2) as usize]
+    }
+}
+
+impl Growth for RingGrowth {
+    fn path(&self) -> GrowthPath {
+        GrowthPath::XfbRestream
+    }
+
+    fn passes_done(&self) -> u32 {
+        self.passes_done
+    }
+
+    fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
+        let needed = vertex_counts(plan).into_iter().max().unwrap_or(0);
+        if needed > self.capacity_vertices {
+            return Ok(false);
+        }
+        self.growth.write_plan(plan)
+    }
+
+    fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
+        let first = self.passes_done;
+        let last = (first + passes).min(self.total_passes);
+        if last == first {
+            return Ok(());
+        }
+        self.queries.reset_range(cmd, first, last - first)?;
+        for pass in first..last {
+            let dst = &self.captures[(pass % 2) as usize];
+            // `dst` was the input of the previous pass: its stream orders the reads.
+            XfbStream::prepare_captures(cmd, &[(dst, CaptureMode::Restart)]);
+            cmd.begin_rendering_without_attachments(1, 1);
+            self.growth.bind(cmd, pass, EmitMode::All)?;
+            self.queries.begin(cmd, pass)?;
+            dst.begin(cmd, CaptureMode::Restart)?;
+            if pass == 0 {
+                cmd.bind_vertex_buffer(&self.input, 0);
+                cmd.draw(self.initial_vertices, 1);
+            } else {
+                self.captures[((pass + 1) % 2) as usize].draw(cmd, VERTEX_STRIDE, 1)?;
+            }
+            dst.end(cmd)?;
+            self.queries.end(cmd, pass)?;
+            cmd.end_rendering();
+            XfbStream::finish_captures(cmd, &[dst]);
+        }
+        self.passes_done = last;
+        Ok(())
+    }
+
+    fn counts(&self) -> Result<GrowthCounts> {
+        let counts = self.check_counts()?;
+        Ok(GrowthCounts {
+            vertices: counts
+                .last()
+                .map_or(u64::from(self.initial_vertices), |c| c.written * 3),
+            emitted: counts.iter().map(|c| c.written * 3).sum(),
+        })
+    }
+
+    fn source(&self) -> MeshSource<'_> {
         if self.passes_done == 0 {
             MeshSource::Counted {
                 buffer: &self.input,
                 vertices: self.initial_vertices,
             }
         } else {
-            let last = ((self.passes_done - 1) % 2) as usize;
-            MeshSource::Captured {
-                buffer: &self.captures[last],
-                counter: &self.counters,
-                counter_offset: last as u64 * 4,
-            }
+            MeshSource::Captured(self.last())
         }
     }
 
-    /// Reads the current mesh back (submits its own copy and waits).
-    pub fn read_back(&self, ctx: &Arc<Context>) -> Result<Vec<RingVertex>> {
+    fn read_back(&self, ctx: &Arc<Context>, _plan: &GrowthPlan) -> Result<Vec<RingVertex>> {
         if self.passes_done == 0 {
             let mut base: Vec<RingVertex> = self.input.read()?;
             base.truncate(self.initial_vertices as usize);
             return Ok(base);
         }
-        let last = ((self.passes_done - 1) % 2) as usize;
-        Captured {
-            buffer: &self.captures[last],
-            counter: &self.counters,
-            counter_offset: last as u64 * 4,
-        }
-        .read_back(ctx)
+        self.last().read_back(ctx)
     }
 }

@@ -14,27 +14,26 @@
 
 use std::sync::Arc;
 
-use super::ring_growth::{Captured, EmitMode, GrowthPipeline, MeshSource};
+use super::growth::{Growth, GrowthCounts, GrowthPath, MeshSource};
+use super::ring_growth::{EmitMode, GrowthPipeline};
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Buffer, Commands, Context, StreamCounts, StreamQueries, capture_buffer, counter_buffer, vk,
+    Buffer, CaptureMode, Commands, Context, StreamCounts, StreamQueries, XfbStream, vk,
 };
 use crate::model::speleothem::{
     GrowthPlan, RingVertex, VERTEX_STRIDE, accumulated_thickening, initial_rings, unfreeze,
     vertex_counts,
 };
 
-/// Counter slots: the two front buffers, then the frozen buffer.
-const FROZEN_COUNTER: u64 = 8;
-
 /// An append-only growth in progress on the GPU.
 pub struct AppendGrowth {
     growth: GrowthPipeline,
     /// Two stream queries per pass: frozen, then front.
     queries: StreamQueries,
-    counters: Buffer,
-    fronts: [Buffer; 2],
-    frozen: Buffer,
+    /// Ping-pong: pass `p` writes the next front into `fronts[p % 2]`.
+    fronts: [XfbStream; 2],
+    /// Every pass appends what left the front here, resuming its counter.
+    frozen: XfbStream,
     input: Buffer,
     initial_vertices: u32,
     passes_done: u32,
@@ -60,16 +59,14 @@ impl AppendGrowth {
         let frozen_capacity = vertex_counts(plan).last().copied().unwrap_or(0).max(3);
         let stride = u64::from(VERTEX_STRIDE);
         let fronts = [
-            capture_buffer(ctx, "append growth front A", front_capacity * stride)?,
-            capture_buffer(ctx, "append growth front B", front_capacity * stride)?,
+            XfbStream::new(ctx, "append growth front A", front_capacity * stride)?,
+            XfbStream::new(ctx, "append growth front B", front_capacity * stride)?,
         ];
-        let frozen = capture_buffer(ctx, "append growth frozen", frozen_capacity * stride)?;
-        let counters = counter_buffer(ctx, "append growth counters", 3)?;
+        let frozen = XfbStream::new(ctx, "append growth frozen", frozen_capacity * stride)?;
         let queries = StreamQueries::new(ctx, "append growth stream queries", 2 * plan.passes)?;
         Ok(Self {
             growth,
             queries,
-            counters,
             fronts,
             frozen,
             input,
@@ -79,77 +76,6 @@ impl AppendGrowth {
             frozen_capacity,
             front_capacity,
         })
-    }
-
-    pub fn passes_done(&self) -> u32 {
-        self.passes_done
-    }
-
-    /// Continues with `plan` (the same scene re-planned after a parameter change, whose
-    /// passes so far are unchanged); false when it does not fit this growth's buffers.
-    pub fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
-        let needed = vertex_counts(plan).last().copied().unwrap_or(0);
-        if needed > self.frozen_capacity {
-            return Ok(false);
-        }
-        self.growth.write_plan(plan)
-    }
-
-    /// Records the next `passes` growth passes (clamped to the plan) into `cmd`.
-    pub fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
-        let first = self.passes_done;
-        let last = (first + passes).min(self.total_passes);
-        if last == first {
-            return Ok(());
-        }
-        self.queries
-            .reset_range(cmd, 2 * first, 2 * (last - first))?;
-        if first == 0 {
-            // The frozen buffer starts empty: its first capture resumes at byte 0.
-            cmd.fill_buffer(&self.counters, FROZEN_COUNTER, 4, 0);
-            // Read by the resumed capture, then overwritten by its end: read and write.
-            cmd.full_barrier();
-        }
-        cmd.capture_to_vertex_read_barrier();
-        cmd.counter_write_to_read_barrier();
-        for pass in first..last {
-            let dst = (pass % 2) as usize;
-            if pass >= 1 {
-                // `dst` was the vertex input of the previous pass (write-after-read).
-                cmd.vertex_read_to_capture_barrier();
-            }
-            cmd.begin_rendering_without_attachments(1, 1);
-            for mode in [EmitMode::Frozen, EmitMode::Front] {
-                self.growth.bind(cmd, pass, mode)?;
-                let query = 2 * pass + u32::from(mode == EmitMode::Front);
-                let counter = if mode == EmitMode::Frozen {
-                    cmd.bind_capture_buffer(0, &self.frozen, 0, None);
-                    self.queries.begin(cmd, query)?;
-                    cmd.begin_capture(Some((&self.counters, FROZEN_COUNTER)));
-                    FROZEN_COUNTER
-                } else {
-                    cmd.bind_capture_buffer(0, &self.fronts[dst], 0, None);
-                    self.queries.begin(cmd, query)?;
-                    cmd.begin_capture(None);
-                    dst as u64 * 4
-                };
-                if pass == 0 {
-                    cmd.bind_vertex_buffer(&self.input, 0);
-                    cmd.draw(self.initial_vertices, 1);
-                } else {
-                    let src = 1 - dst;
-                    cmd.bind_vertex_buffer(&self.fronts[src], 0);
-                    cmd.draw_indirect_byte_count(&self.counters, src as u64 * 4, VERTEX_STRIDE, 1);
-                }
-                cmd.end_capture(Some((&self.counters, counter)));
-                self.queries.end(cmd, query)?;
-            }
-            cmd.end_rendering();
-            cmd.capture_to_vertex_read_barrier();
-            cmd.counter_write_to_read_barrier();
-        }
-        self.passes_done = last;
-        Ok(())
     }
 
     /// After the submission: every pass's (frozen, front) stream counts, or an error
@@ -171,25 +97,90 @@ impl AppendGrowth {
         Ok(counts.chunks_exact(2).map(|c| (c[0], c[1])).collect())
     }
 
-    fn front(&self) -> Captured<'_> {
-        let last = ((self.passes_done.max(1) - 1) % 2) as usize;
-        Captured {
-            buffer: &self.fronts[last],
-            counter: &self.counters,
-            counter_offset: last as u64 * 4,
-        }
+    fn front(&self) -> &XfbStream {
+        &self.fronts[((self.passes_done.max(1) - 1) % 2) as usize]
+    }
+}
+
+impl Growth for AppendGrowth {
+    fn path(&self) -> GrowthPath {
+        GrowthPath::XfbAppend
     }
 
-    fn frozen(&self) -> Captured<'_> {
-        Captured {
-            buffer: &self.frozen,
-            counter: &self.counters,
-            counter_offset: FROZEN_COUNTER,
-        }
+    fn passes_done(&self) -> u32 {
+        self.passes_done
     }
 
-    /// The current mesh, for drawing.
-    pub fn source(&self) -> MeshSource<'_> {
+    fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
+        let needed = vertex_counts(plan).last().copied().unwrap_or(0);
+        if needed > self.frozen_capacity {
+            return Ok(false);
+        }
+        self.growth.write_plan(plan)
+    }
+
+    fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
+        let first = self.passes_done;
+        let last = (first + passes).min(self.total_passes);
+        if last == first {
+            return Ok(());
+        }
+        self.queries
+            .reset_range(cmd, 2 * first, 2 * (last - first))?;
+        for pass in first..last {
+            let dst = &self.fronts[(pass % 2) as usize];
+            // The frozen stream appends (from zero on its first pass; after its own
+            // last capture: the write-after-write chain runs through its barriers);
+            // `dst` was the input of the previous pass.
+            XfbStream::prepare_captures(
+                cmd,
+                &[
+                    (&self.frozen, CaptureMode::Append),
+                    (dst, CaptureMode::Restart),
+                ],
+            );
+            cmd.begin_rendering_without_attachments(1, 1);
+            for (mode, stream, capture) in [
+                (EmitMode::Frozen, &self.frozen, CaptureMode::Append),
+                (EmitMode::Front, dst, CaptureMode::Restart),
+            ] {
+                self.growth.bind(cmd, pass, mode)?;
+                let query = 2 * pass + u32::from(mode == EmitMode::Front);
+                self.queries.begin(cmd, query)?;
+                stream.begin(cmd, capture)?;
+                if pass == 0 {
+                    cmd.bind_vertex_buffer(&self.input, 0);
+                    cmd.draw(self.initial_vertices, 1);
+                } else {
+                    self.fronts[((pass + 1) % 2) as usize].draw(cmd, VERTEX_STRIDE, 1)?;
+                }
+                stream.end(cmd)?;
+                self.queries.end(cmd, query)?;
+            }
+            cmd.end_rendering();
+            XfbStream::finish_captures(cmd, &[&self.frozen, dst]);
+        }
+        self.passes_done = last;
+        Ok(())
+    }
+
+    fn counts(&self) -> Result<GrowthCounts> {
+        let counts = self.check_counts()?;
+        let frozen: u64 = counts.iter().map(|(f, _)| f.written * 3).sum();
+        Ok(GrowthCounts {
+            vertices: match counts.last() {
+                Some((_, front)) => frozen + front.written * 3,
+                None => u64::from(self.initial_vertices),
+            },
+            // Each pass emits the front's share only: what froze and the next front.
+            emitted: counts
+                .iter()
+                .map(|(f, front)| (f.written + front.written) * 3)
+                .sum(),
+        })
+    }
+
+    fn source(&self) -> MeshSource<'_> {
         if self.passes_done == 0 {
             MeshSource::Counted {
                 buffer: &self.input,
@@ -197,15 +188,15 @@ impl AppendGrowth {
             }
         } else {
             MeshSource::Appended {
-                frozen: self.frozen(),
+                frozen: &self.frozen,
                 front: self.front(),
             }
         }
     }
 
-    /// Reads the current mesh back as the re-streaming pass would hold it: the frozen
-    /// vertices brought up to date (as the surface shader draws them), then the front.
-    pub fn read_back(&self, ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Vec<RingVertex>> {
+    /// The frozen vertices brought up to date (as the surface shader draws them), then
+    /// the front.
+    fn read_back(&self, ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Vec<RingVertex>> {
         if self.passes_done == 0 {
             let mut base: Vec<RingVertex> = self.input.read()?;
             base.truncate(self.initial_vertices as usize);
@@ -213,12 +204,12 @@ impl AppendGrowth {
         }
         let thickening = accumulated_thickening(plan, self.passes_done);
         let mut mesh: Vec<RingVertex> = self
-            .frozen()
-            .read_back(ctx)?
+            .frozen
+            .read_back::<RingVertex>(ctx)?
             .iter()
             .map(|v| unfreeze(v, &thickening, self.passes_done))
             .collect();
-        mesh.extend(self.front().read_back(ctx)?);
+        mesh.extend(self.front().read_back::<RingVertex>(ctx)?);
         Ok(mesh)
     }
 }

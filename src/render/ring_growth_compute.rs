@@ -8,12 +8,12 @@
 
 use std::sync::Arc;
 
-use crate::error::{Error, Result};
+use super::growth::{Growth, GrowthCounts, GrowthPath, MeshSource};
+use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, Pipeline, PipelineLayout, Pod, vk,
 };
 use crate::model::speleothem::{GrowthPlan, RingVertex, initial_rings, vertex_counts};
-use crate::render::ring_growth::MeshSource;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
 /// Push constants of `ring_growth.comp`.
@@ -52,9 +52,12 @@ pub struct ComputeGrowth {
     sets: [DescriptorSet; 2],
     meshes: [Buffer; 2],
     draw: Buffer,
-    _plan: Buffer,
+    /// Read by the shader every pass; rewritten when the plan is steered.
+    plan: Buffer,
     _runs: Buffer,
     counts: Vec<u64>,
+    /// Vertices each mesh buffer holds.
+    capacity: u64,
     initial: u64,
     speleothems: u32,
     segments: u32,
@@ -119,19 +122,16 @@ impl ComputeGrowth {
             sets,
             meshes,
             draw,
-            _plan: plan_buffer,
+            plan: plan_buffer,
             _runs: runs,
             counts,
+            capacity: most,
             initial: base.len() as u64,
             speleothems: plan.speleothems.len() as u32,
             segments: plan.segments,
             passes: plan.passes,
             done: 0,
         })
-    }
-
-    pub fn passes_done(&self) -> u32 {
-        self.done
     }
 
     /// Vertices of the current mesh (the plan's prediction; the GPU's own count is
@@ -144,19 +144,40 @@ impl ComputeGrowth {
         }
     }
 
-    /// Records `passes` more passes.
-    pub fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
-        if self.done + passes > self.passes {
-            return Err(Error::invalid(
-                "compute growth",
-                format!(
-                    "{} passes asked, {} left in the plan",
-                    passes,
-                    self.passes - self.done
-                ),
-            ));
+    /// The vertex count the GPU computed for the last pass (its draw command).
+    pub fn gpu_vertex_count(&self) -> Result<u32> {
+        let words: Vec<u32> = self.draw.read()?;
+        Ok(words.first().copied().unwrap_or(0))
+    }
+}
+
+impl Growth for ComputeGrowth {
+    fn path(&self) -> GrowthPath {
+        GrowthPath::ComputeRestream
+    }
+
+    fn passes_done(&self) -> u32 {
+        self.done
+    }
+
+    fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
+        let steps = plan.gpu_steps();
+        let counts = vertex_counts(plan);
+        let fits = plan.speleothems.len() as u32 == self.speleothems
+            && plan.passes == self.passes
+            && std::mem::size_of_val(steps.as_slice()) as u64 == self.plan.size()
+            && counts.iter().all(|&c| c <= self.capacity);
+        if !fits {
+            return Ok(false);
         }
-        for _ in 0..passes {
+        self.plan.write(0, &steps)?;
+        self.counts = counts;
+        Ok(true)
+    }
+
+    fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
+        let last = (self.done + passes).min(self.passes);
+        while self.done < last {
             let from = (self.done % 2) as usize;
             let triangles = (self.current_vertices() / 3) as u32;
             let groups = triangles.div_ceil(CHUNK).div_ceil(GROUP).max(1);
@@ -173,32 +194,34 @@ impl ComputeGrowth {
                         pad: [0; 3],
                     },
                 )?;
-                cmd.dispatch(dispatch, 1, 1);
                 // Each stage reads what the one before wrote; the last one's output is
                 // the next pass's input and the draw's vertex buffer.
-                cmd.full_barrier();
+                cmd.dispatch_then_sync(dispatch, 1, 1);
             }
             self.done += 1;
         }
         Ok(())
     }
 
-    /// Where the surface pass draws the current mesh from.
-    pub fn source(&self) -> MeshSource<'_> {
+    fn counts(&self) -> Result<GrowthCounts> {
+        Ok(GrowthCounts {
+            vertices: if self.done == 0 {
+                self.initial
+            } else {
+                u64::from(self.gpu_vertex_count()?)
+            },
+            emitted: self.counts[..self.done as usize].iter().sum(),
+        })
+    }
+
+    fn source(&self) -> MeshSource<'_> {
         MeshSource::Counted {
             buffer: &self.meshes[(self.done % 2) as usize],
             vertices: self.current_vertices() as u32,
         }
     }
 
-    /// The vertex count the GPU computed for the last pass (its draw command).
-    pub fn gpu_vertex_count(&self) -> Result<u32> {
-        let words: Vec<u32> = self.draw.read()?;
-        Ok(words.first().copied().unwrap_or(0))
-    }
-
-    /// The current mesh, read back (after the submission finished).
-    pub fn read_back(&self) -> Result<Vec<RingVertex>> {
+    fn read_back(&self, _ctx: &Arc<Context>, _plan: &GrowthPlan) -> Result<Vec<RingVertex>> {
         let mut all: Vec<RingVertex> = self.meshes[(self.done % 2) as usize].read()?;
         all.truncate(self.current_vertices() as usize);
         Ok(all)

@@ -89,7 +89,7 @@ impl RippleMaps {
     ) -> Result<Self> {
         let size = field.width as u32;
         if field.width != field.height || !size.is_power_of_two() || size < 2 {
-            return Err(Error::invalid(
+            return Err(Error::internal(
                 "ripple tile",
                 format!(
                     "{}x{} must be square with a power-of-two side >= 2",
@@ -186,7 +186,7 @@ impl RippleMaps {
         let all: Vec<[f32; 4]> = self.levels.read()?;
         let start =
             self.level_offsets.get(k).copied().ok_or_else(|| {
-                Error::invalid("normal chain level", format!("{k} beyond the chain"))
+                Error::internal("normal chain level", format!("{k} beyond the chain"))
             })? as usize;
         let side = (self.size >> k).max(1) as usize;
         Ok(all[start..start + side * side].to_vec())

@@ -6,8 +6,9 @@ use std::sync::Arc;
 
 use glam::Vec4;
 
+use super::growth::MeshSource;
 use super::lit_mesh::FrameUniforms;
-use super::ring_growth::{MeshSource, ring_vertex_layout};
+use super::ring_growth::ring_vertex_layout;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, Pipeline,
@@ -166,26 +167,13 @@ impl SpeleothemSurfacePass {
                 cmd.bind_vertex_buffer(buffer, 0);
                 cmd.draw(vertices, 1);
             }
-            MeshSource::Captured {
-                buffer,
-                counter,
-                counter_offset,
-            } => {
-                cmd.bind_vertex_buffer(buffer, 0);
-                cmd.draw_indirect_byte_count(counter, counter_offset, VERTEX_STRIDE, 1);
-            }
+            MeshSource::Captured(stream) => stream.draw(cmd, VERTEX_STRIDE, 1)?,
             MeshSource::Appended { frozen, front } => {
                 for (part, shifted) in [(frozen, 1.0), (front, 0.0)] {
                     let mut push = self.push;
                     push.params.w = shifted;
                     cmd.push_constants(&self.layout, &push)?;
-                    cmd.bind_vertex_buffer(part.buffer, 0);
-                    cmd.draw_indirect_byte_count(
-                        part.counter,
-                        part.counter_offset,
-                        VERTEX_STRIDE,
-                        1,
-                    );
+                    part.draw(cmd, VERTEX_STRIDE, 1)?;
                 }
             }
         }

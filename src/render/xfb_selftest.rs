@@ -10,8 +10,8 @@ use glam::Vec4;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Buffer, BufferDesc, Context, GraphicsPipelineDesc, PipelineLayout, StreamCounts, StreamQueries,
-    VertexLayout, capture_buffer, counter_buffer, vk,
+    Buffer, CaptureMode, Context, GraphicsPipelineDesc, PipelineLayout, StreamCounts,
+    StreamQueries, VertexLayout, XfbStream, vk,
 };
 use crate::shaders::{ShaderInterface, compiled};
 
@@ -65,7 +65,7 @@ pub fn run(
     capacity_vertices: u32,
 ) -> Result<SelftestResult> {
     if input.is_empty() || input.len() % 3 != 0 || passes == 0 {
-        return Err(Error::invalid(
+        return Err(Error::internal(
             "xfb self-test",
             "needs whole triangles and at least one pass",
         ));
@@ -92,65 +92,35 @@ pub fn run(
     )?;
     let bytes = u64::from(capacity_vertices.max(1)) * u64::from(STRIDE);
     let captures = [
-        capture_buffer(ctx, "xfb self-test capture A", bytes)?,
-        capture_buffer(ctx, "xfb self-test capture B", bytes)?,
+        XfbStream::new(ctx, "xfb self-test capture A", bytes)?,
+        XfbStream::new(ctx, "xfb self-test capture B", bytes)?,
     ];
-    // One counter per capture buffer: counter i holds the bytes captured into buffer i.
-    let counters = counter_buffer(ctx, "xfb self-test counters", 2)?;
     let queries = StreamQueries::new(ctx, "xfb self-test queries", passes)?;
-    let readback = Buffer::new(
-        ctx,
-        "xfb self-test readback",
-        BufferDesc::readback(bytes + 4, vk::BufferUsageFlags::TRANSFER_DST),
-    )?;
-    let last = ((passes - 1) % 2) as usize;
-
     ctx.submit_and_wait("xfb self-test", |cmd| {
         queries.reset(cmd);
-        cmd.fill_buffer(&counters, 0, 8, 0);
-        cmd.transfer_to_all_barrier();
         for pass in 0..passes {
-            let dst = (pass % 2) as usize;
-            if pass >= 2 {
-                // Buffer `dst` was the vertex input two passes ago.
-                cmd.vertex_read_to_capture_barrier();
-            }
+            let dst = &captures[(pass % 2) as usize];
+            XfbStream::prepare_captures(cmd, &[(dst, CaptureMode::Restart)]);
             cmd.begin_rendering_without_attachments(1, 1);
             cmd.bind_pipeline(&pipeline, &layout, &[]);
             cmd.push_constants(&layout, &offset)?;
-            cmd.bind_capture_buffer(0, &captures[dst], 0, None);
             queries.begin(cmd, pass)?;
-            cmd.begin_capture(None);
+            dst.begin(cmd, CaptureMode::Restart)?;
             if pass == 0 {
                 cmd.bind_vertex_buffer(&source, 0);
                 cmd.draw(input.len() as u32, 1);
             } else {
-                let src = 1 - dst;
-                cmd.bind_vertex_buffer(&captures[src], 0);
-                cmd.draw_indirect_byte_count(&counters, src as u64 * 4, STRIDE, 1);
+                captures[((pass + 1) % 2) as usize].draw(cmd, STRIDE, 1)?;
             }
-            cmd.end_capture(Some((&counters, dst as u64 * 4)));
+            dst.end(cmd)?;
             queries.end(cmd, pass)?;
             cmd.end_rendering();
-            cmd.capture_to_vertex_read_barrier();
-            cmd.counter_write_to_read_barrier();
+            XfbStream::finish_captures(cmd, &[dst]);
         }
-        cmd.copy_buffer(&captures[last], &readback, bytes);
-        cmd.copy_buffer_region(&counters, last as u64 * 4, &readback, bytes, 4);
-        cmd.transfer_to_host_barrier();
         Ok(())
     })?;
-
-    let data: Vec<u8> = readback.mapped()?.to_vec();
-    let byte_count = u32::from_le_bytes(
-        data[bytes as usize..bytes as usize + 4]
-            .try_into()
-            .map_err(|_| Error::invalid("xfb self-test", "short readback"))?,
-    );
-    let captured_vertices = (byte_count / STRIDE) as usize;
-    let vertices: Vec<[f32; 4]> = crate::gpu::from_bytes(&data[..bytes as usize]);
     Ok(SelftestResult {
-        vertices: vertices.into_iter().take(captured_vertices).collect(),
+        vertices: captures[((passes - 1) % 2) as usize].read_back(ctx)?,
         counts: queries.results(passes)?,
     })
 }

@@ -1,28 +1,20 @@
-//! The desert scene (Onoue & Nishita): a dune field and a ripple tile simulated with
-//! Nishimori–Ouchi, the ripple maps and the dune shadow map built on the GPU, the sky,
-//! and the bump-mapped dunes; presets for the paper's Figures 12–17.
+//! The desert scene's parameters (Onoue & Nishita; declared once: options and scene
+//! file), the presets for the paper's Figures 12–18 and the camera. Its frame — the
+//! simulations, the ripple and shadow maps, the bump-mapped dunes, sky and dust — is
+//! `frame`.
 
-use std::sync::Arc;
-use std::time::Instant;
+pub mod bench;
+pub mod frame;
 
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, Lighting};
-use super::size::Size;
+use super::camera::{Camera, CameraOptions};
+use super::params::{SceneParams, Way, on_off};
 use crate::error::{Error, Result};
-use crate::gpu::{COLOR_FORMAT, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
-use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, visible_quads};
-use crate::model::dune_shadow::DuneGrid;
-use crate::model::dust::{DustParams, dust_at};
-use crate::model::mesh::Mesh;
-use crate::model::sand::{Heightfield, SandParams, SandSim};
-use crate::model::sand_grain::grain_texture;
-use crate::render::RenderedFrame;
-use crate::render::dune_shadow::DuneShadowPass;
-use crate::render::dune_surface::{DuneGeometry, DunePush, DuneSurfacePass, DuneTextures};
-use crate::render::dust::DustPass;
-use crate::render::ripple_maps::RippleMaps;
-use crate::render::sky::SkyPass;
+use crate::model::dust::DustParams;
+use crate::model::sand::{Saltation, SandParams};
+pub use frame::{DunesFrame, DunesRender, Terrain, render, simulate, simulate_frames};
 
 /// Which shadows are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,6 +22,80 @@ pub enum Shadows {
     None,
     Dune,
     DuneAndRipple,
+}
+
+impl std::fmt::Display for Shadows {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Shadows::None => "none",
+            Shadows::Dune => "dune",
+            Shadows::DuneAndRipple => "dune+ripple",
+        })
+    }
+}
+
+crate::serde_as_text!(Shadows, DuneShadowMethod, Degrees);
+
+/// How dune shadows are found (`--dune-shadows`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DuneShadowMethod {
+    /// The paper's ray march once per light into a shadow map.
+    Map,
+    /// The same march in every pixel (slower; for comparison).
+    Pixel,
+}
+
+impl std::str::FromStr for DuneShadowMethod {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "map" => Ok(Self::Map),
+            "pixel" => Ok(Self::Pixel),
+            other => Err(Error::invalid(
+                "--dune-shadows",
+                format!("\"{other}\" is not map or pixel"),
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for DuneShadowMethod {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Map => "map",
+            Self::Pixel => "pixel",
+        })
+    }
+}
+
+/// An angle in degrees, or off (`--repose`, `--shadow-zone`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Degrees(pub Option<f64>);
+
+impl std::str::FromStr for Degrees {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        let s = s.trim();
+        if s.eq_ignore_ascii_case("off") {
+            return Ok(Degrees(None));
+        }
+        match s.parse::<f64>() {
+            Ok(d) if d.is_finite() => Ok(Degrees(Some(d))),
+            _ => Err(Error::invalid(
+                "degrees",
+                format!("\"{s}\" is not degrees or off"),
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Degrees {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0 {
+            Some(d) => write!(f, "{d}"),
+            None => f.write_str("off"),
+        }
+    }
 }
 
 impl std::str::FromStr for Shadows {
@@ -85,7 +151,6 @@ pub struct DunesScene {
     /// Sand dust blobs, and the time step they are shown at.
     pub dust: Option<DustParams>,
     pub dust_step: u32,
-    pub camera: Option<Camera>,
 }
 
 impl Default for DunesScene {
@@ -118,7 +183,6 @@ impl Default for DunesScene {
             dune_shadows_per_pixel: false,
             dust: None,
             dust_step: 40,
-            camera: None,
         }
     }
 }
@@ -180,6 +244,212 @@ pub fn preset(name: &str) -> Result<DunesScene> {
         },
         other => return Err(Error::unknown_preset(other, PRESETS)),
     })
+}
+
+/// The desert scene's parameters: `sediment dunes` and `view dunes` options, and the
+/// scene file (the same names, e.g. `ripple_size = 128`, `shadows = "dune"`,
+/// `lod = false`, `repose = "off"`, `[camera] eye = [128.0, 30.0, 250.0]`).
+#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// A reproduction of one of the paper's figures: fig12 (no ripples), fig13
+    /// (ripples), fig14/fig15 (low sun without/with dune shadows), fig16/fig17 (dune
+    /// shadows without/with ripple shadows), fig18 (with sand dust; no footprints).
+    /// Default: none (fig17's shadows with the sun at 30 degrees).
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+    /// The seed (scene files; on the command line the global --seed).
+    #[arg(skip)]
+    pub seed: Option<u64>,
+    /// Ripple tile side in texels: a power of two in 16..=1024 (default 256, as the
+    /// paper).
+    #[arg(long, value_name = "N")]
+    pub ripple_size: Option<usize>,
+    /// Ripple simulation steps, 0..=100000 (default 1200).
+    #[arg(long, value_name = "N")]
+    pub ripple_steps: Option<u32>,
+    /// Dune grid side in vertices, 8..=512 (default 64, as the paper).
+    #[arg(long, value_name = "N")]
+    pub dune_size: Option<usize>,
+    /// Dune simulation steps, 0..=100000 (default 1500).
+    #[arg(long, value_name = "N")]
+    pub dune_steps: Option<u32>,
+    /// Ripple saltation length L0 in texels, > 0 (default 7.3, the paper's).
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    pub ripple_l0: Option<f64>,
+    /// Ripple saltation amount q, > 0 (default 0.6, the paper's).
+    #[arg(long, value_name = "Q", allow_negative_numbers = true)]
+    pub ripple_q: Option<f64>,
+    /// Ripple hop growth with height b, >= 0 (default 2.0, the paper's).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    pub ripple_b: Option<f64>,
+    /// Creep diffusion D for both simulations, 0..=1 (default 0.2).
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub diffusion: Option<f64>,
+    /// Angle of repose for dune avalanching in degrees, or "off" (default 33).
+    #[arg(long, value_name = "DEG|off")]
+    pub repose: Option<Degrees>,
+    /// World metres per dune cell, > 0 (default 4).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub cell: Option<f32>,
+    /// World metres covered by one ripple tile, > 0 (default 16: 64 ripple texels per
+    /// 4 m dune cell, as in the paper).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub ripple_tile: Option<f32>,
+    /// Ripple bump strength, 0..=4 (default 0.65; 1 uses the simulated slopes as they
+    /// are).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub ripple_strength: Option<f32>,
+    /// Ripple orientation relative to the dune field's wind (+x), finite degrees
+    /// (default 0).
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub wind_direction: Option<f32>,
+    /// Sun elevation above the horizon, 0.5..=89.5 degrees (default 30).
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub sun_elevation: Option<f32>,
+    /// Sun azimuth, finite degrees from +x toward +z (default 200).
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub sun_azimuth: Option<f32>,
+    /// Level of detail over the ripple normal chain: on, or off (level 0 everywhere)
+    /// (default on).
+    #[arg(long, value_name = "on|off", value_parser = on_off)]
+    pub lod: Option<bool>,
+    /// Back-face and frustum culling of dune quads: on or off (default on).
+    #[arg(long, value_name = "on|off", value_parser = on_off)]
+    pub cull: Option<bool>,
+    /// Shadows: none, dune, or dune+ripple (default dune+ripple).
+    #[arg(long, value_name = "none|dune|dune+ripple")]
+    pub shadows: Option<Shadows>,
+    /// How dune shadows are found: map (the paper's ray march once per light into a
+    /// shadow map) or pixel (the same march in every pixel, slower; for comparison)
+    /// (default map).
+    #[arg(long, value_name = "map|pixel")]
+    pub dune_shadows: Option<DuneShadowMethod>,
+    /// Sand dust blobs drifting with the wind (paper eq. 7): `--dust` (or `--dust on`)
+    /// adds them, `--dust off` removes a preset's (default off; fig18 on).
+    #[arg(long, value_name = "on|off", num_args = 0..=1, default_missing_value = "on", value_parser = on_off)]
+    pub dust: Option<bool>,
+    /// Time step at which the dust is shown, 0..=100000 (default 40).
+    #[arg(long, value_name = "N")]
+    pub dust_step: Option<u32>,
+    /// Dune saltation length L0 in cells, > 0 (default 7.0, the paper's).
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    pub dune_l0: Option<f64>,
+    /// Dune saltation base amount q0, > 0 (default 1.5, the paper's).
+    #[arg(long, value_name = "Q", allow_negative_numbers = true)]
+    pub dune_q0: Option<f64>,
+    /// Dune hop shortening with slope b, >= 0 (default 2.0, the paper's).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    pub dune_b: Option<f64>,
+    /// Dune lift increase with slope b', >= 0 (default 2.0, the paper's).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    pub dune_b_prime: Option<f64>,
+    /// Dune wind speed-up: extra hop length in cells per unit of sand height above the
+    /// field's mean, >= 0 (default 2; 0 for the paper's law alone).
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    pub dune_speedup: Option<f64>,
+    /// Lee shadow zone behind dune crests in degrees, 0..90 exclusive, or "off" for the
+    /// paper's law alone (default 15): sand there is not eroded and catches the grains
+    /// flying into it, which makes the steep slip face.
+    #[arg(long, value_name = "DEG|off")]
+    pub shadow_zone: Option<Degrees>,
+    // --eye/--target in metres (the field spans 0..(dune-size - 1) x cell); a scene
+    // file's `[camera]`.
+    #[command(flatten)]
+    #[serde(default, skip_serializing_if = "CameraOptions::is_unset")]
+    pub camera: CameraOptions,
+}
+
+impl SceneParams for Params {
+    type Scene = DunesScene;
+
+    fn preset(&self) -> Option<&str> {
+        self.preset.as_deref()
+    }
+
+    fn set_preset(&mut self, name: Option<String>) {
+        self.preset = name;
+    }
+
+    fn base(preset: Option<&str>) -> Result<DunesScene> {
+        preset.map_or_else(|| Ok(DunesScene::default()), self::preset)
+    }
+
+    fn set_seed(scene: &mut DunesScene, seed: u64) {
+        scene.seed = seed;
+    }
+
+    fn sync(&mut self, s: &mut DunesScene, way: Way) -> Result<()> {
+        way.field(&mut self.seed, &mut s.seed);
+        way.field(&mut self.ripple_size, &mut s.ripple_size);
+        way.field(&mut self.ripple_steps, &mut s.ripple_steps);
+        way.field(&mut self.dune_size, &mut s.dune_size);
+        way.field(&mut self.dune_steps, &mut s.dune_steps);
+        if let Saltation::Ripple { l0, q, b } = &mut s.ripple.saltation {
+            way.field(&mut self.ripple_l0, l0);
+            way.field(&mut self.ripple_q, q);
+            way.field(&mut self.ripple_b, b);
+        }
+        if let Saltation::Dune {
+            l0,
+            q0,
+            b,
+            b_prime,
+            speedup,
+            shadow_degrees,
+        } = &mut s.dune.saltation
+        {
+            way.field(&mut self.dune_l0, l0);
+            way.field(&mut self.dune_q0, q0);
+            way.field(&mut self.dune_b, b);
+            way.field(&mut self.dune_b_prime, b_prime);
+            way.field(&mut self.dune_speedup, speedup);
+            let mut zone = Degrees(*shadow_degrees);
+            way.field(&mut self.shadow_zone, &mut zone);
+            *shadow_degrees = zone.0;
+        }
+        // One D for both simulations (they are only ever set together).
+        way.field(&mut self.diffusion, &mut s.ripple.diffusion);
+        s.dune.diffusion = s.ripple.diffusion;
+        let mut repose = Degrees(s.dune.repose_degrees);
+        way.field(&mut self.repose, &mut repose);
+        s.dune.repose_degrees = repose.0;
+        way.field(&mut self.cell, &mut s.cell);
+        way.field(&mut self.ripple_tile, &mut s.ripple_tile);
+        way.field(&mut self.ripple_strength, &mut s.ripple_strength);
+        way.field(&mut self.wind_direction, &mut s.wind_degrees);
+        way.field(&mut self.sun_elevation, &mut s.sun_elevation_degrees);
+        way.field(&mut self.sun_azimuth, &mut s.sun_azimuth_degrees);
+        way.field(&mut self.lod, &mut s.lod);
+        way.field(&mut self.cull, &mut s.cull);
+        way.field(&mut self.shadows, &mut s.shadows);
+        let mut method = if s.dune_shadows_per_pixel {
+            DuneShadowMethod::Pixel
+        } else {
+            DuneShadowMethod::Map
+        };
+        way.field(&mut self.dune_shadows, &mut method);
+        s.dune_shadows_per_pixel = method == DuneShadowMethod::Pixel;
+        let mut dust = s.dust.is_some();
+        way.field(&mut self.dust, &mut dust);
+        if dust != s.dust.is_some() {
+            s.dust = dust.then(DustParams::default);
+        }
+        way.field(&mut self.dust_step, &mut s.dust_step);
+        Ok(())
+    }
+
+    fn validate(scene: &DunesScene) -> Result<()> {
+        scene.validate()
+    }
+
+    fn camera(&self) -> &CameraOptions {
+        &self.camera
+    }
+
+    fn camera_mut(&mut self) -> &mut CameraOptions {
+        &mut self.camera
+    }
 }
 
 impl DunesScene {
@@ -246,81 +516,6 @@ impl DunesScene {
     }
 }
 
-/// The simulated terrain: dune heights (world metres) and the ripple tile.
-pub struct Terrain {
-    pub dune_heights: Vec<f32>,
-    pub ripples: Heightfield,
-    pub dune_field: Heightfield,
-}
-
-/// Runs both simulations; `progress(done, total)` over all steps.
-pub fn simulate(scene: &DunesScene, progress: &mut dyn FnMut(u32, u32)) -> Result<Terrain> {
-    let mut frames = simulate_frames(scene, 1, progress)?;
-    frames
-        .pop()
-        .ok_or_else(|| Error::invalid("simulation", "produced no terrain"))
-}
-
-/// Runs both simulations in `frames` equal chunks and keeps the terrain after each
-/// (the ripples and dunes forming over time, for an animation).
-pub fn simulate_frames(
-    scene: &DunesScene,
-    frames: u32,
-    progress: &mut dyn FnMut(u32, u32),
-) -> Result<Vec<Terrain>> {
-    scene.validate()?;
-    let frames = frames.max(1);
-    let total = scene.ripple_steps + scene.dune_steps;
-    let mut ripples = SandSim::new(
-        Heightfield::random(scene.ripple_size, scene.ripple_size, 0.0, 1.0, scene.seed),
-        scene.ripple.clone(),
-    )?;
-    let mut dunes = SandSim::new(
-        Heightfield::random(
-            scene.dune_size,
-            scene.dune_size,
-            scene.dune_sand,
-            1.0,
-            scene.seed ^ 0xD0E5,
-        ),
-        scene.dune.clone(),
-    )?;
-    let (mut ripple_done, mut dune_done) = (0u32, 0u32);
-    let mut out = Vec::with_capacity(frames as usize);
-    for f in 1..=frames {
-        let ripple_to = (u64::from(scene.ripple_steps) * u64::from(f) / u64::from(frames)) as u32;
-        let dune_to = (u64::from(scene.dune_steps) * u64::from(f) / u64::from(frames)) as u32;
-        let base = ripple_done + dune_done;
-        ripples.run(ripple_to - ripple_done, &mut |d| progress(base + d, total));
-        ripple_done = ripple_to;
-        let base = ripple_done + dune_done;
-        dunes.run(dune_to - dune_done, &mut |d| progress(base + d, total));
-        dune_done = dune_to;
-        out.push(terrain_of(
-            scene,
-            ripples.field().clone(),
-            dunes.field().clone(),
-        ));
-    }
-    Ok(out)
-}
-
-/// World-unit dune heights (lowest at 0) from the simulated fields.
-fn terrain_of(scene: &DunesScene, ripples: Heightfield, dune_field: Heightfield) -> Terrain {
-    let scale = scene.dune.vertical_scale as f32 * scene.cell;
-    let min = dune_field.data.iter().copied().fold(f64::MAX, f64::min);
-    let dune_heights = dune_field
-        .data
-        .iter()
-        .map(|&h| (h - min) as f32 * scale)
-        .collect();
-    Terrain {
-        dune_heights,
-        ripples,
-        dune_field,
-    }
-}
-
 /// The default camera: low over one edge of the field, looking across it.
 pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
     let s = scene.field_size();
@@ -333,307 +528,4 @@ pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
         near: 0.5,
         far: 4.0 * s,
     }
-}
-
-/// A rendered desert frame and what it cost.
-pub struct DunesFrame {
-    pub frame: RenderedFrame,
-    /// GPU milliseconds of each extra timing frame ([`render_timed`]).
-    pub timed_ms: Vec<f64>,
-    /// Wall-clock milliseconds of each extra timing frame (record, submit, wait).
-    pub timed_wall_ms: Vec<f64>,
-    /// GPU time of the precomputations (ripple maps, dune shadow map).
-    pub precompute: Vec<Span>,
-    pub visible_triangles: u32,
-    pub total_triangles: u32,
-    /// One period of the dune field (for export).
-    pub mesh: Mesh,
-}
-
-/// Renders `scene` from simulated `terrain`.
-pub fn render(
-    ctx: &Arc<Context>,
-    scene: &DunesScene,
-    terrain: &Terrain,
-    size: Size,
-) -> Result<DunesFrame> {
-    render_timed(ctx, scene, terrain, size, 0)
-}
-
-/// The desert scene's passes — sky, bump-mapped dunes with their precomputed ripple and
-/// shadow maps, dust — shared by `render` and the interactive viewer. The ripple maps
-/// are built once; the dune shadow map again whenever the sun moves.
-pub struct DunesRenderer {
-    maps: RippleMaps,
-    shadow: DuneShadowPass,
-    grain: Vec<u8>,
-    // Sampled by `surface`, rebuilt with it when the sun moves.
-    _textures: DuneTextures,
-    surface: DuneSurfacePass,
-    sky: SkyPass,
-    dust: DustPass,
-    dust_blobs: usize,
-    geometry: DuneGeometry,
-    /// Three periods each way: the field reaches toward the horizon without a seam.
-    mesh: Mesh,
-    /// The sun the shadow map was made for.
-    sun: Vec3,
-    /// GPU time of the precomputations (ripple maps, dune shadow map).
-    pub precompute: Vec<Span>,
-    view: Option<DunesView>,
-}
-
-/// What `set_frame` fixes for the next frame.
-struct DunesView {
-    view_proj: glam::Mat4,
-    eye: Vec3,
-    target: Vec3,
-    push: DunePush,
-    dust: bool,
-}
-
-const GRAIN_SIZE: u32 = 128;
-const SHADOW_RES: u32 = 256;
-
-impl DunesRenderer {
-    pub fn new(ctx: &Arc<Context>, scene: &DunesScene, terrain: &Terrain) -> Result<Self> {
-        scene.validate()?;
-        let n = scene.dune_size;
-        let maps = RippleMaps::build(
-            ctx,
-            &terrain.ripples,
-            scene.ripple_height_scale,
-            (scene.ripple_size - 1) as u32,
-        )?;
-        let mut precompute = maps.spans.clone();
-        let heights_cells: Vec<f32> = terrain
-            .dune_heights
-            .iter()
-            .map(|h| h / scene.cell)
-            .collect();
-        let shadow = DuneShadowPass::new(ctx, n as u32, &heights_cells, SHADOW_RES)?;
-        let sun = scene.sun_direction();
-        precompute.extend(shadow_map(ctx, &shadow, sun)?);
-        let grain = grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize);
-        let textures = DuneTextures::new(ctx, &maps, &shadow, &grain, GRAIN_SIZE)?;
-        let surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
-        let blobs = match &scene.dust {
-            Some(params) => {
-                let grid = DuneGrid {
-                    n,
-                    heights: &terrain.dune_heights,
-                };
-                let cell = scene.cell;
-                dust_at(
-                    params,
-                    &terrain.ripples,
-                    scene.field_size(),
-                    &|x, z| grid.sample(x / cell, z / cell),
-                    scene.seed,
-                    scene.dust_step,
-                )
-            }
-            None => Vec::new(),
-        };
-        let mesh = dune_mesh_tiled(n, scene.cell, &terrain.dune_heights, 3);
-        Ok(Self {
-            geometry: DuneGeometry::new(ctx, &mesh)?,
-            mesh,
-            dust: DustPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &blobs)?,
-            dust_blobs: blobs.len(),
-            sky: SkyPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
-            surface,
-            _textures: textures,
-            grain,
-            shadow,
-            maps,
-            sun,
-            precompute,
-            view: None,
-        })
-    }
-
-    /// Dust blobs the scene was built with (0: toggling dust shows nothing).
-    pub fn dust_blobs(&self) -> usize {
-        self.dust_blobs
-    }
-
-    /// Triangles drawn after culling, and in all.
-    pub fn triangles(&self) -> (u32, u32) {
-        (
-            self.geometry.visible_triangles(),
-            (self.mesh.indices.len() / 3) as u32,
-        )
-    }
-
-    /// The scene's sun and toggles (LOD, culling, shadows, ripples, dust) and the
-    /// camera for the next frame; a moved sun rebuilds the dune shadow map first.
-    pub fn set_frame(
-        &mut self,
-        ctx: &Arc<Context>,
-        scene: &DunesScene,
-        camera: &Camera,
-        aspect: f32,
-    ) -> Result<()> {
-        let sun = scene.sun_direction();
-        if (sun - self.sun).length() > 1e-6 {
-            self.precompute = shadow_map(ctx, &self.shadow, sun)?;
-            let textures =
-                DuneTextures::new(ctx, &self.maps, &self.shadow, &self.grain, GRAIN_SIZE)?;
-            self.surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
-            self._textures = textures;
-            self.sun = sun;
-        }
-        let frame = desert_lighting(sun).frame_uniforms(camera, aspect);
-        self.surface.set_frame(&frame)?;
-        self.geometry.set_visible(&visible_quads(
-            &self.mesh,
-            camera.eye,
-            frame.view_proj,
-            scene.cull,
-        ))?;
-        let flag = |on: bool| if on { 1.0 } else { 0.0 };
-        let wind = scene.wind_degrees.to_radians();
-        let push = DunePush {
-            tile: glam::Vec4::new(
-                scene.ripple_tile,
-                if scene.ripples {
-                    scene.ripple_strength
-                } else {
-                    0.0
-                },
-                0.35,
-                scene.field_size(),
-            ),
-            wind: glam::Vec4::new(wind.cos(), wind.sin(), flag(scene.lod), 0.0),
-            shadows: glam::Vec4::new(
-                flag(scene.shadows != Shadows::None),
-                flag(scene.shadows == Shadows::DuneAndRipple && scene.ripples),
-                0.04,
-                flag(scene.dune_shadows_per_pixel),
-            ),
-            albedo: glam::Vec4::new(0.72, 0.5, 0.3, 1.0),
-        };
-        self.view = Some(DunesView {
-            view_proj: frame.view_proj,
-            eye: camera.eye,
-            target: camera.target,
-            push,
-            dust: scene.dust.is_some(),
-        });
-        Ok(())
-    }
-
-    /// Records the frame into `target` (span "dunes"), after `set_frame`.
-    pub fn record(
-        &self,
-        cmd: &crate::gpu::Commands<'_>,
-        target: &OffscreenTarget,
-        timer: &mut GpuTimer,
-    ) -> Result<()> {
-        let v = self
-            .view
-            .as_ref()
-            .ok_or_else(|| Error::invalid("dunes", "set_frame must come before record"))?;
-        let span = timer.begin(cmd, "dunes")?;
-        target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
-        // Dunes first, then the sky where no dune covers (the depth test keeps it
-        // there), then the dust, translucent over both.
-        self.surface.draw(cmd, &self.geometry, &v.push)?;
-        self.sky.draw(
-            cmd,
-            v.view_proj,
-            v.eye,
-            self.sun,
-            desert_lighting(self.sun).exposure,
-        )?;
-        if v.dust {
-            let dust_color = glam::Vec4::new(0.86, 0.72, 0.55, 0.5);
-            self.dust
-                .draw(cmd, v.view_proj, v.eye, v.target, dust_color)?;
-        }
-        target.end(cmd);
-        timer.end(cmd, span);
-        Ok(())
-    }
-}
-
-fn desert_lighting(sun: Vec3) -> Lighting {
-    Lighting {
-        sun_direction: sun,
-        point: false,
-        sun_color: Vec3::new(3.0, 2.75, 2.4),
-        sky_color: Vec3::new(0.42, 0.5, 0.68),
-        ground_color: Vec3::new(0.45, 0.36, 0.27),
-        exposure: 1.0,
-    }
-}
-
-/// Marches the dune shadow map for `sun` on the GPU; its span.
-fn shadow_map(ctx: &Arc<Context>, shadow: &DuneShadowPass, sun: Vec3) -> Result<Vec<Span>> {
-    let horizontal = Vec3::new(sun.x, 0.0, sun.z);
-    let rise = sun.y / horizontal.length().max(1e-6);
-    let dir = horizontal.normalize_or(Vec3::X);
-    let mut timer = GpuTimer::new(ctx, "dune shadow timer", 2)?;
-    ctx.submit_and_wait("dune shadow map", |cmd| {
-        timer.reset(cmd);
-        let span = timer.begin(cmd, "dune shadow map")?;
-        shadow.record(cmd, [dir.x, dir.z], rise)?;
-        timer.end(cmd, span);
-        Ok(())
-    })?;
-    timer.read()
-}
-
-/// As [`render`], then the same frame `extra_frames` more times for timing: their GPU
-/// times land in [`DunesFrame::timed_ms`] (the first frame, which pays for lavapipe's
-/// shader compilation, is not among them).
-pub fn render_timed(
-    ctx: &Arc<Context>,
-    scene: &DunesScene,
-    terrain: &Terrain,
-    size: Size,
-    extra_frames: u32,
-) -> Result<DunesFrame> {
-    let start = Instant::now();
-    let camera = scene
-        .camera
-        .clone()
-        .unwrap_or_else(|| default_camera(scene, terrain));
-    let mut renderer = DunesRenderer::new(ctx, scene, terrain)?;
-    let target = OffscreenTarget::new(ctx, size.width, size.height)?;
-    renderer.set_frame(ctx, scene, &camera, size.aspect())?;
-    let mut timer = GpuTimer::new(ctx, "dunes timer", 2)?;
-    let record_frame = |timer: &mut GpuTimer| {
-        ctx.submit_and_wait("dunes frame", |cmd| {
-            timer.reset(cmd);
-            renderer.record(cmd, &target, timer)?;
-            target.copy_out(cmd);
-            Ok(())
-        })
-    };
-    record_frame(&mut timer)?;
-    let frame = RenderedFrame {
-        image: target.read_image()?,
-        gpu_spans: timer.read()?,
-        wall_ms: start.elapsed().as_secs_f64() * 1e3,
-    };
-    let mut timed_ms = Vec::with_capacity(extra_frames as usize);
-    let mut timed_wall_ms = Vec::with_capacity(extra_frames as usize);
-    for _ in 0..extra_frames {
-        let t = Instant::now();
-        record_frame(&mut timer)?;
-        timed_wall_ms.push(t.elapsed().as_secs_f64() * 1e3);
-        timed_ms.push(timer.read()?.iter().map(|s| s.milliseconds).sum());
-    }
-    let (visible_triangles, total_triangles) = renderer.triangles();
-    Ok(DunesFrame {
-        frame,
-        timed_ms,
-        timed_wall_ms,
-        precompute: renderer.precompute.clone(),
-        visible_triangles,
-        total_triangles,
-        mesh: dune_mesh(scene.dune_size, scene.cell, &terrain.dune_heights),
-    })
 }

@@ -1,27 +1,20 @@
-//! The speleothem scene: a cave chamber (floor and ceiling) lit by a lamp, the
-//! speleothems of a growth plan grown on the GPU and shaded; presets reproducing the
-//! panels of Tortelli & Walter's Figure 9.
+//! The speleothem scene's parameters (declared once: options and scene file), the
+//! presets reproducing the panels of Tortelli & Walter's Figure 9, the camera and the
+//! lamp. Its frame — the speleothems grown and shaded in their chamber — is `frame`.
 
-use std::sync::Arc;
-use std::time::Instant;
+pub mod bench;
+pub mod frame;
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, Lighting};
-use super::size::Size;
+use super::camera::{Camera, CameraOptions, Lighting};
+use super::params::{SceneParams, Way};
 use crate::error::{Error, Result};
-use crate::gpu::{COLOR_FORMAT, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget};
-use crate::model::mesh::Mesh;
-use crate::model::noise::fbm;
 pub use crate::model::speleothem::plan::GrowthScene;
-use crate::model::speleothem::plan::{GrowthParams, StepMode};
+use crate::model::speleothem::plan::{GrowthParams, ParamChange, StepMode};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
-use crate::model::speleothem::{GrowthPlan, RingVertex};
-use crate::render::RenderedFrame;
-use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
-use crate::render::ring_growth::{MeshSource, RingGrowth};
-use crate::render::ring_growth_append::AppendGrowth;
-use crate::render::speleothem_surface::SpeleothemSurfacePass;
+pub use frame::{GrowOutputs, Grown, GrowthFrame, export_mesh, grow};
 
 /// Names of the Figure 9 presets, with what each shows.
 pub const PRESETS: &[(&str, &str)] = &[
@@ -125,265 +118,357 @@ pub fn lamp_lighting(scene: &GrowthScene) -> Lighting {
     }
 }
 
-/// Rock surfaces of the chamber: the floor rises and the ceiling hangs a little, so the
-/// speleothem bases sink into them.
-fn chamber(scene: &GrowthScene) -> (Mesh, Mesh) {
-    // Wide enough that the planes' far edges sink into the lamp's falloff.
-    let half = scene.extent * 12.0;
-    let amp = 0.04 * (scene.ceiling_y - scene.floor_y);
-    let seed = scene.seed;
-    let relief =
-        move |x: f32, z: f32| amp * fbm(seed ^ 0xCA7E, Vec3::new(x, 0.0, z) * 1.3, 4, 0.5).abs();
-    let floor = Mesh::height_grid(half, scene.floor_y, 128, true, relief);
-    let ceiling = Mesh::height_grid(half, scene.ceiling_y, 128, false, move |x, z| {
-        -relief(x + 17.0, z)
-    });
-    (floor, ceiling)
+/// Manual or random steps (`--mode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModeName {
+    Manual,
+    Random,
 }
 
-/// Which GS/XFB growth runs: both give the same mesh (`tests/ring_growth.rs`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum XfbGrowth {
-    /// The paper's pass: the whole mesh re-streamed through the GS every pass.
-    #[default]
-    Restream,
-    /// Only the growth front through the GS; new bands appended (O(one ring) a pass).
-    Append,
+impl std::str::FromStr for ModeName {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "manual" => Ok(ModeName::Manual),
+            "random" => Ok(ModeName::Random),
+            other => Err(Error::invalid(
+                "--mode",
+                format!("\"{other}\" is not one of: manual, random"),
+            )),
+        }
+    }
 }
 
-/// A growth on either GS/XFB path, behind one interface.
-pub enum Growth {
-    Restream(RingGrowth),
-    Append(AppendGrowth),
-}
-
-impl Growth {
-    pub fn new(ctx: &Arc<Context>, plan: &GrowthPlan, kind: XfbGrowth) -> Result<Self> {
-        Ok(match kind {
-            XfbGrowth::Restream => Self::Restream(RingGrowth::new(ctx, plan, None)?),
-            XfbGrowth::Append => Self::Append(AppendGrowth::new(ctx, plan)?),
+impl std::fmt::Display for ModeName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ModeName::Manual => "manual",
+            ModeName::Random => "random",
         })
     }
-
-    pub fn passes_done(&self) -> u32 {
-        match self {
-            Self::Restream(g) => g.passes_done(),
-            Self::Append(g) => g.passes_done(),
-        }
-    }
-
-    /// Records the next `passes` passes (clamped to the plan).
-    pub fn record(&mut self, cmd: &crate::gpu::Commands<'_>, passes: u32) -> Result<()> {
-        match self {
-            Self::Restream(g) => g.record(cmd, passes),
-            Self::Append(g) => g.record(cmd, passes),
-        }
-    }
-
-    /// Continues with `plan` (see `AppendGrowth::set_plan`); false when it does not fit.
-    pub fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
-        match self {
-            Self::Restream(g) => g.set_plan(plan),
-            Self::Append(g) => g.set_plan(plan),
-        }
-    }
-
-    /// After the submissions: an error if any capture ran out of room.
-    pub fn check_counts(&self) -> Result<()> {
-        match self {
-            Self::Restream(g) => g.check_counts().map(drop),
-            Self::Append(g) => g.check_counts().map(drop),
-        }
-    }
-
-    pub fn source(&self) -> MeshSource<'_> {
-        match self {
-            Self::Restream(g) => g.source(),
-            Self::Append(g) => g.source(),
-        }
-    }
-
-    /// The current mesh as the re-streaming pass holds it.
-    pub fn read_back(&self, ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Vec<RingVertex>> {
-        match self {
-            Self::Restream(g) => g.read_back(ctx),
-            Self::Append(g) => g.read_back(ctx, plan),
-        }
-    }
 }
 
-/// The speleothem scene's passes — the chamber's rock and the grown surface — shared
-/// by `grow` and the interactive viewer.
-pub struct GrowthRenderer {
-    surface: SpeleothemSurfacePass,
-    rock: LitMeshPass,
-    floor: GpuMesh,
-    ceiling: GpuMesh,
-    lighting: Lighting,
+crate::serde_as_text!(ModeName);
+
+/// The growth scene's parameters: `sediment grow` and `view grow` options, and the
+/// scene file (`[growth]`, `[units]`, `[[change]]`, `[camera]`):
+///
+/// ```toml
+/// preset = "fig9g"          # optional starting point
+/// [growth]
+/// count = 12                # sites (each a stalactite, and a stalagmite at PIL 2)
+/// passes = 40
+/// pil = 2                   # 0, 1, 2
+/// co2 = "normal"            # low, normal, high
+/// mineral = "iron"
+/// [units]
+/// radius = 0.09             # initial ring radius, scene units
+/// [[change]]                # from pass 20 on (file only)
+/// pass = 20
+/// co2 = "low"
+/// [camera]
+/// eye = [0.0, 1.3, 5.0]
+/// ```
+#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// Start from a reproduction of a panel of the paper's Figure 9: fig9a (random
+    /// stalactites), fig9b/c/d (stalactites, normal/low/high CO2), fig9e (stalagmites,
+    /// dry drip), fig9f (columns), fig9g/fig9h (random, iron/malachite). Default: none
+    /// (9 stalactites, manual mode, PIL 1, standard drip, normal CO2, calcareous).
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+    #[command(flatten)]
+    #[serde(default)]
+    pub growth: GrowthOptions,
+    #[command(flatten)]
+    #[serde(default)]
+    pub units: UnitsOptions,
+    /// Parameter changes from a given pass on (scene files only: `[[change]]`).
+    #[arg(skip)]
+    #[serde(default, rename = "change", skip_serializing_if = "Vec::is_empty")]
+    pub changes: Vec<ChangeOptions>,
+    #[command(flatten)]
+    #[serde(default, skip_serializing_if = "CameraOptions::is_unset")]
+    pub camera: CameraOptions,
 }
 
-const ROCK: ObjectPush = ObjectPush {
-    model: Mat4::IDENTITY,
-    albedo: Vec4::new(0.16, 0.13, 0.105, 1.0),
-    material: Vec4::new(12.0, 0.05, 0.0, 0.0),
-};
-const CLEAR: [f32; 4] = [0.004, 0.0035, 0.003, 1.0];
+/// The `[growth]` section.
+#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GrowthOptions {
+    /// The seed (scene files; on the command line the global --seed).
+    #[arg(skip)]
+    pub seed: Option<u64>,
+    /// Sites to place from the seed, 1..=256: each a stalactite, plus a stalagmite
+    /// below it at PIL 2 (default 9).
+    #[arg(long, value_name = "N")]
+    pub count: Option<u32>,
+    /// Growth passes (one ring per pass), 1..=512 (default 30).
+    #[arg(long, value_name = "N")]
+    pub passes: Option<u32>,
+    /// Segments per ring, 3..=128 (default 32).
+    #[arg(long, value_name = "N")]
+    pub segments: Option<u32>,
+    /// manual: exactly the Table 2 row of --pil/--drip/--co2; random: each pass draws
+    /// the row at random and jitters the steps by --jitter (default manual).
+    #[arg(long, value_name = "manual|random")]
+    pub mode: Option<ModeName>,
+    /// Random mode's step jitter, as a fraction, 0..=0.9 (default 0.5).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub jitter: Option<f32>,
+    /// Pluviometric index level: 0 no growth, 1 stalactites only, 2 dripping
+    /// (stalagmites below the stalactites) (default 1).
+    #[arg(long, value_name = "0|1|2")]
+    pub pil: Option<Pil>,
+    /// Drip interval (stalagmite radius): dry (narrows), standard, wet (widens)
+    /// (default standard).
+    #[arg(long, value_name = "dry|standard|wet")]
+    pub drip: Option<DripInterval>,
+    /// Calcium/CO2 concentration (height step x1/x2/x3): low, normal, high (default
+    /// normal).
+    #[arg(long, value_name = "low|normal|high")]
+    pub co2: Option<Co2>,
+    /// Wind intensity wi, 0..=1 (displaces each new ring by wi x 0.02 units; default 0).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub wind: Option<f32>,
+    /// Wind direction in degrees from +x toward +z, finite (default 0).
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub wind_direction: Option<f32>,
+    /// Mineral colour (Table 1): calcareous, iron, manganese, copper, malachite
+    /// (default calcareous).
+    #[arg(long, value_name = "NAME")]
+    pub mineral: Option<Mineral>,
+    /// How strongly the mineral colours the calcite, 0..=1 (default 0.8).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub mineral_intensity: Option<f32>,
+}
 
-impl GrowthRenderer {
-    pub fn new(ctx: &Arc<Context>, scene: &GrowthScene, plan: &GrowthPlan) -> Result<Self> {
-        let (floor, ceiling) = chamber(scene);
-        Ok(Self {
-            surface: SpeleothemSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, plan, scene.seed)?,
-            rock: LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
-            floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
-            ceiling: GpuMesh::upload(ctx, "cave ceiling", &ceiling)?,
-            lighting: lamp_lighting(scene),
-        })
+/// The `[units]` section: Table 2's steps in scene units.
+#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnitsOptions {
+    /// Initial ring radius irr, scene units, > 0 (default 0.09).
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    pub radius: Option<f32>,
+    /// Table 2's "x1" radius step, scene units, > 0 (default 0.006).
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    pub radius_unit: Option<f32>,
+    /// Table 2's "x1" height step, scene units, > 0 (default 0.035).
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    pub height_unit: Option<f32>,
+    /// kf of the flank displacement vd = kf * arr / irr, scene units, >= 0 (default
+    /// 0.02).
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    pub kf: Option<f32>,
+    /// Chance per pass, 0..=1, that a drop solidifies on the flank while CO2 is low
+    /// (default 0.3).
+    #[arg(long, value_name = "P", allow_negative_numbers = true)]
+    pub flank_rate: Option<f32>,
+    /// Horizontal thickening per pass after vertical growth stopped, scene units, >= 0
+    /// (default 0.0012).
+    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    pub thicken: Option<f32>,
+}
+
+/// One `[[change]]`: parameters in force from `pass` on.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChangeOptions {
+    pub pass: u32,
+    pub pil: Option<Pil>,
+    pub drip: Option<DripInterval>,
+    pub co2: Option<Co2>,
+    pub wind: Option<f32>,
+    pub wind_direction: Option<f32>,
+}
+
+impl SceneParams for Params {
+    type Scene = GrowthScene;
+
+    fn preset(&self) -> Option<&str> {
+        self.preset.as_deref()
     }
 
-    /// The camera, and the plan's ring counts after `passes` passes (before the
-    /// submission that draws them).
-    pub fn set_frame(
-        &mut self,
-        camera: &Camera,
-        aspect: f32,
-        plan: &GrowthPlan,
-        passes: u32,
-    ) -> Result<()> {
-        let frame = self.lighting.frame_uniforms(camera, aspect);
-        self.rock.set_frame(&frame)?;
-        self.surface.set_frame(&frame, plan, passes)
+    fn set_preset(&mut self, name: Option<String>) {
+        self.preset = name;
     }
 
-    /// Clears `target` and draws the chamber and the mesh of `source` into it.
-    pub fn draw(
-        &self,
-        cmd: &crate::gpu::Commands<'_>,
-        target: &OffscreenTarget,
-        source: MeshSource<'_>,
-    ) -> Result<()> {
-        target.begin(cmd, CLEAR);
-        self.rock.draw(cmd, &self.floor, &ROCK)?;
-        self.rock.draw(cmd, &self.ceiling, &ROCK)?;
-        self.surface.draw(cmd, source)?;
-        target.end(cmd);
+    fn base(preset: Option<&str>) -> Result<GrowthScene> {
+        preset.map_or_else(|| Ok(GrowthScene::default()), self::preset)
+    }
+
+    fn set_seed(scene: &mut GrowthScene, seed: u64) {
+        scene.seed = seed;
+    }
+
+    fn sync(&mut self, s: &mut GrowthScene, way: Way) -> Result<()> {
+        let g = &mut self.growth;
+        way.field(&mut g.seed, &mut s.seed);
+        way.field(&mut g.count, &mut s.count);
+        way.field(&mut g.passes, &mut s.passes);
+        way.field(&mut g.segments, &mut s.segments);
+        match way {
+            Way::Apply => match (g.mode, s.mode) {
+                (Some(ModeName::Manual), _) => s.mode = StepMode::Manual,
+                (Some(ModeName::Random), _) => {
+                    s.mode = StepMode::Random {
+                        jitter: g.jitter.unwrap_or(0.5),
+                    }
+                }
+                (None, StepMode::Random { jitter }) => {
+                    s.mode = StepMode::Random {
+                        jitter: g.jitter.unwrap_or(jitter),
+                    }
+                }
+                (None, StepMode::Manual) => {}
+            },
+            Way::Capture => {
+                (g.mode, g.jitter) = match s.mode {
+                    StepMode::Manual => (Some(ModeName::Manual), None),
+                    StepMode::Random { jitter } => (Some(ModeName::Random), Some(jitter)),
+                }
+            }
+        }
+        let p = &mut s.params;
+        way.field(&mut g.pil, &mut p.pil);
+        way.field(&mut g.drip, &mut p.drip);
+        way.field(&mut g.co2, &mut p.co2);
+        way.field(&mut g.wind, &mut p.wind_intensity);
+        way.field(&mut g.wind_direction, &mut p.wind_direction_degrees);
+        way.field(&mut g.mineral, &mut p.mineral);
+        way.field(&mut g.mineral_intensity, &mut p.mineral_intensity);
+        let (u, su) = (&mut self.units, &mut s.units);
+        way.field(&mut u.radius, &mut su.initial_radius);
+        way.field(&mut u.radius_unit, &mut su.radius_unit);
+        way.field(&mut u.height_unit, &mut su.height_unit);
+        way.field(&mut u.kf, &mut su.flank_scale);
+        way.field(&mut u.flank_rate, &mut su.flank_rate);
+        way.field(&mut u.thicken, &mut su.thicken_rate);
+        match way {
+            // Changes add to the preset's (the presets have none).
+            Way::Apply => {
+                s.changes.extend(self.changes.iter().map(|c| ParamChange {
+                    pass: c.pass,
+                    pil: c.pil,
+                    drip: c.drip,
+                    co2: c.co2,
+                    wind_direction_degrees: c.wind_direction,
+                    wind_intensity: c.wind,
+                }));
+                s.changes.sort_by_key(|c| c.pass);
+            }
+            Way::Capture => {
+                self.changes = s
+                    .changes
+                    .iter()
+                    .map(|c| ChangeOptions {
+                        pass: c.pass,
+                        pil: c.pil,
+                        drip: c.drip,
+                        co2: c.co2,
+                        wind: c.wind_intensity,
+                        wind_direction: c.wind_direction_degrees,
+                    })
+                    .collect()
+            }
+        }
         Ok(())
     }
+
+    fn validate(scene: &GrowthScene) -> Result<()> {
+        scene.validate()
+    }
+
+    fn camera(&self) -> &CameraOptions {
+        &self.camera
+    }
+
+    fn camera_mut(&mut self) -> &mut CameraOptions {
+        &mut self.camera
+    }
 }
 
-/// What to produce besides the final frame, and how to grow.
-#[derive(Clone, Debug, Default)]
-pub struct GrowOutputs {
-    pub growth: XfbGrowth,
-    /// The camera (default: `default_camera`).
-    pub camera: Option<Camera>,
-    /// Also render a frame before the first pass and every `k` passes (for a GIF).
-    pub frame_every: Option<u32>,
-    /// Read the grown mesh back from the transform-feedback buffer.
-    pub mesh: bool,
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::params::{Resolved, capture, parse, resolve};
 
-/// The result of a growth.
-pub struct Grown {
-    pub plan: GrowthPlan,
-    pub frame: RenderedFrame,
-    /// Frames of the growth (when requested), the last one equal to `frame`.
-    pub frames: Vec<image::RgbaImage>,
-    pub mesh: Option<Vec<RingVertex>>,
-}
+    fn from_text(text: &str) -> Result<GrowthScene> {
+        let file: Params = parse(text).map_err(|(_, m)| Error::invalid("scene file", m))?;
+        let mut scene = Params::base(file.preset())?;
+        file.clone().sync(&mut scene, Way::Apply)?;
+        Params::validate(&scene)?;
+        Ok(scene)
+    }
 
-/// Plans, grows and renders `scene`. `progress(done, total)` is called after every
-/// submitted batch of passes.
-pub fn grow(
-    ctx: &Arc<Context>,
-    scene: &GrowthScene,
-    size: Size,
-    outputs: &GrowOutputs,
-    progress: &mut dyn FnMut(u32, u32),
-) -> Result<Grown> {
-    let start = Instant::now();
-    let plan = scene.plan()?;
-    let camera = outputs
-        .camera
-        .clone()
-        .unwrap_or_else(|| default_camera(scene));
+    #[test]
+    fn a_full_file_parses_and_applies() {
+        let scene = from_text(
+            r#"
+            preset = "fig9b"
+            [growth]
+            count = 4
+            passes = 12
+            pil = 2
+            co2 = "high"
+            mineral = "copper"
+            [units]
+            radius = 0.1
+            [[change]]
+            pass = 6
+            co2 = "low"
+            pil = 1
+            "#,
+        )
+        .expect("valid");
+        assert_eq!((scene.count, scene.passes), (4, 12));
+        assert_eq!(scene.params.pil, Pil::Dripping);
+        assert_eq!(scene.params.co2, Co2::High);
+        assert_eq!(scene.params.mineral, Mineral::Copper);
+        assert_eq!(scene.units.initial_radius, 0.1);
+        assert_eq!(scene.params_at(5).co2, Co2::High);
+        assert_eq!(scene.params_at(6).co2, Co2::Low);
+        assert_eq!(scene.params_at(6).pil, Pil::Stalactites);
+    }
 
-    let target = OffscreenTarget::new(ctx, size.width, size.height)?;
-    let mut growth = Growth::new(ctx, &plan, outputs.growth)?;
-    let mut renderer = GrowthRenderer::new(ctx, scene, &plan)?;
-    let mut timer = GpuTimer::new(ctx, "grow timer", 2)?;
+    #[test]
+    fn typos_and_bad_values_are_named() {
+        let err = from_text("[growth]\nco22 = \"low\"\n")
+            .expect_err("typo")
+            .to_string();
+        assert!(err.contains("co22"), "{err}");
+        let err = from_text("[growth]\npil = 3\n")
+            .expect_err("PIL 3")
+            .to_string();
+        assert!(err.contains("pil"), "{err}");
+        let err = from_text("[growth]\nmineral = \"gold\"\n")
+            .expect_err("gold")
+            .to_string();
+        assert!(err.contains("gold"), "{err}");
+        // Values inside a change are checked too.
+        let err = from_text("[growth]\npasses = 4\n[[change]]\npass = 1\nwind_direction = nan\n")
+            .expect_err("NaN")
+            .to_string();
+        assert!(err.contains("wind_direction"), "{err}");
+        let (line, _) = parse::<Params>("[growth]\ncount = 3\nsegmnets = 12\n").expect_err("typo");
+        assert_eq!(line, Some(3), "the typo's line");
+    }
 
-    let step = outputs.frame_every.unwrap_or(plan.passes).max(1);
-    let mut frames = Vec::new();
-    let mut first = outputs.frame_every.is_some();
-    let mut spans;
-    loop {
-        // The first batch with frames requested renders the base rings before any pass.
-        let batch = if first { 0 } else { step };
-        first = false;
-        renderer.set_frame(&camera, size.aspect(), &plan, growth.passes_done() + batch)?;
-        ctx.submit_and_wait("grow + shade", |cmd| {
-            timer.reset(cmd);
-            let span = timer.begin(cmd, "ring growth")?;
-            growth.record(cmd, batch)?;
-            timer.end(cmd, span);
-            let span = timer.begin(cmd, "shading")?;
-            renderer.draw(cmd, &target, growth.source())?;
-            timer.end(cmd, span);
-            target.copy_out(cmd);
-            Ok(())
-        })?;
-        spans = timer.read()?;
-        progress(growth.passes_done(), plan.passes);
-        if outputs.frame_every.is_some() {
-            frames.push(target.read_image()?);
-        }
-        if growth.passes_done() >= plan.passes {
-            break;
+    #[test]
+    fn every_preset_captured_and_applied_again_is_the_same_scene() {
+        for (name, _) in PRESETS {
+            let given = Params {
+                preset: Some((*name).to_owned()),
+                ..Params::default()
+            };
+            let resolved = resolve(&given, None, 7).expect("preset");
+            let text =
+                toml::to_string(&capture::<Params>(&resolved).expect("capture")).expect("toml");
+            let back: Params = parse(&text).expect("parses");
+            let again = resolve(&back, None, 1).expect("applies");
+            let Resolved { scene, .. } = again;
+            assert_eq!(scene, resolved.scene, "{name}:\n{text}");
         }
     }
-    growth.check_counts()?;
-    let image = target.read_image()?;
-    let mesh = if outputs.mesh {
-        Some(growth.read_back(ctx, &plan)?)
-    } else {
-        None
-    };
-    Ok(Grown {
-        plan,
-        frame: RenderedFrame {
-            image,
-            gpu_spans: spans,
-            wall_ms: start.elapsed().as_secs_f64() * 1e3,
-        },
-        frames,
-        mesh,
-    })
-}
-
-/// The grown mesh as an exportable triangle soup: positions, the shading normals and
-/// the mineral colours the surface shader uses (`mix(calcite, mc * ring / rc, i)`).
-pub fn export_mesh(
-    plan: &GrowthPlan,
-    vertices: &[RingVertex],
-) -> crate::export::mesh::TriangleSoup {
-    const CALCITE: Vec3 = Vec3::splat(0.8);
-    let info = crate::render::speleothem_surface::speleothem_info(plan, plan.passes);
-    let mut soup = crate::export::mesh::TriangleSoup::default();
-    for v in vertices {
-        let sp = v.speleothem().min(plan.speleothems.len().saturating_sub(1));
-        let (mineral, misc) = (info[2 * sp], info[2 * sp + 1]);
-        let g = Vec3::new(0.0, misc.x, 0.0);
-        let normal = (v.normal() - g * v.extra[2]).normalize_or(g);
-        let t = if mineral.w > 0.0 {
-            (v.extra[3] / mineral.w).clamp(0.0, 1.0)
-        } else {
-            1.0
-        };
-        let color = CALCITE.lerp(mineral.truncate() * t, misc.y);
-        soup.positions.push(v.position().to_array());
-        soup.normals.push(normal.to_array());
-        soup.colors.push(color.to_array());
-    }
-    soup
 }

@@ -1,304 +1,28 @@
-//! The layered stalagmite in 3D: Franke's profile revolved about the growth axis with
-//! a wedge cut away, so the cut faces show the growth layers as bands — what a sliced
-//! real stalagmite shows. Drawn with the lit-mesh pass; exportable as a mesh.
+//! The layered stalagmite's parameters (Franke 1999, or real units with the growth
+//! law of Kaufmann 2003; declared once: options and scene file), the presets and the
+//! camera into the cut-away. Its frame — the cut-away drawn lit — is `frame`.
 
-use std::sync::Arc;
-use std::time::Instant;
+pub mod frame;
 
-use glam::{Mat4, Vec3, Vec4};
+use std::path::PathBuf;
 
-use super::camera::{Camera, Lighting};
-use super::size::Size;
-use crate::error::Result;
-use crate::export::mesh::TriangleSoup;
-use crate::gpu::{COLOR_FORMAT, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget};
-use crate::model::layers::{Stalagmite, arc_lengths};
-use crate::model::mesh::Mesh;
-use crate::render::RenderedFrame;
-use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
 
-/// The removed wedge, radians (a quarter).
-pub const WEDGE: f32 = std::f32::consts::FRAC_PI_2;
-/// Segments around the full circle.
-const SEGMENTS: u32 = 96;
-
-const CALCITE: Vec3 = Vec3::new(0.78, 0.72, 0.62);
-const BAND_LIGHT: Vec3 = Vec3::new(0.86, 0.8, 0.68);
-const BAND_DARK: Vec3 = Vec3::new(0.55, 0.42, 0.3);
-const FLOOR: Vec3 = Vec3::new(0.3, 0.28, 0.26);
-
-/// The meshes of the cut-away: outer surface, light and dark bands of the cut faces,
-/// and the floor disk.
-pub struct CutAway {
-    pub surface: Mesh,
-    pub light: Mesh,
-    pub dark: Mesh,
-    pub floor: Mesh,
-    /// Height and radius of the whole stalagmite (for the camera).
-    pub height: f32,
-    pub radius: f32,
-    pub base_y: f32,
-}
-
-/// Builds the cut-away: bands of `band` layers alternate light and dark.
-pub fn cut_away(s: &Stalagmite, band: usize) -> CutAway {
-    let to3 = |p: [f64; 2], a: f32| {
-        let (x, y) = (p[0] as f32, p[1] as f32);
-        Vec3::new(x * a.cos(), y, x * a.sin())
-    };
-    let top = s.surface();
-    let (mut base_y, mut top_y) = (f32::MAX, f32::MIN);
-    for p in s.layers.iter().flatten() {
-        base_y = base_y.min(p[1] as f32);
-        top_y = top_y.max(p[1] as f32);
-    }
-    // The stalagmite's radius: as far out as the surface stands clear of the floor.
-    let clear = base_y + 0.05 * (top_y - base_y);
-    let radius = top
-        .iter()
-        .filter(|p| p[1] as f32 > clear)
-        .map(|p| p[0] as f32)
-        .fold(0.0f32, f32::max)
-        .max(1e-3 * (top_y - base_y));
-    // Outer surface over the kept angles [0, 2 pi - WEDGE].
-    let kept = std::f32::consts::TAU - WEDGE;
-    let steps = ((SEGMENTS as f32) * kept / std::f32::consts::TAU).ceil() as u32;
-    let mut surface = Mesh::default();
-    for i in 0..=steps {
-        let a = kept * i as f32 / steps as f32;
-        for p in top {
-            surface.positions.push(to3(*p, a));
-        }
-    }
-    let n = top.len() as u32;
-    for i in 0..steps {
-        for j in 0..n - 1 {
-            let (a, b) = (i * n + j, (i + 1) * n + j);
-            // Outward: the profile runs outwards and down, the angle turns from +x to +z.
-            surface.indices.extend([a, a + 1, b + 1, a, b + 1, b]);
-        }
-    }
-    // Outward and up: the profile faces up on the cap and out on the flank.
-    fix_winding(&mut surface, |p, _| {
-        Vec3::new(p.x, 0.0, p.z).normalize_or_zero() + Vec3::Y
-    });
-    // Cut faces: the ribbons between consecutive layers, on both planes of the cut,
-    // each facing into the removed wedge.
-    let mut light = Mesh::default();
-    let mut dark = Mesh::default();
-    let band = band.max(1);
-    for (k, w) in s.layers.windows(2).enumerate() {
-        let target = if (k / band) % 2 == 0 {
-            &mut light
-        } else {
-            &mut dark
-        };
-        for (angle, facing) in [
-            (0.0f32, Vec3::NEG_Z),
-            (kept, Vec3::new(-kept.sin(), 0.0, kept.cos())),
-        ] {
-            let start = target.indices.len();
-            ribbon(&w[0], &w[1], |p| to3(p, angle), target);
-            let mut part = Mesh {
-                positions: std::mem::take(&mut target.positions),
-                normals: Vec::new(),
-                indices: target.indices.split_off(start),
-            };
-            fix_winding(&mut part, |_, _| facing);
-            target.positions = part.positions;
-            target.indices.extend(part.indices);
-        }
-    }
-    // The floor: a disk at the base, four times the stalagmite's radius.
-    let mut floor = Mesh::default();
-    floor.positions.push(Vec3::new(0.0, base_y, 0.0));
-    for i in 0..SEGMENTS {
-        let a = std::f32::consts::TAU * i as f32 / SEGMENTS as f32;
-        floor.positions.push(Vec3::new(
-            4.0 * radius * a.cos(),
-            base_y - 1e-3 * radius,
-            4.0 * radius * a.sin(),
-        ));
-    }
-    for i in 0..SEGMENTS {
-        floor.indices.extend([0, 1 + (i + 1) % SEGMENTS, 1 + i]);
-    }
-    fix_winding(&mut floor, |_, _| Vec3::Y);
-    for m in [&mut surface, &mut light, &mut dark, &mut floor] {
-        m.recompute_normals();
-    }
-    CutAway {
-        surface,
-        light,
-        dark,
-        floor,
-        height: top_y - base_y,
-        radius,
-        base_y,
-    }
-}
-
-/// Triangulates the strip between two profiles (both from the axis outwards), walking
-/// both by arc length so neither side gets long slivers.
-fn ribbon(a: &[[f64; 2]], b: &[[f64; 2]], place: impl Fn([f64; 2]) -> Vec3, out: &mut Mesh) {
-    let (sa, sb) = (arc_lengths(a), arc_lengths(b));
-    let (la, lb) = (
-        sa.last().copied().unwrap_or(0.0).max(1e-12),
-        sb.last().copied().unwrap_or(0.0).max(1e-12),
-    );
-    let base = out.positions.len() as u32;
-    out.positions.extend(a.iter().map(|&p| place(p)));
-    out.positions.extend(b.iter().map(|&p| place(p)));
-    let nb = a.len() as u32;
-    let (mut i, mut j) = (0usize, 0usize);
-    while i + 1 < a.len() || j + 1 < b.len() {
-        let advance_a = j + 1 >= b.len() || (i + 1 < a.len() && sa[i + 1] / la <= sb[j + 1] / lb);
-        if advance_a {
-            out.indices
-                .extend([base + i as u32, base + i as u32 + 1, base + nb + j as u32]);
-            i += 1;
-        } else {
-            out.indices.extend([
-                base + i as u32,
-                base + nb + j as u32 + 1,
-                base + nb + j as u32,
-            ]);
-            j += 1;
-        }
-    }
-}
-
-/// Flips triangles whose normal points away from `facing(centroid, normal)`, and drops
-/// degenerate ones (where two layers touch).
-fn fix_winding(m: &mut Mesh, facing: impl Fn(Vec3, Vec3) -> Vec3) {
-    let mut kept = Vec::with_capacity(m.indices.len());
-    for t in m.indices.chunks_exact(3) {
-        let p = [0, 1, 2].map(|k| m.positions[t[k] as usize]);
-        let n = (p[1] - p[0]).cross(p[2] - p[0]);
-        if n.length_squared() <= 1e-20 {
-            continue;
-        }
-        let c = (p[0] + p[1] + p[2]) / 3.0;
-        if n.dot(facing(c, n)) >= 0.0 {
-            kept.extend_from_slice(t);
-        } else {
-            kept.extend([t[0], t[2], t[1]]);
-        }
-    }
-    m.indices = kept;
-}
-
-/// The camera looking into the cut from the open wedge, slightly from above.
-pub fn default_camera(c: &CutAway) -> Camera {
-    let size = c.height.max(2.5 * c.radius);
-    let centre = Vec3::new(0.0, c.base_y + 0.5 * c.height, 0.0);
-    // The wedge opens toward +x, -z.
-    let dir = Vec3::new(1.0, 0.45, -1.2).normalize();
-    Camera {
-        eye: centre + dir * size * 2.2,
-        target: centre,
-        up: Vec3::Y,
-        fov_y_degrees: 35.0,
-        near: size * 0.01,
-        far: size * 10.0,
-    }
-}
-
-/// The cut-away's pass and meshes, shared by `render` and the interactive viewer.
-pub struct CutAwayRenderer {
-    pass: LitMeshPass,
-    parts: Vec<(GpuMesh, Vec3, f32)>,
-}
-
-impl CutAwayRenderer {
-    pub fn new(ctx: &Arc<Context>, c: &CutAway) -> Result<Self> {
-        let parts = [
-            (&c.surface, CALCITE, 0.15),
-            (&c.light, BAND_LIGHT, 0.05),
-            (&c.dark, BAND_DARK, 0.05),
-            (&c.floor, FLOOR, 0.02),
-        ]
-        .into_iter()
-        .filter(|(m, _, _)| !m.indices.is_empty())
-        .map(|(m, color, spec)| Ok((GpuMesh::upload(ctx, "stalagmite part", m)?, color, spec)))
-        .collect::<Result<_>>()?;
-        Ok(Self {
-            pass: LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
-            parts,
-        })
-    }
-
-    /// The camera of the next frame.
-    pub fn set_frame(&mut self, camera: &Camera, aspect: f32) -> Result<()> {
-        let lighting = Lighting {
-            sun_direction: Vec3::new(0.6, 0.8, -0.5),
-            ..Lighting::default()
-        };
-        self.pass
-            .set_frame(&lighting.frame_uniforms(camera, aspect))
-    }
-
-    /// Records the frame into `target` (span "cut-away").
-    pub fn record(
-        &self,
-        cmd: &crate::gpu::Commands<'_>,
-        target: &OffscreenTarget,
-        timer: &mut GpuTimer,
-    ) -> Result<()> {
-        let span = timer.begin(cmd, "cut-away")?;
-        target.begin(cmd, [0.02, 0.02, 0.025, 1.0]);
-        for (mesh, color, spec) in &self.parts {
-            self.pass.draw(
-                cmd,
-                mesh,
-                &ObjectPush {
-                    model: Mat4::IDENTITY,
-                    albedo: color.extend(1.0),
-                    material: Vec4::new(20.0, *spec, 0.0, 0.0),
-                },
-            )?;
-        }
-        target.end(cmd);
-        timer.end(cmd, span);
-        Ok(())
-    }
-}
-
-/// Renders the cut-away.
-pub fn render(ctx: &Arc<Context>, c: &CutAway, size: Size) -> Result<RenderedFrame> {
-    let start = Instant::now();
-    let target = OffscreenTarget::new(ctx, size.width, size.height)?;
-    let mut renderer = CutAwayRenderer::new(ctx, c)?;
-    renderer.set_frame(&default_camera(c), size.aspect())?;
-    let mut timer = GpuTimer::new(ctx, "layers timer", 1)?;
-    ctx.submit_and_wait("stalagmite cut-away", |cmd| {
-        timer.reset(cmd);
-        renderer.record(cmd, &target, &mut timer)?;
-        target.copy_out(cmd);
-        Ok(())
-    })?;
-    Ok(RenderedFrame {
-        image: target.read_image()?,
-        gpu_spans: timer.read()?,
-        wall_ms: start.elapsed().as_secs_f64() * 1e3,
-    })
-}
-
-/// The cut-away as one coloured mesh for export.
-pub fn export(c: &CutAway) -> TriangleSoup {
-    let mut soup = TriangleSoup::from_indexed(&c.surface, CALCITE.to_array());
-    soup.append(TriangleSoup::from_indexed(&c.light, BAND_LIGHT.to_array()));
-    soup.append(TriangleSoup::from_indexed(&c.dark, BAND_DARK.to_array()));
-    soup.append(TriangleSoup::from_indexed(&c.floor, FLOOR.to_array()));
-    soup
-}
+use super::camera::{Camera, CameraOptions};
+use super::params::{SceneParams, Way};
+use crate::error::{Error, Result};
+pub use crate::model::layers::cut_away::{CutAway, WEDGE, cut_away};
+use crate::model::layers::physical::{self, Conditions, TimelineRow};
+use crate::model::layers::{Base, Decay, Stalagmite, Supply};
+pub use frame::{CutAwayFrame, export, render};
 
 /// Real units for Franke's model (the Dreybrodt/Kaufmann growth law).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhysicalSetup {
-    pub timeline: Vec<crate::model::layers::physical::TimelineRow>,
-    /// Water-film thickness, m.
-    pub film_m: f64,
+    pub timeline: Vec<TimelineRow>,
+    /// Water-film thickness, mm (0.1, 0.075 or 0.05).
+    pub film_mm: f64,
     pub years_per_layer: f64,
 }
 
@@ -348,8 +72,7 @@ pub const PRESETS: &[(&str, &str)] = &[
 
 /// A built-in climate: a wet, warm optimum drying out in steps (a stalagmite that
 /// narrows upwards; wetting phases would overhang).
-pub fn example_timeline() -> Vec<crate::model::layers::physical::TimelineRow> {
-    use crate::model::layers::physical::TimelineRow;
+pub fn example_timeline() -> Vec<TimelineRow> {
     let row = |year, temperature_c, drip_interval_s, excess_ca| TimelineRow {
         year,
         temperature_c,
@@ -366,7 +89,6 @@ pub fn example_timeline() -> Vec<crate::model::layers::physical::TimelineRow> {
 }
 
 pub fn preset(name: &str) -> Result<LayersSetup> {
-    use crate::model::layers::{Base, Supply};
     let d = LayersSetup::default();
     Ok(match name {
         "candlestick" => d,
@@ -403,7 +125,7 @@ pub fn preset(name: &str) -> Result<LayersSetup> {
         "timeline" => LayersSetup {
             physical: Some(PhysicalSetup {
                 timeline: example_timeline(),
-                film_m: 1e-4,
+                film_mm: 0.1,
                 years_per_layer: 40.0,
             }),
             ..d
@@ -419,7 +141,7 @@ impl LayersSetup {
         crate::error::ensure_in_range((2.0..=20.0).contains(&self.extent), "--extent", "2..=20")?;
         match &self.physical {
             Some(p) => Ok((
-                crate::model::layers::physical::schedule(&p.timeline, p.film_m, p.years_per_layer)?,
+                physical::schedule(&p.timeline, p.film_mm * 1e-3, p.years_per_layer)?,
                 Some("mm".to_owned()),
             )),
             None => Ok((self.franke.schedule(), None)),
@@ -440,5 +162,293 @@ impl LayersSetup {
             }
         };
         Ok((crate::model::layers::grow(&base, &steps, decay)?, unit))
+    }
+}
+
+/// The camera looking into the cut from the open wedge, slightly from above.
+pub fn default_camera(c: &CutAway) -> Camera {
+    let size = c.height.max(2.5 * c.radius);
+    let centre = Vec3::new(0.0, c.base_y + 0.5 * c.height, 0.0);
+    // The wedge opens toward +x, -z.
+    let dir = Vec3::new(1.0, 0.45, -1.2).normalize();
+    Camera {
+        eye: centre + dir * size * 2.2,
+        target: centre,
+        up: Vec3::Y,
+        fov_y_degrees: 35.0,
+        near: size * 0.01,
+        far: size * 10.0,
+    }
+}
+
+/// `--supply`: Franke's relative supply, or a climate timeline file in real units.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SupplySpec {
+    Relative(Supply),
+    /// `timeline:FILE.csv`: rows of years, temperature C, drip interval s, excess Ca
+    /// mol/m^3.
+    Timeline(PathBuf),
+}
+
+impl std::str::FromStr for SupplySpec {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().strip_prefix("timeline:") {
+            Some(file) => Ok(SupplySpec::Timeline(file.into())),
+            None => Ok(SupplySpec::Relative(s.parse()?)),
+        }
+    }
+}
+
+impl std::fmt::Display for SupplySpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SupplySpec::Relative(s) => s.fmt(f),
+            SupplySpec::Timeline(file) => write!(f, "timeline:{}", file.display()),
+        }
+    }
+}
+
+crate::serde_as_text!(SupplySpec);
+
+/// `--base`: a CSV file of support points, or (scene files) the points themselves.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum BaseSpec {
+    File(PathBuf),
+    Points(Vec<[f64; 2]>),
+}
+
+impl std::str::FromStr for BaseSpec {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Ok(BaseSpec::File(s.into()))
+    }
+}
+
+impl BaseSpec {
+    fn points(&self) -> Result<Vec<[f64; 2]>> {
+        let path = match self {
+            BaseSpec::Points(p) => return Ok(p.clone()),
+            BaseSpec::File(path) => path,
+        };
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+            path: path.clone(),
+            source,
+        })?;
+        let mut points = Vec::new();
+        for (n, line) in text.lines().enumerate() {
+            let line = line.trim();
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            let v: Option<Vec<f64>> = line.split(',').map(|c| c.trim().parse().ok()).collect();
+            match v.as_deref() {
+                Some([x, y]) => points.push([*x, *y]),
+                _ if n == 0 => {} // a header
+                _ => {
+                    return Err(Error::invalid(
+                        "--base",
+                        format!("{} line {}: \"{line}\" is not x,y", path.display(), n + 1),
+                    ));
+                }
+            }
+        }
+        Ok(points)
+    }
+}
+
+/// The layered stalagmite's parameters: `sediment layers` and `view layers` options,
+/// and the scene file (the same names; a scene file may also give `base` as points,
+/// `base = [[0.0, 0.5], [1.0, 0.3]]`, and a `[[timeline]]` of rows `year`,
+/// `temperature_c`, `drip_interval_s`, `excess_ca`).
+#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// A demo case: candlestick (constant supply), drying (steps 1, 0.6, 0.3: a cone),
+    /// wetting (rising supply: overhang), uneven (uneven base), timeline (12 000 years
+    /// in mm). Default: none (the candlestick's constant supply).
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+    /// Layer thickness per time unit at the apex, > 0 (default 0.02; Franke units).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub dic: Option<f64>,
+    /// Support points of the profile, 8..=2000 (default 160).
+    #[arg(long, value_name = "N")]
+    pub pz: Option<usize>,
+    /// Layers, 1..=20000 (default 300).
+    #[arg(long, value_name = "N")]
+    pub rep: Option<usize>,
+    /// Decay length r of the deposit, > 0 (default 1; the stationary radius is
+    /// 0.886 r for the Gaussian, r / 2 linear, r exponential).
+    #[arg(long = "r", value_name = "F", allow_negative_numbers = true)]
+    pub r: Option<f64>,
+    /// Decay law: gaussian (Franke's exp(-(s/r)^2)), linear (Dreybrodt's), exponential
+    /// (default gaussian).
+    #[arg(long, value_name = "gaussian|linear|exponential")]
+    pub decay: Option<Decay>,
+    /// Water supply over time, a factor on the stationary radius: constant,
+    /// linear:A..B (from A to B), steps:A,B,... (equal runs), each 0.05..=20; or
+    /// timeline:FILE.csv (real units: rows of years, temperature C, drip interval s,
+    /// excess Ca mol/m^3) (default constant).
+    #[arg(long, value_name = "SPEC")]
+    pub supply: Option<SupplySpec>,
+    /// An uneven base: a CSV of x,y support points from the axis (x = 0) outwards,
+    /// heights falling steadily (a rising base would pond water) (default: a flat
+    /// floor).
+    #[arg(long, value_name = "FILE.csv")]
+    pub base: Option<BaseSpec>,
+    /// Radius of the flat base in stationary radii, 2..=20 (default 4.5).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub extent: Option<f64>,
+    /// Real units at constant cave conditions (the options below), in mm and years.
+    #[arg(long, num_args = 0, default_missing_value = "true")]
+    pub physical: Option<bool>,
+    /// Cave temperature with --physical, 0..=40 C (default 10).
+    #[arg(long, value_name = "C", allow_negative_numbers = true)]
+    pub temperature: Option<f64>,
+    /// Drip interval with --physical, 0.1..=1000000 s (default 100).
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub drip_interval: Option<f64>,
+    /// Excess calcium c_in - c_eq with --physical, 0..=10 mol/m^3 (default 1).
+    #[arg(long, value_name = "MOL_M3", allow_negative_numbers = true)]
+    pub excess_ca: Option<f64>,
+    /// Water-film thickness in real units: 0.1, 0.075 or 0.05 mm (default 0.1).
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    pub film: Option<f64>,
+    /// Years of growth with --physical, > 0 (default 10000).
+    #[arg(long, value_name = "YEARS", allow_negative_numbers = true)]
+    pub years: Option<f64>,
+    /// Years per layer in real units, > 0 (default 40).
+    #[arg(long, value_name = "YEARS", allow_negative_numbers = true)]
+    pub years_per_layer: Option<f64>,
+    /// A climate timeline in real units (scene files only: `[[timeline]]` rows).
+    #[arg(skip)]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub timeline: Option<Vec<TimelineRow>>,
+    // --eye/--target in the stalagmite's units (its axis is x = z = 0, its base at
+    // y = 0); a scene file's `[camera]`.
+    #[command(flatten)]
+    #[serde(default, skip_serializing_if = "CameraOptions::is_unset")]
+    pub camera: CameraOptions,
+}
+
+impl SceneParams for Params {
+    type Scene = LayersSetup;
+
+    fn preset(&self) -> Option<&str> {
+        self.preset.as_deref()
+    }
+
+    fn set_preset(&mut self, name: Option<String>) {
+        self.preset = name;
+    }
+
+    fn base(preset: Option<&str>) -> Result<LayersSetup> {
+        preset.map_or_else(|| Ok(LayersSetup::default()), self::preset)
+    }
+
+    /// Nothing in the layer model is random.
+    fn set_seed(_scene: &mut LayersSetup, _seed: u64) {}
+
+    fn sync(&mut self, s: &mut LayersSetup, way: Way) -> Result<()> {
+        let f = &mut s.franke;
+        way.field(&mut self.dic, &mut f.dic);
+        way.field(&mut self.pz, &mut f.pz);
+        way.field(&mut self.rep, &mut f.rep);
+        way.field(&mut self.r, &mut f.r);
+        way.field(&mut self.decay, &mut f.decay);
+        way.field(&mut self.extent, &mut s.extent);
+        match way {
+            Way::Capture => {
+                self.supply = Some(SupplySpec::Relative(f.supply.clone()));
+                self.timeline = s.physical.as_ref().map(|p| p.timeline.clone());
+                self.film = s.physical.as_ref().map(|p| p.film_mm);
+                self.years_per_layer = s.physical.as_ref().map(|p| p.years_per_layer);
+                self.base = s.base.as_ref().map(|b| BaseSpec::Points(b.points.clone()));
+            }
+            Way::Apply => self.apply_physical(s)?,
+        }
+        Ok(())
+    }
+
+    fn validate(scene: &LayersSetup) -> Result<()> {
+        scene.schedule().map(drop)
+    }
+
+    fn camera(&self) -> &CameraOptions {
+        &self.camera
+    }
+
+    fn camera_mut(&mut self) -> &mut CameraOptions {
+        &mut self.camera
+    }
+}
+
+impl Params {
+    /// The supply, the real-unit setup (a timeline file, `[[timeline]]` rows or
+    /// constant conditions with `--physical`; the film and years per layer apply to
+    /// any) and the base.
+    fn apply_physical(&self, s: &mut LayersSetup) -> Result<()> {
+        let film_mm = self
+            .film
+            .or(s.physical.as_ref().map(|p| p.film_mm))
+            .unwrap_or(0.1);
+        let years_per_layer = self
+            .years_per_layer
+            .or(s.physical.as_ref().map(|p| p.years_per_layer))
+            .unwrap_or(40.0);
+        let real = |timeline| PhysicalSetup {
+            timeline,
+            film_mm,
+            years_per_layer,
+        };
+        match &self.supply {
+            Some(SupplySpec::Relative(supply)) => s.franke.supply = supply.clone(),
+            Some(SupplySpec::Timeline(file)) => {
+                let text = std::fs::read_to_string(file).map_err(|source| Error::Read {
+                    path: file.clone(),
+                    source,
+                })?;
+                s.physical = Some(real(physical::parse_timeline(&text, film_mm * 1e-3)?));
+            }
+            None => {}
+        }
+        if let Some(rows) = &self.timeline {
+            s.physical = Some(real(rows.clone()));
+        }
+        match self.physical {
+            Some(true) => {
+                let c = Conditions {
+                    temperature_c: self.temperature.unwrap_or(10.0),
+                    drip_interval_s: self.drip_interval.unwrap_or(100.0),
+                    excess_ca: self.excess_ca.unwrap_or(1.0),
+                    film_m: film_mm * 1e-3,
+                };
+                c.validate()?;
+                let years = self.years.unwrap_or(10_000.0);
+                if !(years.is_finite() && years > 0.0) {
+                    return Err(Error::invalid("--years", "must be > 0"));
+                }
+                let row = |year| TimelineRow {
+                    year,
+                    temperature_c: c.temperature_c,
+                    drip_interval_s: c.drip_interval_s,
+                    excess_ca: c.excess_ca,
+                };
+                s.physical = Some(real(vec![row(0.0), row(years)]));
+            }
+            Some(false) => s.physical = None,
+            None => {
+                if let Some(p) = &mut s.physical {
+                    p.film_mm = film_mm;
+                    p.years_per_layer = years_per_layer;
+                }
+            }
+        }
+        if let Some(base) = &self.base {
+            s.base = Some(Base::from_points(base.points()?)?);
+        }
+        Ok(())
     }
 }

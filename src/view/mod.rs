@@ -1,17 +1,15 @@
 //! `sediment view`: the interactive viewer. A winit window with a Vulkan swapchain,
-//! rendering continuously with the same passes as the headless commands: each frame
-//! draws into an `OffscreenTarget` exactly as `sediment grow` does, and the target is
-//! blitted into the swapchain image with a text panel on top. Growth runs in real time
-//! and its parameters are steered while it runs (`grow_session`); the camera orbits or
-//! flies (`camera_control`). `--frames N` renders N frames and exits, and `--script`
+//! rendering continuously any `frame::Scene` through the same frame runner as the
+//! headless commands: each frame draws into the runner's offscreen target exactly as
+//! `sediment grow` does, and the target is blitted into the swapchain image with a text
+//! panel on top. The scene's keys steer it (a growth's parameters while it grows, the
+//! desert's sun, the cave's wall); the camera orbits or flies (`camera_control`). `--frames N` renders N frames and exits, and `--script`
 //! feeds synthesised key presses through the same handler as real ones: that is how
 //! the tests drive it under Xvfb.
 
 pub mod camera_control;
-pub mod grow_session;
 pub mod input;
 pub mod overlay;
-pub mod scenes;
 
 use std::collections::HashSet;
 use std::path::PathBuf;
@@ -28,74 +26,16 @@ use winit::platform::x11::EventLoopBuilderExtX11;
 use winit::window::{Window, WindowId};
 
 use crate::error::{Error, Result};
-use crate::gpu::{
-    Buffer, BufferDesc, Context, ContextOptions, GpuTimer, OffscreenTarget, Presented, Surface,
-    Swapchain, vk,
-};
+use crate::frame::{FrameRunner, Scene, Time};
+use crate::gpu::{Buffer, BufferDesc, Context, ContextOptions, Presented, Surface, Swapchain, vk};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::scene::Size;
 use crate::scene::camera::Camera;
-use crate::scene::cave::{CaveModel, CaveScene};
-use crate::scene::dunes::{DunesScene, Terrain};
-use crate::scene::grow::{GrowthScene, XfbGrowth};
-use crate::scene::layers::CutAway;
 use camera_control::CameraControl;
-use grow_session::GrowthSession;
 use input::{Key, Scripted, ScriptedKey};
 
-/// What to show.
-pub enum ViewScene {
-    /// Speleothems growing (Tortelli & Walter).
-    Grow {
-        scene: Box<GrowthScene>,
-        growth: XfbGrowth,
-        /// One growth pass every `every` frames.
-        every: u32,
-    },
-    /// A generated cave (Cui, Chow & Zhang).
-    Cave {
-        scene: Box<CaveScene>,
-        model: Box<CaveModel>,
-    },
-    /// The desert (Onoue & Nishita).
-    Dunes {
-        scene: Box<DunesScene>,
-        terrain: Box<Terrain>,
-    },
-    /// A stalagmite's cut-away (Franke).
-    Layers { cut: Box<CutAway>, layers: usize },
-}
-
-/// One scene in the viewer: its keys, its frame and its lines on the panel.
-pub trait Session {
-    /// The scene's name on the panel.
-    fn name(&self) -> &'static str;
-    /// Handles a scene key; false when it is not one of the scene's.
-    fn key(&mut self, ctx: &Arc<Context>, key: Key) -> Result<bool>;
-    /// Before the frame's submission: the camera, and any CPU or one-off GPU work.
-    fn prepare(&mut self, ctx: &Arc<Context>, camera: &Camera, aspect: f32) -> Result<()>;
-    /// Records the frame into `target`, its passes timed as named spans.
-    fn record(
-        &mut self,
-        cmd: &crate::gpu::Commands<'_>,
-        target: &OffscreenTarget,
-        timer: &mut GpuTimer,
-    ) -> Result<()>;
-    /// After the frame's submission finished.
-    fn after(&mut self) -> Result<()> {
-        Ok(())
-    }
-    /// Lines for the panel: the scene's state and parameters.
-    fn status(&self) -> Vec<String>;
-    /// The scene's keys, for the panel.
-    fn controls(&self) -> &'static [&'static str];
-    /// What the last key did.
-    fn message(&self) -> &str;
-    /// At exit: grown speleothems' plan and mesh, if the scene has any.
-    fn grown(&self, _ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
-        Ok(None)
-    }
-}
+/// Builds the scene to show once the window's device exists.
+pub type SceneBuilder = Box<dyn FnOnce(&Arc<Context>) -> Result<Box<dyn Scene>>>;
 
 /// How to show it.
 pub struct ViewOptions {
@@ -140,7 +80,7 @@ pub const CONTROLS: &[&str] = &[
 /// `camera` is where the view starts.
 pub fn run(
     options: ViewOptions,
-    scene: ViewScene,
+    scene: SceneBuilder,
     camera: &Camera,
     say: &mut dyn FnMut(&str),
 ) -> Result<ViewReport> {
@@ -185,7 +125,7 @@ struct App<'a> {
     options: ViewOptions,
     /// The camera the window opens with.
     camera: CameraControl,
-    scene: Option<ViewScene>,
+    scene: Option<SceneBuilder>,
     say: &'a mut dyn FnMut(&str),
     // Dropped before the window (inside `State`, fields drop in order).
     state: Option<State>,
@@ -196,10 +136,10 @@ struct App<'a> {
 /// Everything that lives while the window is open. Field order is drop order: the
 /// swapchain before the surface before the window.
 struct State {
-    session: Box<dyn Session>,
-    timer: GpuTimer,
+    scene: Box<dyn Scene>,
+    /// The offscreen target at the window's size (made with the first swapchain).
+    runner: Option<FrameRunner>,
     overlay_buffer: Option<Buffer>,
-    target: Option<OffscreenTarget>,
     swapchain: Option<Swapchain>,
     surface: Surface,
     ctx: Arc<Context>,
@@ -274,32 +214,15 @@ impl App<'_> {
         // SAFETY: the window lives in the same `State` and is dropped after the
         // surface (field order).
         let surface = unsafe { Surface::new(&ctx, display, handle)? };
-        let session: Box<dyn Session> = match self.scene.take() {
-            Some(ViewScene::Grow {
-                scene,
-                growth,
-                every,
-            }) => {
-                let mut s = GrowthSession::new(&ctx, *scene, growth)?;
-                s.every = every.max(1);
-                Box::new(s)
-            }
-            Some(ViewScene::Cave { scene, model }) => {
-                Box::new(scenes::CaveSession::new(&ctx, *scene, *model)?)
-            }
-            Some(ViewScene::Dunes { scene, terrain }) => {
-                Box::new(scenes::DunesSession::new(&ctx, *scene, &terrain)?)
-            }
-            Some(ViewScene::Layers { cut, layers }) => {
-                Box::new(scenes::LayersSession::new(&ctx, &cut, layers)?)
-            }
-            None => return Err(Error::invalid("view", "the scene was already shown")),
-        };
+        let build = self
+            .scene
+            .take()
+            .ok_or_else(|| Error::internal("view", "the scene was already shown"))?;
+        let scene = build(&ctx)?;
         Ok(State {
-            session,
-            timer: GpuTimer::new(&ctx, "view timer", 2)?,
+            scene,
+            runner: None,
             overlay_buffer: None,
-            target: None,
             swapchain: None,
             surface,
             ctx,
@@ -436,7 +359,7 @@ impl State {
                 self.camera.fly(f, r, u, 0.25);
             }
             other => {
-                self.session.key(&self.ctx, other)?;
+                self.scene.key(&self.ctx, other)?;
             }
         }
         Ok(false)
@@ -444,13 +367,13 @@ impl State {
 
     /// Writes the frame just rendered (the scene, without the panel) as PNG.
     fn screenshot(&self, path: &std::path::Path, say: &mut dyn FnMut(&str)) -> Result<()> {
-        let Some(target) = &self.target else {
-            return Err(Error::invalid(
+        let Some(runner) = &self.runner else {
+            return Err(Error::internal(
                 "screenshot",
                 "no frame has been rendered yet",
             ));
         };
-        crate::export::png::write_png(path, &target.read_image()?)?;
+        crate::export::png::write_png(path, &runner.image()?)?;
         say(&format!("wrote {}", path.display()));
         Ok(())
     }
@@ -477,7 +400,10 @@ impl State {
         if w == 0 || h == 0 {
             return Ok(false);
         }
-        self.target = Some(OffscreenTarget::new(&self.ctx, w, h)?);
+        match &mut self.runner {
+            Some(runner) => runner.resize(Size::new(w, h))?,
+            None => self.runner = Some(FrameRunner::new(&self.ctx, Size::new(w, h))?),
+        }
         self.overlay_buffer = Some(Buffer::new(
             &self.ctx,
             "overlay pixels",
@@ -501,9 +427,9 @@ impl State {
             std::thread::sleep(std::time::Duration::from_millis(30));
             return Ok(());
         }
-        let (Some(chain), Some(target), Some(pixels)) = (
+        let (Some(chain), Some(runner), Some(pixels)) = (
             self.swapchain.as_ref(),
-            self.target.as_ref(),
+            self.runner.as_mut(),
             self.overlay_buffer.as_mut(),
         ) else {
             return Ok(());
@@ -514,12 +440,12 @@ impl State {
         };
         let (w, h) = chain.size();
         let aspect = w as f32 / h as f32;
-        self.session
-            .prepare(&self.ctx, &self.camera.camera(), aspect)?;
+        self.scene
+            .set_frame(&self.ctx, &self.camera.camera(), aspect, Time::Tick)?;
         let panel = if self.overlay {
             let mut lines = vec![format!(
                 "sediment view {}  {:.1} fps  cpu {:.1} ms  gpu: {}{:.2} ms  {}",
-                self.session.name(),
+                self.scene.name(),
                 self.fps,
                 1e3 / self.fps.max(1e-3),
                 if self.last_gpu.0 > 0.0 {
@@ -533,11 +459,11 @@ impl State {
                     camera_control::CameraMode::Fly => "fly",
                 }
             )];
-            lines.extend(self.session.status());
-            lines.extend(self.session.controls().iter().map(|s| s.to_string()));
+            lines.extend(self.scene.status());
+            lines.extend(self.scene.controls().iter().map(|s| s.to_string()));
             lines.extend(CONTROLS.iter().map(|s| s.to_string()));
-            if !self.session.message().is_empty() {
-                lines.push(self.session.message().to_owned());
+            if !self.scene.message().is_empty() {
+                lines.push(self.scene.message().to_owned());
             }
             overlay::panel(&lines, w, h, chain.is_bgra())
         } else {
@@ -547,17 +473,11 @@ impl State {
             pixels.write(0, &p.pixels)?;
         }
         let save = self.pending.is_some();
-        let (timer, session) = (&mut self.timer, &mut self.session);
+        let scene = &mut self.scene;
         let presented = chain.present(index, |cmd, image| {
-            timer.reset(cmd);
-            session.record(cmd, target, timer)?;
             // Only a frame to be saved is read back.
-            if save {
-                target.copy_out(cmd);
-            } else {
-                target.finish_for_transfer(cmd);
-            }
-            cmd.blit_target(target, image, w, h);
+            runner.record(cmd, scene.as_mut(), save)?;
+            cmd.blit_target(runner.target(), image, w, h);
             if let Some(p) = &panel {
                 cmd.copy_pixels(pixels, image, (0, 0), (p.width, p.height));
             }
@@ -566,11 +486,10 @@ impl State {
         if presented == Presented::Stale {
             self.stale = true;
         }
-        self.session.after()?;
+        let spans = runner.finish(self.scene.as_mut())?;
         if let Some(path) = self.pending.take() {
             self.screenshot(&path, say)?;
         }
-        let spans = self.timer.read()?;
         let growth: f64 = spans
             .iter()
             .filter(|s| s.name == "ring growth")
@@ -592,7 +511,7 @@ impl State {
     /// At exit: the grown mesh and the validation errors.
     fn finish(self, report: &mut ViewReport) -> Result<()> {
         self.ctx.wait_idle()?;
-        report.grown = self.session.grown(&self.ctx)?;
+        report.grown = self.scene.grown(&self.ctx)?;
         report.validation_errors = self.ctx.take_validation_errors();
         Ok(())
     }

@@ -8,6 +8,7 @@
 
 pub mod cli;
 pub mod display;
+pub mod growth;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

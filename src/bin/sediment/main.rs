@@ -17,15 +17,6 @@ macro_rules! say {
     }};
 }
 
-/// `set!(field, option)`: overrides a scene field where the option was given.
-macro_rules! set {
-    ($field:expr, $value:expr) => {
-        if let Some(v) = $value {
-            $field = v;
-        }
-    };
-}
-
 mod commands;
 
 use commands::{bench, cave, dunes, grow, layers, view};
@@ -194,9 +185,8 @@ fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
         progress(i, gallery.len(), entry.name);
         let shot = (entry.render)(&ctx, cli.size, cli.seed)
             .with_context(|| format!("rendering the \"{}\" scene failed", entry.name))?;
-        let frame = shot.frame;
         let path = out.join(format!("{}.png", entry.name));
-        sediment::export::png::write_png(&path, &frame.image)?;
+        sediment::export::png::write_png(&path, &shot.image)?;
         if !shot.animation.is_empty() {
             let gif = out.join(format!("{}.gif", entry.name));
             sediment::export::gif::write_gif(&gif, &shot.animation, 120)?;
@@ -205,8 +195,8 @@ fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
             let extra = out.join(format!("{}-{suffix}.png", entry.name));
             sediment::export::png::write_png(&extra, image)?;
         }
-        let gpu_ms: f64 = frame.gpu_spans.iter().map(|s| s.milliseconds).sum();
-        rows.push((entry.name, path, gpu_ms, frame.wall_ms));
+        let gpu_ms: f64 = shot.gpu_spans.iter().map(|s| s.milliseconds).sum();
+        rows.push((entry.name, path, gpu_ms, shot.wall_ms));
     }
     progress(gallery.len(), gallery.len(), "done");
     eprintln!();
@@ -224,90 +214,6 @@ fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
         say!("| {name} | {} | {gpu:.2} | {wall:.1} |", path.display());
     }
     Ok(())
-}
-
-pub fn on_off(name: &str, v: &str) -> anyhow::Result<bool> {
-    match v.trim().to_ascii_lowercase().as_str() {
-        "on" => Ok(true),
-        "off" => Ok(false),
-        other => bail!(sediment::Error::invalid(
-            name,
-            format!("\"{other}\" is not on or off")
-        )),
-    }
-}
-
-/// An angle in degrees, or "off".
-pub fn degrees_or_off(name: &str, v: &str) -> anyhow::Result<Option<f64>> {
-    let v = v.trim();
-    if v.eq_ignore_ascii_case("off") {
-        return Ok(None);
-    }
-    match v.parse::<f64>() {
-        Ok(d) => Ok(Some(d)),
-        Err(_) => bail!(sediment::Error::invalid(
-            name,
-            format!("\"{v}\" is not degrees or off")
-        )),
-    }
-}
-
-pub fn vec3_arg(name: &str, v: &str) -> anyhow::Result<glam::Vec3> {
-    let parts: Vec<f32> = v
-        .split(',')
-        .map(|p| p.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| sediment::Error::invalid(name, format!("\"{v}\" is not X,Y,Z in metres")))?;
-    match parts.as_slice() {
-        [x, y, z] if parts.iter().all(|c| c.is_finite()) => Ok(glam::Vec3::new(*x, *y, *z)),
-        _ => bail!(sediment::Error::invalid(
-            name,
-            format!("\"{v}\" is not X,Y,Z in metres")
-        )),
-    }
-}
-
-/// `--eye` / `--target`, parsed before anything is built and applied to a scene's
-/// default camera once the scene exists.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct CameraOverride {
-    eye: Option<glam::Vec3>,
-    target: Option<glam::Vec3>,
-}
-
-impl CameraOverride {
-    pub fn parse(eye: &Option<String>, target: &Option<String>) -> anyhow::Result<Self> {
-        let parse = |name, v: &Option<String>| v.as_deref().map(|v| vec3_arg(name, v)).transpose();
-        Ok(Self {
-            eye: parse("--eye", eye)?,
-            target: parse("--target", target)?,
-        })
-    }
-
-    /// True when either option was given.
-    pub fn is_some(&self) -> bool {
-        self.eye.is_some() || self.target.is_some()
-    }
-
-    /// `camera` with the given eye and target.
-    pub fn over(
-        &self,
-        mut camera: sediment::scene::camera::Camera,
-    ) -> anyhow::Result<sediment::scene::camera::Camera> {
-        if let Some(e) = self.eye {
-            camera.eye = e;
-        }
-        if let Some(t) = self.target {
-            camera.target = t;
-        }
-        if (camera.eye - camera.target).length() < 1e-6 {
-            bail!(sediment::Error::invalid(
-                "--eye/--target",
-                "the camera must not look at its own position"
-            ));
-        }
-        Ok(camera)
-    }
 }
 
 pub fn fail_on_validation_errors(ctx: &Context) -> anyhow::Result<()> {

@@ -102,7 +102,8 @@ pub fn alpha(temperature_c: f64, film_m: f64) -> Result<f64> {
 }
 
 /// One row of a climate timeline: from `year` on, these conditions (until the next row).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TimelineRow {
     pub year: f64,
     pub temperature_c: f64,

@@ -329,6 +329,9 @@ impl GrowthScene {
             if let Some(w) = c.wind_intensity {
                 check((0.0..=1.0).contains(&w), "change wind_intensity", "0..=1")?;
             }
+            if let Some(d) = c.wind_direction_degrees {
+                check(d.is_finite(), "change wind_direction", "finite degrees")?;
+            }
         }
         let u = &self.units;
         let positive = |v: f32| v > 0.0 && v.is_finite();

@@ -136,6 +136,8 @@ macro_rules! named_enum {
     };
 }
 
+crate::serde_as_text!(Pil, DripInterval, Co2, Mineral);
+
 named_enum!(Pil, "pluviometric index (--pil)", ["0" => Pil::Dry, "1" => Pil::Stalactites, "2" => Pil::Dripping]);
 named_enum!(DripInterval, "drip interval (--drip)", ["dry" => DripInterval::Dry, "standard" => DripInterval::Standard, "wet" => DripInterval::Wet]);
 named_enum!(Co2, "CO2 concentration (--co2)", ["low" => Co2::Low, "normal" => Co2::Normal, "high" => Co2::High]);

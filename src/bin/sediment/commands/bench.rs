@@ -63,11 +63,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         }
     }
     let opts = BenchOptions {
-        scenes: if a.scenes.is_empty() {
-            bench::SCENES.iter().map(|s| (*s).to_owned()).collect()
-        } else {
-            a.scenes.clone()
-        },
+        scenes: a.scenes.clone(),
         variants: a.variants.clone(),
         frames: a.frames,
         warmup: a.warmup,

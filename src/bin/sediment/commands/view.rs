@@ -3,19 +3,23 @@
 use std::io::Write as _;
 use std::path::PathBuf;
 
+use std::sync::Arc;
+
 use anyhow::bail;
 use sediment::bench::report::Stats;
 use sediment::export::check_extension;
-use sediment::scene::grow::{self, XfbGrowth};
-use sediment::view::grow_session::GrowthSession;
+use sediment::frame::Scene;
+use sediment::render::growth::GrowthPath;
+use sediment::scene::cave::CaveFrame;
+use sediment::scene::dunes::DunesFrame;
+use sediment::scene::grow::{self, GrowthFrame};
+use sediment::scene::layers::CutAwayFrame;
+use sediment::scene::params::{SceneFileArgs, resolve};
+use sediment::scene::{cave, dunes, layers};
 use sediment::view::input::parse_script;
-use sediment::view::{self, ViewOptions, ViewScene, scenes};
+use sediment::view::{self, SceneBuilder, ViewOptions};
 
-use super::cave::{CaveSceneArgs, cave_scene};
-use super::dunes::{DunesSceneArgs, dunes_scene};
-use super::grow::{GrowSceneArgs, growth_camera, growth_scene};
-use super::layers::{LayersSceneArgs, layers_setup};
-use crate::{CameraOverride, Cli, context_options, progress};
+use crate::{Cli, context_options, progress};
 
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
@@ -27,15 +31,15 @@ pub struct ViewArgs {
 enum ViewSceneArgs {
     /// Watch speleothems grow in real time and steer the growth while it runs (the
     /// paper's manual mode). Takes every scene option of `sediment grow`.
-    #[command(after_help = controls(GrowthSession::CONTROLS))]
+    #[command(after_help = controls(GrowthFrame::CONTROLS))]
     Grow(Box<ViewGrowArgs>),
     /// Fly through a generated cave; switch wireframe and smoothing. Takes every
     /// scene option of `sediment cave`.
-    #[command(after_help = controls(scenes::CaveSession::CONTROLS))]
+    #[command(after_help = controls(CaveFrame::CONTROLS))]
     Cave(Box<ViewCaveArgs>),
     /// Fly over the desert; move the sun, switch LOD, culling, shadows, ripples and
     /// dust. Takes every scene option of `sediment dunes`.
-    #[command(after_help = controls(scenes::DunesSession::CONTROLS))]
+    #[command(after_help = controls(DunesFrame::CONTROLS))]
     Dunes(Box<ViewDunesArgs>),
     /// Turn around a stalagmite cut open to show its growth layers. Takes every
     /// scene option of `sediment layers`.
@@ -46,12 +50,18 @@ enum ViewSceneArgs {
 #[derive(clap::Args, Debug)]
 struct ViewGrowArgs {
     #[command(flatten)]
-    scene: GrowSceneArgs,
-    /// The GS/XFB growth: `append` (only the growth front through the geometry
-    /// shader, O(one ring) per pass: real time) or `restream` (the paper's pass,
-    /// O(mesh) per pass). Both give the same mesh.
-    #[arg(long, value_name = "append|restream", default_value = "append", value_parser = ["append", "restream"])]
-    growth: String,
+    scene: grow::Params,
+    #[command(flatten)]
+    file: SceneFileArgs,
+    /// The growth path: `append` (only the growth front through the geometry shader,
+    /// O(one ring) per pass: real time), `restream` (the paper's pass, O(mesh) per
+    /// pass), `compute` or `cpu`. All give the same mesh. Default append.
+    #[arg(
+        long,
+        value_name = "append|restream|compute|cpu",
+        default_value = "append"
+    )]
+    growth: GrowthPath,
     /// One growth pass every K frames, 1..=120 (`[` and `]` change it while running).
     #[arg(long, value_name = "K", default_value_t = 1)]
     every: u32,
@@ -65,7 +75,9 @@ struct ViewGrowArgs {
 #[derive(clap::Args, Debug)]
 struct ViewCaveArgs {
     #[command(flatten)]
-    scene: CaveSceneArgs,
+    scene: cave::Params,
+    #[command(flatten)]
+    file: SceneFileArgs,
     #[command(flatten)]
     view: ViewFlags,
 }
@@ -73,7 +85,9 @@ struct ViewCaveArgs {
 #[derive(clap::Args, Debug)]
 struct ViewDunesArgs {
     #[command(flatten)]
-    scene: DunesSceneArgs,
+    scene: dunes::Params,
+    #[command(flatten)]
+    file: SceneFileArgs,
     #[command(flatten)]
     view: ViewFlags,
 }
@@ -81,7 +95,9 @@ struct ViewDunesArgs {
 #[derive(clap::Args, Debug)]
 struct ViewLayersArgs {
     #[command(flatten)]
-    scene: LayersSceneArgs,
+    scene: layers::Params,
+    #[command(flatten)]
+    file: SceneFileArgs,
     #[command(flatten)]
     view: ViewFlags,
 }
@@ -124,9 +140,9 @@ pub fn controls(scene: &[&str]) -> String {
 pub fn all_controls() -> String {
     let mut text = controls(&[]);
     for (name, keys) in [
-        ("grow", GrowthSession::CONTROLS),
-        ("cave", scenes::CaveSession::CONTROLS),
-        ("dunes", scenes::DunesSession::CONTROLS),
+        ("grow", GrowthFrame::CONTROLS),
+        ("cave", CaveFrame::CONTROLS),
+        ("dunes", DunesFrame::CONTROLS),
     ] {
         text.push_str(&format!("  {name}:\n"));
         for line in keys {
@@ -161,12 +177,26 @@ fn view_options(cli: &Cli, f: &ViewFlags) -> anyhow::Result<ViewOptions> {
     })
 }
 
+/// Refuses `--print-scene` (the headless commands print scenes).
+fn no_print(file: &SceneFileArgs) -> anyhow::Result<()> {
+    if file.print_scene {
+        bail!(sediment::Error::invalid(
+            "--print-scene",
+            "the viewer does not print scenes: use the headless command (e.g. `sediment grow --print-scene`)"
+        ));
+    }
+    Ok(())
+}
+
 pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
     // Everything the user gave is checked before anything is built or a window opens.
-    let (options, camera, scene, growing) = match &a.scene {
+    let (options, camera, scene, growing): (_, _, SceneBuilder, usize) = match &a.scene {
         ViewSceneArgs::Grow(g) => {
-            let scene = growth_scene(cli, &g.scene)?;
-            let camera = growth_camera(&scene, &g.scene)?;
+            no_print(&g.file)?;
+            let resolved = resolve(&g.scene, g.file.scene.as_deref(), cli.seed)?;
+            let camera = resolved
+                .camera
+                .over(grow::default_camera(&resolved.scene))?;
             if !(1..=120).contains(&g.every) {
                 bail!(sediment::Error::invalid("--every", "must be in 1..=120"));
             }
@@ -174,63 +204,61 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
                 check_extension(mesh, "--mesh", &["glb", "obj"])?;
             }
             let options = view_options(cli, &g.view)?;
-            let growth = if g.growth == "restream" {
-                XfbGrowth::Restream
-            } else {
-                XfbGrowth::Append
-            };
-            let growing = scene.passes as usize * g.every as usize;
-            let scene = ViewScene::Grow {
-                scene: Box::new(scene),
-                growth,
-                every: g.every,
-            };
-            (options, camera, scene, growing)
+            let growing = resolved.scene.passes as usize * g.every as usize;
+            let (scene, path, every) = (resolved.scene, g.growth, g.every);
+            let build: SceneBuilder = Box::new(move |ctx| {
+                let mut frame = GrowthFrame::new(ctx, scene, path)?;
+                frame.set_every(every);
+                Ok(Box::new(frame) as Box<dyn Scene>)
+            });
+            (options, camera, build, growing)
         }
         ViewSceneArgs::Cave(c) => {
-            let scene = cave_scene(cli, &c.scene)?;
-            let camera_override = CameraOverride::parse(&c.scene.eye, &c.scene.target)?;
+            no_print(&c.file)?;
+            let resolved = resolve(&c.scene, c.file.scene.as_deref(), cli.seed)?;
             let options = view_options(cli, &c.view)?;
-            let model = sediment::scene::cave::build(&scene, &|phase, done, total| {
+            let model = Arc::new(cave::build(&resolved.scene, &|phase, done, total| {
                 progress(done as usize, total as usize, phase);
-            })?;
+            })?);
             eprintln!();
-            let camera =
-                camera_override.over(sediment::scene::cave::default_camera(&scene, &model))?;
-            let scene = ViewScene::Cave {
-                scene: Box::new(scene),
-                model: Box::new(model),
-            };
-            (options, camera, scene, 0)
+            let camera = resolved
+                .camera
+                .over(cave::default_camera(&resolved.scene, &model))?;
+            let scene = resolved.scene;
+            let build: SceneBuilder = Box::new(move |ctx| {
+                Ok(Box::new(CaveFrame::new(ctx, &scene, model)?) as Box<dyn Scene>)
+            });
+            (options, camera, build, 0)
         }
         ViewSceneArgs::Dunes(d) => {
-            let scene = dunes_scene(cli, &d.scene)?;
-            let camera_override = CameraOverride::parse(&d.scene.eye, &d.scene.target)?;
+            no_print(&d.file)?;
+            let resolved = resolve(&d.scene, d.file.scene.as_deref(), cli.seed)?;
             let options = view_options(cli, &d.view)?;
-            let terrain = sediment::scene::dunes::simulate(&scene, &mut |done, total| {
+            let terrain = dunes::simulate(&resolved.scene, &mut |done, total| {
                 progress(done as usize, total as usize, "simulation steps")
             })?;
             eprintln!();
-            let camera =
-                camera_override.over(sediment::scene::dunes::default_camera(&scene, &terrain))?;
-            let scene = ViewScene::Dunes {
-                scene: Box::new(scene),
-                terrain: Box::new(terrain),
-            };
-            (options, camera, scene, 0)
+            let camera = resolved
+                .camera
+                .over(dunes::default_camera(&resolved.scene, &terrain))?;
+            let scene = resolved.scene;
+            let build: SceneBuilder = Box::new(move |ctx| {
+                Ok(Box::new(DunesFrame::new(ctx, scene, &terrain)?) as Box<dyn Scene>)
+            });
+            (options, camera, build, 0)
         }
         ViewSceneArgs::Layers(l) => {
-            let setup = layers_setup(&l.scene)?;
+            no_print(&l.file)?;
+            let resolved = resolve(&l.scene, l.file.scene.as_deref(), cli.seed)?;
             let options = view_options(cli, &l.view)?;
-            let (stalagmite, _) = setup.grow()?;
+            let (stalagmite, _) = resolved.scene.grow()?;
             let layers = stalagmite.layers.len().saturating_sub(1);
-            let cut = sediment::scene::layers::cut_away(&stalagmite, (layers / 24).max(1));
-            let camera = sediment::scene::layers::default_camera(&cut);
-            let scene = ViewScene::Layers {
-                cut: Box::new(cut),
-                layers,
-            };
-            (options, camera, scene, 0)
+            let cut = layers::cut_away(&stalagmite, (layers / 24).max(1));
+            let camera = resolved.camera.over(layers::default_camera(&cut))?;
+            let build: SceneBuilder = Box::new(move |ctx| {
+                Ok(Box::new(CutAwayFrame::new(ctx, &cut, layers)?) as Box<dyn Scene>)
+            });
+            (options, camera, build, 0)
         }
     };
     let report = view::run(options, scene, &camera, &mut |line| say!("{line}"))?;

@@ -1,0 +1,167 @@
+//! The frame layer, between the scenes' parameters (`scene`) and the GPU passes
+//! (`render`): every scene is a [`Scene`] — built from its parameters, told its camera
+//! and time by `set_frame`, recorded into a target — and one [`FrameRunner`] owns the
+//! target, the GPU timers, warm-up, timed repeats and read-back. The headless commands,
+//! `bench`, `demo` and `view` all draw through it; what each scene offers them (its
+//! presets, gallery pictures and bench variants) is its [`SceneKind`] in the registry
+//! (`scene::registry`).
+//!
+//! ```text
+//! parameters (scene::<x>) -> model -> Scene (scene::<x>::frame, passes from render)
+//!     -> FrameRunner (target, timers, warm-up, repeats, read-back) -> outputs (export)
+//! ```
+
+mod runner;
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+pub use runner::{Frame, FrameRunner};
+
+use crate::bench::report::Report;
+use crate::error::Result;
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
+use crate::model::speleothem::{GrowthPlan, RingVertex};
+use crate::scene::Size;
+use crate::scene::camera::Camera;
+use crate::view::input::Key;
+
+/// Where a frame stands on the scene's clock. Only a growing scene has one (its
+/// passes); the others show the same scene at any time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Time {
+    /// The scene after `n` steps of its clock (a growth: `n` passes, clamped to its
+    /// plan; it never runs backwards).
+    At(u32),
+    /// One frame later in the viewer: the scene's own clock moves as its live
+    /// controls say (a growth: one pass every k frames unless paused).
+    Tick,
+}
+
+/// One scene, ready to draw frames.
+pub trait Scene {
+    /// The scene's name (the registry's).
+    fn name(&self) -> &'static str;
+    /// Before the frame's submission: the camera, the target's aspect and the time,
+    /// and any CPU or one-off GPU work they need.
+    fn set_frame(
+        &mut self,
+        ctx: &Arc<Context>,
+        camera: &Camera,
+        aspect: f32,
+        time: Time,
+    ) -> Result<()>;
+    /// Records the frame into `target`, its passes timed as named spans.
+    fn record(
+        &mut self,
+        cmd: &Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()>;
+    /// After the frame's submission finished, with its spans.
+    fn after(&mut self, _spans: &[Span]) -> Result<()> {
+        Ok(())
+    }
+    /// Lines describing the scene's state and parameters (the viewer's panel).
+    fn status(&self) -> Vec<String>;
+    /// Steps of the scene's clock, for a scene that changes with time (a growth: its
+    /// passes); `None` for a still scene.
+    fn steps(&self) -> Option<u32> {
+        None
+    }
+    /// What the bench reports of the frames drawn so far beside their timings.
+    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
+        Ok(BTreeMap::new())
+    }
+    /// The viewer: handles one of the scene's keys; false when it is not one.
+    fn key(&mut self, _ctx: &Arc<Context>, _key: Key) -> Result<bool> {
+        Ok(false)
+    }
+    /// The viewer: the scene's keys, for the panel and `--help`.
+    fn controls(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// The viewer: what the last key did.
+    fn message(&self) -> &str {
+        ""
+    }
+    /// Grown speleothems' plan and mesh, for export, if the scene has any.
+    fn grown(&self, _ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
+        Ok(None)
+    }
+}
+
+/// Spans as one line for a report: `name 1.23 ms, name 4.56 ms`.
+pub fn spans_line(spans: &[Span]) -> String {
+    spans
+        .iter()
+        .map(|s| format!("{} {:.2} ms", s.name, s.milliseconds))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// A gallery picture, optionally an animation written beside it as a GIF, and more
+/// pictures written as `NAME-SUFFIX.png`.
+pub struct Shot {
+    pub image: image::RgbaImage,
+    /// GPU time of each named pass of the picture's frame.
+    pub gpu_spans: Vec<Span>,
+    /// Wall-clock milliseconds of the whole render (set-up included).
+    pub wall_ms: f64,
+    pub animation: Vec<image::RgbaImage>,
+    pub extras: Vec<(&'static str, image::RgbaImage)>,
+}
+
+/// Renders one gallery picture at a size with a seed.
+pub type RenderFn = Box<dyn Fn(&Arc<Context>, Size, u64) -> Result<Shot>>;
+
+/// One picture of the demo gallery.
+pub struct GalleryEntry {
+    /// File stem of the PNG.
+    pub name: &'static str,
+    pub description: &'static str,
+    pub render: RenderFn,
+}
+
+/// How `sediment bench` times a scene: its variants, each a scene to draw frames of.
+pub trait BenchScene {
+    /// The variants, in the order they run.
+    fn variants(&self) -> &'static [&'static str];
+    /// The scene of `variant` and its camera (what the variants share is made on the
+    /// first call and kept).
+    fn build(
+        &mut self,
+        ctx: &Arc<Context>,
+        variant: &str,
+        size: Size,
+    ) -> Result<(Box<dyn Scene>, Camera)>;
+    /// What a variant's measured frames show beyond their timings and the scene's own
+    /// metrics.
+    fn frame_metrics(&self, _frames: &[Frame]) -> BTreeMap<String, f64> {
+        BTreeMap::new()
+    }
+    /// After the variants ran: what else the scene measures (CPU timings, ratios to
+    /// the paper's), added to `report`.
+    fn finish(
+        &mut self,
+        _ctx: &Arc<Context>,
+        _report: &mut Report,
+        _progress: &mut dyn FnMut(&str),
+    ) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// What a scene offers the instruments: its presets, its gallery pictures and how the
+/// bench times it. One line of `scene::registry` per scene.
+pub trait SceneKind: Sync {
+    fn name(&self) -> &'static str;
+    /// Presets (name, what it shows).
+    fn presets(&self) -> &'static [(&'static str, &'static str)];
+    /// Its pictures in the demo gallery.
+    fn gallery(&self) -> Vec<GalleryEntry>;
+    /// How `sediment bench` times it (`None`: the bench does not).
+    fn bench(&self) -> Option<Box<dyn BenchScene>> {
+        None
+    }
+}

@@ -1,0 +1,168 @@
+//! The one frame runner: the offscreen target, the GPU timer, a frame's submission and
+//! its read-back, warm-up and timed repeats — for every scene and every instrument.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::{Scene, Time};
+use crate::error::Result;
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
+use crate::scene::Size;
+use crate::scene::camera::Camera;
+
+/// Spans a scene may open in one frame.
+const SPANS_PER_FRAME: u32 = 8;
+
+/// What one frame cost.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// GPU time of each named pass.
+    pub spans: Vec<Span>,
+    /// Wall-clock milliseconds: set-up of the frame, record, submit, wait (and the
+    /// copy into the read-back buffer when asked for).
+    pub wall_ms: f64,
+}
+
+impl Frame {
+    /// The frame's GPU milliseconds, all spans together.
+    pub fn gpu_ms(&self) -> f64 {
+        self.spans.iter().map(|s| s.milliseconds).sum()
+    }
+}
+
+/// Draws frames of scenes into one offscreen target.
+pub struct FrameRunner {
+    timer: GpuTimer,
+    target: OffscreenTarget,
+    ctx: Arc<Context>,
+}
+
+impl FrameRunner {
+    /// A target of `size` (checked against the device) and a timer.
+    pub fn new(ctx: &Arc<Context>, size: Size) -> Result<Self> {
+        Ok(Self {
+            timer: GpuTimer::new(ctx, "frame timer", SPANS_PER_FRAME)?,
+            target: OffscreenTarget::new(ctx, size.width, size.height)?,
+            ctx: ctx.clone(),
+        })
+    }
+
+    pub fn size(&self) -> Size {
+        Size::new(self.target.width(), self.target.height())
+    }
+
+    pub fn target(&self) -> &OffscreenTarget {
+        &self.target
+    }
+
+    /// A new target of `size` (a resized window); no submission may be running.
+    pub fn resize(&mut self, size: Size) -> Result<()> {
+        if size != self.size() {
+            self.target = OffscreenTarget::new(&self.ctx, size.width, size.height)?;
+        }
+        Ok(())
+    }
+
+    /// Records `scene`'s frame into `cmd` (after its `set_frame`): the spans reset, the
+    /// scene's passes, then the target left ready to be read back (`read_back`) or
+    /// only to be copied or blitted from.
+    pub fn record(
+        &mut self,
+        cmd: &Commands<'_>,
+        scene: &mut dyn Scene,
+        read_back: bool,
+    ) -> Result<()> {
+        self.timer.reset(cmd);
+        scene.record(cmd, &self.target, &mut self.timer)?;
+        if read_back {
+            self.target.copy_out(cmd);
+        } else {
+            self.target.finish_for_transfer(cmd);
+        }
+        Ok(())
+    }
+
+    /// After the submission of `record` finished: the frame's spans, also handed to the
+    /// scene.
+    pub fn finish(&mut self, scene: &mut dyn Scene) -> Result<Vec<Span>> {
+        let spans = self.timer.read()?;
+        scene.after(&spans)?;
+        Ok(spans)
+    }
+
+    /// One frame of `scene` seen by `camera` at `time`: set, recorded, submitted and
+    /// waited for. With `read_back` its picture is then in [`FrameRunner::image`].
+    pub fn frame(
+        &mut self,
+        scene: &mut dyn Scene,
+        camera: &Camera,
+        time: Time,
+        read_back: bool,
+    ) -> Result<Frame> {
+        let start = Instant::now();
+        scene.set_frame(&self.ctx, camera, self.size().aspect(), time)?;
+        let ctx = self.ctx.clone();
+        ctx.submit_and_wait(scene.name(), |cmd| self.record(cmd, scene, read_back))?;
+        let spans = self.finish(scene)?;
+        Ok(Frame {
+            spans,
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+
+    /// One frame, read back: its picture and what it cost.
+    pub fn render(
+        &mut self,
+        scene: &mut dyn Scene,
+        camera: &Camera,
+        time: Time,
+    ) -> Result<(image::RgbaImage, Frame)> {
+        let frame = self.frame(scene, camera, time, true)?;
+        Ok((self.image()?, frame))
+    }
+
+    /// The picture of the last frame drawn with `read_back`.
+    pub fn image(&self) -> Result<image::RgbaImage> {
+        self.target.read_image()
+    }
+
+    /// `frames` frames, not read back; frame `i` at `time(i)`. The first frames of a
+    /// scene pay for lavapipe's shader compilation: measure after a warm-up.
+    pub fn repeat(
+        &mut self,
+        scene: &mut dyn Scene,
+        camera: &Camera,
+        frames: u32,
+        time: &dyn Fn(u32) -> Time,
+    ) -> Result<Vec<Frame>> {
+        (0..frames)
+            .map(|i| self.frame(scene, camera, time(i), false))
+            .collect()
+    }
+
+    /// A timed series: `warmup` unmeasured frames, then `frames` measured ones. A
+    /// scene with a clock (`Scene::steps`) is measured over every step, one per frame,
+    /// and warms up on `spare`, a second copy, so that the measured copy starts at
+    /// step 0.
+    pub fn series(
+        &mut self,
+        scene: &mut dyn Scene,
+        spare: Option<&mut dyn Scene>,
+        camera: &Camera,
+        warmup: u32,
+        frames: u32,
+    ) -> Result<Vec<Frame>> {
+        match scene.steps() {
+            Some(steps) => {
+                if let Some(spare) = spare {
+                    self.repeat(spare, camera, warmup, &|i| Time::At(i + 1))?;
+                }
+                self.repeat(scene, camera, steps, &|i| Time::At(i + 1))
+            }
+            None => {
+                self.repeat(scene, camera, warmup, &|_| Time::At(0))?;
+                self.repeat(scene, camera, frames, &|_| Time::At(0))
+            }
+        }
+    }
+}

@@ -1,0 +1,174 @@
+//! The layered stalagmite in 3D: Franke's profile revolved about the growth axis with
+//! a wedge cut away, so the cut faces show the growth layers as bands — what a sliced
+//! real stalagmite shows.
+
+use glam::Vec3;
+
+use super::{Stalagmite, arc_lengths};
+use crate::model::mesh::Mesh;
+
+/// The removed wedge, radians (a quarter).
+pub const WEDGE: f32 = std::f32::consts::FRAC_PI_2;
+/// Segments around the full circle.
+const SEGMENTS: u32 = 96;
+
+/// The meshes of the cut-away: outer surface, light and dark bands of the cut faces,
+/// and the floor disk.
+pub struct CutAway {
+    pub surface: Mesh,
+    pub light: Mesh,
+    pub dark: Mesh,
+    pub floor: Mesh,
+    /// Height and radius of the whole stalagmite (for the camera).
+    pub height: f32,
+    pub radius: f32,
+    pub base_y: f32,
+}
+
+/// Builds the cut-away: bands of `band` layers alternate light and dark.
+pub fn cut_away(s: &Stalagmite, band: usize) -> CutAway {
+    let to3 = |p: [f64; 2], a: f32| {
+        let (x, y) = (p[0] as f32, p[1] as f32);
+        Vec3::new(x * a.cos(), y, x * a.sin())
+    };
+    let top = s.surface();
+    let (mut base_y, mut top_y) = (f32::MAX, f32::MIN);
+    for p in s.layers.iter().flatten() {
+        base_y = base_y.min(p[1] as f32);
+        top_y = top_y.max(p[1] as f32);
+    }
+    // The stalagmite's radius: as far out as the surface stands clear of the floor.
+    let clear = base_y + 0.05 * (top_y - base_y);
+    let radius = top
+        .iter()
+        .filter(|p| p[1] as f32 > clear)
+        .map(|p| p[0] as f32)
+        .fold(0.0f32, f32::max)
+        .max(1e-3 * (top_y - base_y));
+    // Outer surface over the kept angles [0, 2 pi - WEDGE].
+    let kept = std::f32::consts::TAU - WEDGE;
+    let steps = ((SEGMENTS as f32) * kept / std::f32::consts::TAU).ceil() as u32;
+    let mut surface = Mesh::default();
+    for i in 0..=steps {
+        let a = kept * i as f32 / steps as f32;
+        for p in top {
+            surface.positions.push(to3(*p, a));
+        }
+    }
+    let n = top.len() as u32;
+    for i in 0..steps {
+        for j in 0..n - 1 {
+            let (a, b) = (i * n + j, (i + 1) * n + j);
+            // Outward: the profile runs outwards and down, the angle turns from +x to +z.
+            surface.indices.extend([a, a + 1, b + 1, a, b + 1, b]);
+        }
+    }
+    // Outward and up: the profile faces up on the cap and out on the flank.
+    fix_winding(&mut surface, |p, _| {
+        Vec3::new(p.x, 0.0, p.z).normalize_or_zero() + Vec3::Y
+    });
+    // Cut faces: the ribbons between consecutive layers, on both planes of the cut,
+    // each facing into the removed wedge.
+    let mut light = Mesh::default();
+    let mut dark = Mesh::default();
+    let band = band.max(1);
+    for (k, w) in s.layers.windows(2).enumerate() {
+        let target = if (k / band) % 2 == 0 {
+            &mut light
+        } else {
+            &mut dark
+        };
+        for (angle, facing) in [
+            (0.0f32, Vec3::NEG_Z),
+            (kept, Vec3::new(-kept.sin(), 0.0, kept.cos())),
+        ] {
+            let start = target.indices.len();
+            ribbon(&w[0], &w[1], |p| to3(p, angle), target);
+            let mut part = Mesh {
+                positions: std::mem::take(&mut target.positions),
+                normals: Vec::new(),
+                indices: target.indices.split_off(start),
+            };
+            fix_winding(&mut part, |_, _| facing);
+            target.positions = part.positions;
+            target.indices.extend(part.indices);
+        }
+    }
+    // The floor: a disk at the base, four times the stalagmite's radius.
+    let mut floor = Mesh::default();
+    floor.positions.push(Vec3::new(0.0, base_y, 0.0));
+    for i in 0..SEGMENTS {
+        let a = std::f32::consts::TAU * i as f32 / SEGMENTS as f32;
+        floor.positions.push(Vec3::new(
+            4.0 * radius * a.cos(),
+            base_y - 1e-3 * radius,
+            4.0 * radius * a.sin(),
+        ));
+    }
+    for i in 0..SEGMENTS {
+        floor.indices.extend([0, 1 + (i + 1) % SEGMENTS, 1 + i]);
+    }
+    fix_winding(&mut floor, |_, _| Vec3::Y);
+    for m in [&mut surface, &mut light, &mut dark, &mut floor] {
+        m.recompute_normals();
+    }
+    CutAway {
+        surface,
+        light,
+        dark,
+        floor,
+        height: top_y - base_y,
+        radius,
+        base_y,
+    }
+}
+
+/// Triangulates the strip between two profiles (both from the axis outwards), walking
+/// both by arc length so neither side gets long slivers.
+fn ribbon(a: &[[f64; 2]], b: &[[f64; 2]], place: impl Fn([f64; 2]) -> Vec3, out: &mut Mesh) {
+    let (sa, sb) = (arc_lengths(a), arc_lengths(b));
+    let (la, lb) = (
+        sa.last().copied().unwrap_or(0.0).max(1e-12),
+        sb.last().copied().unwrap_or(0.0).max(1e-12),
+    );
+    let base = out.positions.len() as u32;
+    out.positions.extend(a.iter().map(|&p| place(p)));
+    out.positions.extend(b.iter().map(|&p| place(p)));
+    let nb = a.len() as u32;
+    let (mut i, mut j) = (0usize, 0usize);
+    while i + 1 < a.len() || j + 1 < b.len() {
+        let advance_a = j + 1 >= b.len() || (i + 1 < a.len() && sa[i + 1] / la <= sb[j + 1] / lb);
+        if advance_a {
+            out.indices
+                .extend([base + i as u32, base + i as u32 + 1, base + nb + j as u32]);
+            i += 1;
+        } else {
+            out.indices.extend([
+                base + i as u32,
+                base + nb + j as u32 + 1,
+                base + nb + j as u32,
+            ]);
+            j += 1;
+        }
+    }
+}
+
+/// Flips triangles whose normal points away from `facing(centroid, normal)`, and drops
+/// degenerate ones (where two layers touch).
+fn fix_winding(m: &mut Mesh, facing: impl Fn(Vec3, Vec3) -> Vec3) {
+    let mut kept = Vec::with_capacity(m.indices.len());
+    for t in m.indices.chunks_exact(3) {
+        let p = [0, 1, 2].map(|k| m.positions[t[k] as usize]);
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        if n.length_squared() <= 1e-20 {
+            continue;
+        }
+        let c = (p[0] + p[1] + p[2]) / 3.0;
+        if n.dot(facing(c, n)) >= 0.0 {
+            kept.extend_from_slice(t);
+        } else {
+            kept.extend([t[0], t[2], t[1]]);
+        }
+    }
+    m.indices = kept;
+}

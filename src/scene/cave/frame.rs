@@ -1,0 +1,444 @@
+//! The cave's frame: the wall (smoothed or blocky, lit or wireframe), the
+//! Short-profile speleothems or the same sites grown on a growth path (append-only, all
+//! passes in the first frame), seen by a camera carrying a lamp under the paper's
+//! directional light, with fog.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::build::{CaveModel, build, shown_wall};
+use super::{CaveScene, PRESETS, Speleothems, default_camera, flythrough, preset};
+use crate::error::{Error, Result};
+use crate::export::mesh::TriangleSoup;
+use crate::frame::{BenchScene, FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
+use crate::gpu::{COLOR_FORMAT, Commands, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget};
+use crate::model::speleothem::{GrowthPlan, RingVertex};
+use crate::render::cave_wall::{CaveFrame as WallUniforms, CaveWallPass, Style};
+use crate::render::growth::{Growth, GrowthPath};
+use crate::render::lit_mesh::GpuMesh;
+use crate::render::speleothem_surface::SpeleothemSurfacePass;
+use crate::scene::Size;
+use crate::scene::camera::{Camera, Lighting};
+use crate::view::input::Key;
+
+const ROCK: Vec3 = Vec3::new(0.34, 0.29, 0.24);
+const CALCITE: Vec3 = Vec3::new(0.78, 0.7, 0.58);
+const FOG: Vec3 = Vec3::new(0.012, 0.011, 0.012);
+
+/// The grown speleothems: their plan, growth and surface pass.
+struct Grown {
+    plan: GrowthPlan,
+    growth: Box<dyn Growth>,
+    surface: SpeleothemSurfacePass,
+    /// The growth ran (in the first frame recorded).
+    done: bool,
+}
+
+/// A generated cave, ready to draw: the [`Scene`] of `sediment cave`, `view cave` and
+/// the bench.
+pub struct CaveFrame {
+    model: Arc<CaveModel>,
+    pass: CaveWallPass,
+    /// (faces, edges) of the smoothed wall, then of the blocky one; uploaded when
+    /// first shown.
+    walls: [(Option<GpuMesh>, Option<GpuMesh>); 2],
+    short: Option<GpuMesh>,
+    grown: Option<Grown>,
+    smooth: bool,
+    wireframe: bool,
+    fog_density: f32,
+    lamp: Vec3,
+    depth: u32,
+    message: String,
+}
+
+impl CaveFrame {
+    pub fn new(ctx: &Arc<Context>, scene: &CaveScene, model: Arc<CaveModel>) -> Result<Self> {
+        let short = if model.short_mesh.indices.is_empty() {
+            None
+        } else {
+            Some(GpuMesh::upload(
+                ctx,
+                "short speleothems",
+                &model.short_mesh,
+            )?)
+        };
+        let grown = match &model.growth {
+            Some(g) => {
+                let plan = g.plan()?;
+                Some(Grown {
+                    // Append-only: all passes in one submission at O(one ring) each.
+                    growth: GrowthPath::XfbAppend.start(ctx, &plan)?,
+                    surface: SpeleothemSurfacePass::new(
+                        ctx,
+                        COLOR_FORMAT,
+                        DEPTH_FORMAT,
+                        &plan,
+                        scene.cave.volume.seed,
+                    )?,
+                    plan,
+                    done: false,
+                })
+            }
+            None => None,
+        };
+        let mut frame = Self {
+            pass: CaveWallPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            walls: [(None, None), (None, None)],
+            short,
+            grown,
+            smooth: scene.smooth,
+            wireframe: scene.wireframe,
+            fog_density: scene.fog,
+            lamp: Vec3::new(14.0, 12.5, 10.5) * (scene.cave.size_m / 24.0).powi(2),
+            depth: scene.cave.depth,
+            message: String::new(),
+            model,
+        };
+        frame.upload_shown(ctx)?;
+        Ok(frame)
+    }
+
+    pub fn model(&self) -> &CaveModel {
+        &self.model
+    }
+
+    /// Uploads the wall the current `smooth` / `wireframe` settings show, if needed.
+    fn upload_shown(&mut self, ctx: &Arc<Context>) -> Result<()> {
+        let i = usize::from(!self.smooth);
+        let wall = || shown_wall(self.smooth, &self.model);
+        if self.walls[i].0.is_none() {
+            self.walls[i].0 = Some(GpuMesh::upload(ctx, "cave wall", &wall())?);
+        }
+        if self.wireframe && self.walls[i].1.is_none() {
+            self.walls[i].1 = Some(GpuMesh::upload_edges(ctx, "cave wall edges", &wall())?);
+        }
+        Ok(())
+    }
+
+    /// The viewer's keys.
+    pub const CONTROLS: &'static [&'static str] = &["x wireframe  b smoothed/blocky wall"];
+}
+
+impl Scene for CaveFrame {
+    fn name(&self) -> &'static str {
+        "cave"
+    }
+
+    /// The camera (it carries the lamp).
+    fn set_frame(
+        &mut self,
+        _ctx: &Arc<Context>,
+        camera: &Camera,
+        aspect: f32,
+        _time: Time,
+    ) -> Result<()> {
+        let lighting = Lighting {
+            sun_direction: Vec3::new(0.35, 1.0, 0.25),
+            point: false,
+            sun_color: Vec3::splat(0.5),
+            sky_color: Vec3::new(0.05, 0.05, 0.055),
+            ground_color: Vec3::new(0.02, 0.018, 0.016),
+            exposure: 1.0,
+        };
+        self.pass.set_frame(&WallUniforms {
+            base: lighting.frame_uniforms(camera, aspect),
+            lamp: self.lamp.extend(0.0),
+            fog: FOG.extend(self.fog_density),
+        })?;
+        if let Some(g) = &mut self.grown {
+            // The grown speleothems' shader knows one light: the camera's lamp.
+            let lamp_lighting = Lighting {
+                sun_direction: camera.eye,
+                point: true,
+                sun_color: self.lamp,
+                ..lighting
+            };
+            g.surface.set_frame(
+                &lamp_lighting.frame_uniforms(camera, aspect),
+                &g.plan,
+                g.plan.passes,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Records the frame: the growth (first frame only, span "ring growth"), then the
+    /// cave (span "cave").
+    fn record(
+        &mut self,
+        cmd: &Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()> {
+        if let Some(g) = self.grown.as_mut().filter(|g| !g.done) {
+            let span = timer.begin(cmd, "ring growth")?;
+            g.growth.record(cmd, g.plan.passes)?;
+            timer.end(cmd, span);
+            g.done = true;
+        }
+        let span = timer.begin(cmd, "cave")?;
+        target.begin(cmd, [FOG.x, FOG.y, FOG.z, 1.0]);
+        let (faces, edges) = &self.walls[usize::from(!self.smooth)];
+        let missing = || Error::internal("cave view", "the shown wall was not uploaded");
+        let faces = faces.as_ref().ok_or_else(missing)?;
+        match (self.wireframe, edges) {
+            (true, Some(lines)) => {
+                self.pass.draw(cmd, faces, Style::UnderLines(FOG))?;
+                self.pass
+                    .draw(cmd, lines, Style::Lines(Vec3::new(0.55, 0.6, 0.5)))?;
+            }
+            _ => self.pass.draw(
+                cmd,
+                faces,
+                Style::Lit {
+                    albedo: ROCK,
+                    shininess: 8.0,
+                    specular: 0.04,
+                },
+            )?,
+        }
+        if let Some(short) = &self.short {
+            self.pass.draw(
+                cmd,
+                short,
+                Style::Lit {
+                    albedo: CALCITE,
+                    shininess: 24.0,
+                    specular: 0.12,
+                },
+            )?;
+        }
+        if let Some(g) = &self.grown {
+            g.surface.draw(cmd, g.growth.source())?;
+        }
+        target.end(cmd);
+        timer.end(cmd, span);
+        Ok(())
+    }
+
+    /// The generation's phases and the triangles before and after the split.
+    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
+        let c = &self.model.cave;
+        let tm = &c.timings;
+        Ok([
+            ("octree_ms", tm.build_ms),
+            ("walls_ms", tm.extract_ms),
+            ("split_ms", tm.split_ms),
+            ("smooth_ms", tm.smooth_ms),
+            ("generation_ms", tm.total_ms()),
+            ("triangles_before_split", c.triangles_before_split as f64),
+            ("triangles_after_split", c.triangles_after_split() as f64),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), v))
+        .collect())
+    }
+
+    fn status(&self) -> Vec<String> {
+        let c = &self.model.cave;
+        vec![format!(
+            "octree depth {}  {} triangles  {} speleothem sites  {}{}",
+            self.depth,
+            c.triangles_after_split(),
+            self.model.sites.len(),
+            if self.smooth { "smoothed" } else { "blocky" },
+            if self.wireframe { "  wireframe" } else { "" }
+        )]
+    }
+
+    fn key(&mut self, ctx: &Arc<Context>, key: Key) -> Result<bool> {
+        match key {
+            Key::Char('x') => self.wireframe = !self.wireframe,
+            Key::Char('b') => self.smooth = !self.smooth,
+            _ => return Ok(false),
+        }
+        self.upload_shown(ctx)?;
+        self.message = format!(
+            "{} wall{}",
+            if self.smooth {
+                "smoothed"
+            } else {
+                "blocky (before smoothing)"
+            },
+            if self.wireframe { ", wireframe" } else { "" }
+        );
+        Ok(true)
+    }
+
+    fn controls(&self) -> &'static [&'static str] {
+        Self::CONTROLS
+    }
+
+    fn message(&self) -> &str {
+        &self.message
+    }
+
+    /// The grown speleothems' plan and vertices (after the growth's submission).
+    fn grown(&self, ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
+        match &self.grown {
+            Some(g) if g.done => {
+                g.growth.counts()?;
+                Ok(Some((g.plan.clone(), g.growth.read_back(ctx, &g.plan)?)))
+            }
+            _ => Ok(None),
+        }
+    }
+}
+
+/// Rendered frames and what they cost.
+pub struct CaveRender {
+    /// One picture per camera, with its frame's cost.
+    pub frames: Vec<(image::RgbaImage, crate::frame::Frame)>,
+    /// The grown speleothems' vertices (for export), with their plan.
+    pub grown: Option<(GrowthPlan, Vec<RingVertex>)>,
+}
+
+/// Renders `model` once per camera (the growth, if any, runs in the first frame).
+pub fn render(
+    ctx: &Arc<Context>,
+    scene: &CaveScene,
+    model: &Arc<CaveModel>,
+    size: Size,
+    cameras: &[Camera],
+) -> Result<CaveRender> {
+    let mut runner = FrameRunner::new(ctx, size)?;
+    let mut frame = CaveFrame::new(ctx, scene, model.clone())?;
+    let frames = cameras
+        .iter()
+        .map(|camera| runner.render(&mut frame, camera, Time::At(0)))
+        .collect::<Result<_>>()?;
+    Ok(CaveRender {
+        frames,
+        grown: frame.grown(ctx)?,
+    })
+}
+
+/// The cave (and its speleothems) as one exportable mesh.
+pub fn export(
+    scene: &CaveScene,
+    model: &CaveModel,
+    grown: Option<&(GrowthPlan, Vec<RingVertex>)>,
+) -> TriangleSoup {
+    let wall = shown_wall(scene.smooth, model);
+    let mut soup = TriangleSoup::from_indexed(&wall, ROCK.to_array());
+    soup.append(TriangleSoup::from_indexed(
+        &model.short_mesh,
+        CALCITE.to_array(),
+    ));
+    if let Some((plan, vertices)) = grown {
+        soup.append(crate::scene::grow::export_mesh(plan, vertices));
+    }
+    soup
+}
+
+/// Frames of the cave fly-through GIF in the gallery.
+pub const FLYTHROUGH_FRAMES: u32 = 24;
+
+/// The cave in the registry.
+pub struct Kind;
+
+impl SceneKind for Kind {
+    fn name(&self) -> &'static str {
+        "cave"
+    }
+
+    fn presets(&self) -> &'static [(&'static str, &'static str)] {
+        PRESETS
+    }
+
+    /// The smoothed wall as wireframe, the passage with Short-profile speleothems (and
+    /// a fly-through) and with the same sites grown.
+    fn gallery(&self) -> Vec<GalleryEntry> {
+        let caves: [(&'static str, &'static str, &'static str, Speleothems); 3] = [
+            (
+                "cave-fig5c",
+                "fig5c",
+                "cave walls after crack-free smoothing, wireframe",
+                Speleothems::None,
+            ),
+            (
+                "cave-fig8",
+                "fig8",
+                "cave passage with Short-profile stalactites and stalagmites; cave-fig8.gif flies through it",
+                Speleothems::Short,
+            ),
+            (
+                "cave-grown",
+                "fig8",
+                "the same sites grown on the GS/transform-feedback pipeline",
+                Speleothems::Grown,
+            ),
+        ];
+        caves
+            .into_iter()
+            .map(
+                |(name, preset_name, description, speleothems)| GalleryEntry {
+                    name,
+                    description,
+                    render: Box::new(move |ctx, size, seed| {
+                        let start = Instant::now();
+                        let mut scene = preset(preset_name)?;
+                        scene.cave.volume.seed = seed;
+                        scene.speleothems = speleothems;
+                        let model = Arc::new(build(&scene, &|_, _, _| {})?);
+                        let mut cameras = vec![default_camera(&scene, &model)];
+                        if name == "cave-fig8" {
+                            cameras.extend(flythrough(&scene, &model, FLYTHROUGH_FRAMES));
+                        }
+                        let mut frames = render(ctx, &scene, &model, size, &cameras)?.frames;
+                        let (image, frame) = frames.remove(0);
+                        Ok(Shot {
+                            image,
+                            gpu_spans: frame.spans,
+                            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+                            animation: frames.into_iter().map(|f| f.0).collect(),
+                            extras: Vec::new(),
+                        })
+                    }),
+                },
+            )
+            .collect()
+    }
+
+    fn bench(&self) -> Option<Box<dyn BenchScene>> {
+        Some(Box::new(CaveBench))
+    }
+}
+
+/// The bench's cave: generation and the frame at each octree depth 5..9.
+struct CaveBench;
+
+impl BenchScene for CaveBench {
+    fn variants(&self) -> &'static [&'static str] {
+        &["depth-5", "depth-6", "depth-7", "depth-8", "depth-9"]
+    }
+
+    fn build(
+        &mut self,
+        ctx: &Arc<Context>,
+        variant: &str,
+        _size: Size,
+    ) -> Result<(Box<dyn Scene>, Camera)> {
+        let depth = variant
+            .strip_prefix("depth-")
+            .and_then(|d| d.parse().ok())
+            .ok_or_else(|| Error::internal("cave bench", format!("variant {variant}")))?;
+        let mut scene = CaveScene::default();
+        scene.cave.depth = depth;
+        let model = Arc::new(build(&scene, &|_, _, _| {})?);
+        let camera = default_camera(&scene, &model);
+        Ok((Box::new(CaveFrame::new(ctx, &scene, model)?), camera))
+    }
+
+    fn frame_metrics(&self, frames: &[crate::frame::Frame]) -> BTreeMap<String, f64> {
+        let wall: f64 = frames.iter().map(|f| f.wall_ms).sum();
+        BTreeMap::from([(
+            "mean_wall_ms_per_frame".to_owned(),
+            wall / frames.len().max(1) as f64,
+        )])
+    }
+}

@@ -1,0 +1,209 @@
+//! How `sediment bench` times the desert: Onoue & Nishita's comparison at the
+//! figure-17 scene — culling and LOD on and off, shadows none / dune / dune+ripple,
+//! dust — then the horizon-map precomputation on the CPU, the sand simulations on one
+//! thread and on all, and the paper's ratios.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::frame::{DunesFrame, Terrain, simulate};
+use super::{DunesScene, Shadows, default_camera, preset};
+use crate::bench::report::{PaperRatio, Report};
+use crate::error::{Error, Result};
+use crate::frame::{BenchScene, Scene};
+use crate::gpu::Context;
+use crate::model::dust::DustParams;
+use crate::model::sand::{Heightfield, SandParams, SandSim};
+use crate::scene::Size;
+use crate::scene::camera::Camera;
+
+/// (name, culling, LOD, shadows, dust).
+const VARIANTS: [(&str, bool, bool, Shadows, bool); 6] = [
+    ("cull-off-lod-off", false, false, Shadows::None, false),
+    ("cull-on-lod-off", true, false, Shadows::None, false),
+    ("cull-on-lod-on", true, true, Shadows::None, false),
+    ("dune-shadows", true, true, Shadows::Dune, false),
+    (
+        "dune-ripple-shadows",
+        true,
+        true,
+        Shadows::DuneAndRipple,
+        false,
+    ),
+    ("all-with-dust", true, true, Shadows::DuneAndRipple, true),
+];
+
+const NAMES: &[&str] = &[
+    VARIANTS[0].0,
+    VARIANTS[1].0,
+    VARIANTS[2].0,
+    VARIANTS[3].0,
+    VARIANTS[4].0,
+    VARIANTS[5].0,
+];
+
+/// The figure-17 scene's variants over one simulated terrain.
+#[derive(Default)]
+pub struct DunesBench {
+    /// The base scene and its terrain, simulated on the first variant.
+    base: Option<(DunesScene, Terrain)>,
+}
+
+impl DunesBench {
+    fn base(&mut self) -> Result<&(DunesScene, Terrain)> {
+        if self.base.is_none() {
+            let scene = preset("fig17")?;
+            let terrain = simulate(&scene, &mut |_, _| {})?;
+            self.base = Some((scene, terrain));
+        }
+        self.base
+            .as_ref()
+            .ok_or_else(|| Error::internal("dunes bench", "no base scene"))
+    }
+}
+
+impl BenchScene for DunesBench {
+    fn variants(&self) -> &'static [&'static str] {
+        NAMES
+    }
+
+    fn build(
+        &mut self,
+        ctx: &Arc<Context>,
+        variant: &str,
+        _size: Size,
+    ) -> Result<(Box<dyn Scene>, Camera)> {
+        let &(_, cull, lod, shadows, dust) = VARIANTS
+            .iter()
+            .find(|v| v.0 == variant)
+            .ok_or_else(|| Error::internal("dunes bench", format!("variant {variant}")))?;
+        let (base, terrain) = self.base()?;
+        let scene = DunesScene {
+            cull,
+            lod,
+            shadows,
+            dust: dust.then(DustParams::default),
+            ..base.clone()
+        };
+        let camera = default_camera(&scene, terrain);
+        Ok((Box::new(DunesFrame::new(ctx, scene, terrain)?), camera))
+    }
+
+    /// The horizon map on the CPU (the GPU's is among the series' metrics) and the sand
+    /// simulations on one thread and on all, beside the full-shadow series; the paper's
+    /// ratios from the series' medians.
+    fn finish(
+        &mut self,
+        _ctx: &Arc<Context>,
+        report: &mut Report,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<()> {
+        let medians: BTreeMap<String, f64> = report
+            .series
+            .iter()
+            .filter(|s| s.scene == "dunes")
+            .map(|s| (s.variant.clone(), s.frame_gpu_ms.median))
+            .collect();
+        if medians.contains_key("dune-ripple-shadows") {
+            progress("dunes precompute and simulation");
+            let metrics = self.cpu_metrics()?;
+            if let Some(s) = report
+                .series
+                .iter_mut()
+                .find(|s| s.scene == "dunes" && s.variant == "dune-ripple-shadows")
+            {
+                s.metrics.extend(metrics);
+            }
+        }
+        let ratio = |a: &str, b: &str| match (medians.get(a), medians.get(b)) {
+            (Some(x), Some(y)) if *y > 0.0 => Some(x / y),
+            _ => None,
+        };
+        let mut push = |what: &str, paper: &str, paper_ratio: f64, ours: Option<f64>| {
+            if let Some(ours) = ours {
+                report.paper_ratios.push(PaperRatio {
+                    what: what.to_owned(),
+                    paper: paper.to_owned(),
+                    paper_ratio,
+                    ours,
+                });
+            }
+        };
+        push(
+            "culling (no culling / culling, no LOD)",
+            "15 s -> 9.7 s",
+            15.0 / 9.7,
+            ratio("cull-off-lod-off", "cull-on-lod-off"),
+        );
+        push(
+            "LOD (no LOD / LOD, culling on)",
+            "9.7 s -> 1.5 s",
+            9.7 / 1.5,
+            ratio("cull-on-lod-off", "cull-on-lod-on"),
+        );
+        push(
+            "dune shadows (with / without)",
+            "1.5 s -> 9.1 s",
+            9.1 / 1.5,
+            ratio("dune-shadows", "cull-on-lod-on"),
+        );
+        push(
+            "ripple shadows (dune+ripple / dune)",
+            "9.1 s -> 10.2 s",
+            10.2 / 9.1,
+            ratio("dune-ripple-shadows", "dune-shadows"),
+        );
+        if let Some(full) = medians.get("dune-ripple-shadows") {
+            push(
+                "full effect set at 720x480: paper time / ours",
+                "10.2 s",
+                1.0,
+                Some(10_200.0 / full.max(1e-9)),
+            );
+        }
+        Ok(())
+    }
+}
+
+impl DunesBench {
+    fn cpu_metrics(&mut self) -> Result<BTreeMap<String, f64>> {
+        let (base, terrain) = self.base()?;
+        let t = Instant::now();
+        let _ = crate::model::ripple_maps::horizon_map(
+            &terrain.ripples,
+            base.ripple_height_scale,
+            base.ripple_size - 1,
+        );
+        let cpu_horizon = t.elapsed().as_secs_f64() * 1e3;
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .map_err(|e| Error::internal("bench", format!("a one-thread pool: {e}")))?;
+        let sim = |params: SandParams, size: usize, steps: u32| -> Result<f64> {
+            let mut s = SandSim::new(Heightfield::random(size, size, 8.0, 1.0, 7), params)?;
+            let t = Instant::now();
+            s.run(steps, &mut |_| {});
+            Ok((size * size) as f64 * f64::from(steps) / t.elapsed().as_secs_f64().max(1e-9))
+        };
+        let mut m = BTreeMap::new();
+        m.insert("horizon_map_cpu_ms".to_owned(), cpu_horizon);
+        m.insert(
+            "ripple_sim_cell_steps_per_s_all_threads".to_owned(),
+            sim(SandParams::paper_ripples(), 256, 200)?,
+        );
+        m.insert(
+            "ripple_sim_cell_steps_per_s_1_thread".to_owned(),
+            one.install(|| sim(SandParams::paper_ripples(), 256, 200))?,
+        );
+        m.insert(
+            "dune_sim_cell_steps_per_s_all_threads".to_owned(),
+            sim(SandParams::paper_dunes(), 64, 500)?,
+        );
+        m.insert(
+            "dune_sim_cell_steps_per_s_1_thread".to_owned(),
+            one.install(|| sim(SandParams::paper_dunes(), 64, 500))?,
+        );
+        Ok(m)
+    }
+}

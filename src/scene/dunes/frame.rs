@@ -1,0 +1,537 @@
+//! The desert's frame (Onoue & Nishita): both sand simulations run, the ripple maps
+//! and the dune shadow map built on the GPU once (the shadow map again whenever the sun
+//! moves), then each frame the bump-mapped dunes, the sky and the dust.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::{DunesScene, PRESETS, Shadows, default_camera, preset};
+use crate::error::{Error, Result};
+use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
+use crate::gpu::{COLOR_FORMAT, Commands, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
+use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, visible_quads};
+use crate::model::dune_shadow::DuneGrid;
+use crate::model::dust::{DustParams, dust_at};
+use crate::model::mesh::Mesh;
+use crate::model::sand::{Heightfield, SandSim};
+use crate::model::sand_grain::grain_texture;
+use crate::render::dune_shadow::DuneShadowPass;
+use crate::render::dune_surface::{DuneGeometry, DunePush, DuneSurfacePass, DuneTextures};
+use crate::render::dust::DustPass;
+use crate::render::ripple_maps::RippleMaps;
+use crate::render::sky::SkyPass;
+use crate::scene::Size;
+use crate::scene::camera::{Camera, Lighting};
+use crate::view::input::Key;
+
+/// The simulated terrain: dune heights (world metres) and the ripple tile.
+pub struct Terrain {
+    pub dune_heights: Vec<f32>,
+    pub ripples: Heightfield,
+    pub dune_field: Heightfield,
+}
+
+/// Runs both simulations; `progress(done, total)` over all steps.
+pub fn simulate(scene: &DunesScene, progress: &mut dyn FnMut(u32, u32)) -> Result<Terrain> {
+    let mut frames = simulate_frames(scene, 1, progress)?;
+    frames
+        .pop()
+        .ok_or_else(|| Error::internal("simulation", "produced no terrain"))
+}
+
+/// Runs both simulations in `frames` equal chunks and keeps the terrain after each
+/// (the ripples and dunes forming over time, for an animation).
+pub fn simulate_frames(
+    scene: &DunesScene,
+    frames: u32,
+    progress: &mut dyn FnMut(u32, u32),
+) -> Result<Vec<Terrain>> {
+    scene.validate()?;
+    let frames = frames.max(1);
+    let total = scene.ripple_steps + scene.dune_steps;
+    let mut ripples = SandSim::new(
+        Heightfield::random(scene.ripple_size, scene.ripple_size, 0.0, 1.0, scene.seed),
+        scene.ripple.clone(),
+    )?;
+    let mut dunes = SandSim::new(
+        Heightfield::random(
+            scene.dune_size,
+            scene.dune_size,
+            scene.dune_sand,
+            1.0,
+            scene.seed ^ 0xD0E5,
+        ),
+        scene.dune.clone(),
+    )?;
+    let (mut ripple_done, mut dune_done) = (0u32, 0u32);
+    let mut out = Vec::with_capacity(frames as usize);
+    for f in 1..=frames {
+        let ripple_to = (u64::from(scene.ripple_steps) * u64::from(f) / u64::from(frames)) as u32;
+        let dune_to = (u64::from(scene.dune_steps) * u64::from(f) / u64::from(frames)) as u32;
+        let base = ripple_done + dune_done;
+        ripples.run(ripple_to - ripple_done, &mut |d| progress(base + d, total));
+        ripple_done = ripple_to;
+        let base = ripple_done + dune_done;
+        dunes.run(dune_to - dune_done, &mut |d| progress(base + d, total));
+        dune_done = dune_to;
+        out.push(terrain_of(
+            scene,
+            ripples.field().clone(),
+            dunes.field().clone(),
+        ));
+    }
+    Ok(out)
+}
+
+/// World-unit dune heights (lowest at 0) from the simulated fields.
+fn terrain_of(scene: &DunesScene, ripples: Heightfield, dune_field: Heightfield) -> Terrain {
+    let scale = scene.dune.vertical_scale as f32 * scene.cell;
+    let min = dune_field.data.iter().copied().fold(f64::MAX, f64::min);
+    let dune_heights = dune_field
+        .data
+        .iter()
+        .map(|&h| (h - min) as f32 * scale)
+        .collect();
+    Terrain {
+        dune_heights,
+        ripples,
+        dune_field,
+    }
+}
+
+/// The desert's passes — sky, bump-mapped dunes with their precomputed ripple and
+/// shadow maps, dust — as a [`Scene`].
+pub struct DunesFrame {
+    /// The sun and the toggles, changed by the viewer's keys.
+    scene: DunesScene,
+    maps: RippleMaps,
+    shadow: DuneShadowPass,
+    grain: Vec<u8>,
+    // Sampled by `surface`, rebuilt with it when the sun moves.
+    _textures: DuneTextures,
+    surface: DuneSurfacePass,
+    sky: SkyPass,
+    dust: DustPass,
+    dust_blobs: usize,
+    geometry: DuneGeometry,
+    /// Three periods each way: the field reaches toward the horizon without a seam.
+    mesh: Mesh,
+    /// The sun the shadow map was made for.
+    sun: Vec3,
+    /// GPU time of the precomputations (ripple maps, dune shadow map).
+    precompute: Vec<Span>,
+    view: Option<DunesView>,
+    /// Draw the dune-shadow term instead of the shaded desert (`show_shadow_mask`).
+    shadow_mask: bool,
+    message: String,
+}
+
+/// What `set_frame` fixes for the next frame.
+struct DunesView {
+    view_proj: glam::Mat4,
+    eye: Vec3,
+    target: Vec3,
+    push: DunePush,
+    dust: bool,
+}
+
+const GRAIN_SIZE: u32 = 128;
+const SHADOW_RES: u32 = 256;
+
+impl DunesFrame {
+    pub fn new(ctx: &Arc<Context>, scene: DunesScene, terrain: &Terrain) -> Result<Self> {
+        scene.validate()?;
+        let n = scene.dune_size;
+        let maps = RippleMaps::build(
+            ctx,
+            &terrain.ripples,
+            scene.ripple_height_scale,
+            (scene.ripple_size - 1) as u32,
+        )?;
+        let mut precompute = maps.spans.clone();
+        let heights_cells: Vec<f32> = terrain
+            .dune_heights
+            .iter()
+            .map(|h| h / scene.cell)
+            .collect();
+        let shadow = DuneShadowPass::new(ctx, n as u32, &heights_cells, SHADOW_RES)?;
+        let sun = scene.sun_direction();
+        precompute.extend(shadow_map(ctx, &shadow, sun)?);
+        let grain = grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize);
+        let textures = DuneTextures::new(ctx, &maps, &shadow, &grain, GRAIN_SIZE)?;
+        let surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
+        let blobs = match &scene.dust {
+            Some(params) => {
+                let grid = DuneGrid {
+                    n,
+                    heights: &terrain.dune_heights,
+                };
+                let cell = scene.cell;
+                dust_at(
+                    params,
+                    &terrain.ripples,
+                    scene.field_size(),
+                    &|x, z| grid.sample(x / cell, z / cell),
+                    scene.seed,
+                    scene.dust_step,
+                )
+            }
+            None => Vec::new(),
+        };
+        let mesh = dune_mesh_tiled(n, scene.cell, &terrain.dune_heights, 3);
+        Ok(Self {
+            geometry: DuneGeometry::new(ctx, &mesh)?,
+            mesh,
+            dust: DustPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &blobs)?,
+            dust_blobs: blobs.len(),
+            sky: SkyPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            surface,
+            _textures: textures,
+            grain,
+            shadow,
+            maps,
+            sun,
+            precompute,
+            view: None,
+            shadow_mask: false,
+            message: String::new(),
+            scene,
+        })
+    }
+
+    /// Triangles drawn after culling, and in all.
+    pub fn triangles(&self) -> (u32, u32) {
+        (
+            self.geometry.visible_triangles(),
+            (self.mesh.indices.len() / 3) as u32,
+        )
+    }
+
+    /// GPU time of the precomputations (ripple maps, the latest dune shadow map).
+    pub fn precompute(&self) -> &[Span] {
+        &self.precompute
+    }
+
+    /// Draws, instead of the shaded desert, the dune-shadow term in red (1 lit, 0
+    /// shadowed) with blue = 1 and green = 0 on the terrain: how the tests compare the
+    /// shadow map with the per-pixel march pixel by pixel.
+    pub fn show_shadow_mask(&mut self, on: bool) {
+        self.shadow_mask = on;
+    }
+
+    /// The viewer's keys.
+    pub const CONTROLS: &'static [&'static str] = &[
+        "left/right sun azimuth  up/down sun elevation  l lod  k culling",
+        "o shadows none/dune/dune+ripple  j ripples  u dust",
+    ];
+}
+
+impl Scene for DunesFrame {
+    fn name(&self) -> &'static str {
+        "dunes"
+    }
+
+    /// The scene's sun and toggles and the camera for the next frame; a moved sun
+    /// rebuilds the dune shadow map first.
+    fn set_frame(
+        &mut self,
+        ctx: &Arc<Context>,
+        camera: &Camera,
+        aspect: f32,
+        _time: Time,
+    ) -> Result<()> {
+        let scene = &self.scene;
+        let sun = scene.sun_direction();
+        if (sun - self.sun).length() > 1e-6 {
+            self.precompute = shadow_map(ctx, &self.shadow, sun)?;
+            let textures =
+                DuneTextures::new(ctx, &self.maps, &self.shadow, &self.grain, GRAIN_SIZE)?;
+            self.surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
+            self._textures = textures;
+            self.sun = sun;
+        }
+        let frame = desert_lighting(sun).frame_uniforms(camera, aspect);
+        self.surface.set_frame(&frame)?;
+        self.geometry.set_visible(&visible_quads(
+            &self.mesh,
+            camera.eye,
+            frame.view_proj,
+            scene.cull,
+        ))?;
+        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        let wind = scene.wind_degrees.to_radians();
+        let push = DunePush {
+            tile: glam::Vec4::new(
+                scene.ripple_tile,
+                if scene.ripples {
+                    scene.ripple_strength
+                } else {
+                    0.0
+                },
+                0.35,
+                scene.field_size(),
+            ),
+            wind: glam::Vec4::new(
+                wind.cos(),
+                wind.sin(),
+                flag(scene.lod),
+                flag(self.shadow_mask),
+            ),
+            shadows: glam::Vec4::new(
+                flag(scene.shadows != Shadows::None),
+                flag(scene.shadows == Shadows::DuneAndRipple && scene.ripples),
+                0.04,
+                flag(scene.dune_shadows_per_pixel),
+            ),
+            albedo: glam::Vec4::new(0.72, 0.5, 0.3, 1.0),
+        };
+        self.view = Some(DunesView {
+            view_proj: frame.view_proj,
+            eye: camera.eye,
+            target: camera.target,
+            push,
+            dust: scene.dust.is_some(),
+        });
+        Ok(())
+    }
+
+    /// Records the frame into `target` (span "dunes").
+    fn record(
+        &mut self,
+        cmd: &Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()> {
+        let v = self
+            .view
+            .as_ref()
+            .ok_or_else(|| Error::internal("dunes", "set_frame must come before record"))?;
+        let span = timer.begin(cmd, "dunes")?;
+        target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+        // Dunes first, then the sky where no dune covers (the depth test keeps it
+        // there), then the dust, translucent over both.
+        self.surface.draw(cmd, &self.geometry, &v.push)?;
+        self.sky.draw(
+            cmd,
+            v.view_proj,
+            v.eye,
+            self.sun,
+            desert_lighting(self.sun).exposure,
+        )?;
+        if v.dust {
+            let dust_color = glam::Vec4::new(0.86, 0.72, 0.55, 0.5);
+            self.dust
+                .draw(cmd, v.view_proj, v.eye, v.target, dust_color)?;
+        }
+        target.end(cmd);
+        timer.end(cmd, span);
+        Ok(())
+    }
+
+    /// The precomputations' GPU times and the triangles drawn.
+    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
+        let mut m: BTreeMap<String, f64> = self
+            .precompute
+            .iter()
+            .map(|p| {
+                (
+                    format!("{}_gpu_ms", p.name.replace(' ', "_")),
+                    p.milliseconds,
+                )
+            })
+            .collect();
+        m.insert("triangles_drawn".into(), f64::from(self.triangles().0));
+        Ok(m)
+    }
+
+    fn status(&self) -> Vec<String> {
+        let s = &self.scene;
+        let on = |b: bool| if b { "on" } else { "off" };
+        let (visible, total) = self.triangles();
+        vec![
+            format!(
+                "sun elevation {:.0} deg azimuth {:.0} deg  shadows {}  ripples {}",
+                s.sun_elevation_degrees,
+                s.sun_azimuth_degrees,
+                s.shadows,
+                on(s.ripples)
+            ),
+            format!(
+                "lod {}  culling {} ({visible}/{total} triangles)  dust {}",
+                on(s.lod),
+                on(s.cull),
+                on(s.dust.is_some())
+            ),
+        ]
+    }
+
+    fn key(&mut self, _ctx: &Arc<Context>, key: Key) -> Result<bool> {
+        let s = &mut self.scene;
+        match key {
+            Key::Left => s.sun_azimuth_degrees = (s.sun_azimuth_degrees - 10.0).rem_euclid(360.0),
+            Key::Right => s.sun_azimuth_degrees = (s.sun_azimuth_degrees + 10.0).rem_euclid(360.0),
+            Key::Up => s.sun_elevation_degrees = (s.sun_elevation_degrees + 5.0).min(85.0),
+            Key::Down => s.sun_elevation_degrees = (s.sun_elevation_degrees - 5.0).max(5.0),
+            Key::Char('l') => s.lod = !s.lod,
+            Key::Char('k') => s.cull = !s.cull,
+            Key::Char('j') => s.ripples = !s.ripples,
+            Key::Char('o') => {
+                s.shadows = match s.shadows {
+                    Shadows::None => Shadows::Dune,
+                    Shadows::Dune => Shadows::DuneAndRipple,
+                    Shadows::DuneAndRipple => Shadows::None,
+                }
+            }
+            Key::Char('u') => {
+                if self.dust_blobs == 0 {
+                    self.message = "no dust in this scene (start it with --dust)".into();
+                    return Ok(true);
+                }
+                s.dust = match s.dust {
+                    Some(_) => None,
+                    None => Some(DustParams::default()),
+                };
+            }
+            _ => return Ok(false),
+        }
+        self.message.clear();
+        Ok(true)
+    }
+
+    fn controls(&self) -> &'static [&'static str] {
+        Self::CONTROLS
+    }
+
+    fn message(&self) -> &str {
+        &self.message
+    }
+}
+
+fn desert_lighting(sun: Vec3) -> Lighting {
+    Lighting {
+        sun_direction: sun,
+        point: false,
+        sun_color: Vec3::new(3.0, 2.75, 2.4),
+        sky_color: Vec3::new(0.42, 0.5, 0.68),
+        ground_color: Vec3::new(0.45, 0.36, 0.27),
+        exposure: 1.0,
+    }
+}
+
+/// Marches the dune shadow map for `sun` on the GPU; its span.
+fn shadow_map(ctx: &Arc<Context>, shadow: &DuneShadowPass, sun: Vec3) -> Result<Vec<Span>> {
+    let horizontal = Vec3::new(sun.x, 0.0, sun.z);
+    let rise = sun.y / horizontal.length().max(1e-6);
+    let dir = horizontal.normalize_or(Vec3::X);
+    let mut timer = GpuTimer::new(ctx, "dune shadow timer", 2)?;
+    ctx.submit_and_wait("dune shadow map", |cmd| {
+        timer.reset(cmd);
+        let span = timer.begin(cmd, "dune shadow map")?;
+        shadow.record(cmd, [dir.x, dir.z], rise)?;
+        timer.end(cmd, span);
+        Ok(())
+    })?;
+    timer.read()
+}
+
+/// A rendered desert frame and what it cost.
+pub struct DunesRender {
+    pub image: image::RgbaImage,
+    /// GPU time of each pass of the frame.
+    pub gpu_spans: Vec<Span>,
+    /// Wall-clock milliseconds of the whole render (set-up included).
+    pub wall_ms: f64,
+    /// GPU milliseconds of each extra timing frame (the first frame, which pays for
+    /// lavapipe's shader compilation, is not among them).
+    pub timed_ms: Vec<f64>,
+    /// GPU time of the precomputations (ripple maps, dune shadow map).
+    pub precompute: Vec<Span>,
+    pub visible_triangles: u32,
+    pub total_triangles: u32,
+    /// One period of the dune field (for export).
+    pub mesh: Mesh,
+}
+
+/// Renders `scene` from simulated `terrain` with `camera` (default: `default_camera`),
+/// then the same frame `timing_frames` more times for timing.
+pub fn render(
+    ctx: &Arc<Context>,
+    scene: &DunesScene,
+    terrain: &Terrain,
+    size: Size,
+    camera: Option<&Camera>,
+    timing_frames: u32,
+) -> Result<DunesRender> {
+    let start = Instant::now();
+    let camera = camera
+        .cloned()
+        .unwrap_or_else(|| default_camera(scene, terrain));
+    let mut frame = DunesFrame::new(ctx, scene.clone(), terrain)?;
+    let mut runner = FrameRunner::new(ctx, size)?;
+    let (image, first) = runner.render(&mut frame, &camera, Time::At(0))?;
+    let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+    let timed = runner.repeat(&mut frame, &camera, timing_frames, &|_| Time::At(0))?;
+    let (visible_triangles, total_triangles) = frame.triangles();
+    Ok(DunesRender {
+        image,
+        gpu_spans: first.spans,
+        wall_ms,
+        timed_ms: timed.iter().map(crate::frame::Frame::gpu_ms).collect(),
+        precompute: frame.precompute.clone(),
+        visible_triangles,
+        total_triangles,
+        mesh: dune_mesh(scene.dune_size, scene.cell, &terrain.dune_heights),
+    })
+}
+
+/// The dune figures in the registry.
+pub struct Kind;
+
+impl SceneKind for Kind {
+    fn name(&self) -> &'static str {
+        "dunes"
+    }
+
+    fn presets(&self) -> &'static [(&'static str, &'static str)] {
+        PRESETS
+    }
+
+    /// Four of the seven dune figures keep the gallery quick: each simulates anew.
+    fn gallery(&self) -> Vec<GalleryEntry> {
+        PRESETS
+            .iter()
+            .filter(|(name, _)| matches!(*name, "fig12" | "fig13" | "fig15" | "fig17"))
+            .map(|&(name, description)| GalleryEntry {
+                name: match name {
+                    "fig12" => "dunes-fig12",
+                    "fig13" => "dunes-fig13",
+                    "fig15" => "dunes-fig15",
+                    _ => "dunes-fig17",
+                },
+                description,
+                render: Box::new(move |ctx, size, seed| {
+                    let scene = DunesScene {
+                        seed,
+                        ..preset(name)?
+                    };
+                    let terrain = simulate(&scene, &mut |_, _| {})?;
+                    let out = render(ctx, &scene, &terrain, size, None, 0)?;
+                    Ok(Shot {
+                        image: out.image,
+                        gpu_spans: out.gpu_spans,
+                        wall_ms: out.wall_ms,
+                        animation: Vec::new(),
+                        extras: Vec::new(),
+                    })
+                }),
+            })
+            .collect()
+    }
+
+    fn bench(&self) -> Option<Box<dyn crate::frame::BenchScene>> {
+        Some(Box::new(super::bench::DunesBench::default()))
+    }
+}

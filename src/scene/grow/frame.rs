@@ -1,0 +1,631 @@
+//! The speleothem scene's frame: the speleothems of a growth plan grown on one of the
+//! growth paths (`render::growth`) and shaded, in a cave chamber (floor and ceiling)
+//! lit by a lamp — and, in the viewer, the paper's manual mode: parameters steered
+//! while the speleothems grow (Tortelli & Walter sections 4.2 and 5).
+//!
+//! A steering change becomes a `ParamChange` at the current pass; the scene is
+//! re-planned, which leaves every pass already grown as it was (the plan is a pure
+//! function of the seed, the pass and the parameters in force), and the growth goes on
+//! with the new plan without regrowing — unless the change adds speleothems (the first
+//! switch to PIL 2 brings the stalagmites), which regrows the passes so far in one
+//! submission.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::{Mat4, Vec3, Vec4};
+
+use super::{GrowthScene, PRESETS, default_camera, lamp_lighting};
+use crate::error::Result;
+use crate::export::mesh::TriangleSoup;
+use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
+use crate::gpu::{COLOR_FORMAT, Commands, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
+use crate::model::mesh::Mesh;
+use crate::model::noise::fbm;
+use crate::model::speleothem::plan::{GrowthParams, ParamChange};
+use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
+use crate::model::speleothem::{GrowthPlan, RingVertex};
+use crate::render::growth::{Growth, GrowthPath};
+use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
+use crate::render::speleothem_surface::{SpeleothemSurfacePass, speleothem_info};
+use crate::scene::Size;
+use crate::scene::camera::{Camera, Lighting};
+use crate::view::input::Key;
+
+const ROCK: ObjectPush = ObjectPush {
+    model: Mat4::IDENTITY,
+    albedo: Vec4::new(0.16, 0.13, 0.105, 1.0),
+    material: Vec4::new(12.0, 0.05, 0.0, 0.0),
+};
+const CLEAR: [f32; 4] = [0.004, 0.0035, 0.003, 1.0];
+
+/// Rock surfaces of the chamber: the floor rises and the ceiling hangs a little, so the
+/// speleothem bases sink into them.
+fn chamber_meshes(scene: &GrowthScene) -> (Mesh, Mesh) {
+    // Wide enough that the planes' far edges sink into the lamp's falloff.
+    let half = scene.extent * 12.0;
+    let amp = 0.04 * (scene.ceiling_y - scene.floor_y);
+    let seed = scene.seed;
+    let relief =
+        move |x: f32, z: f32| amp * fbm(seed ^ 0xCA7E, Vec3::new(x, 0.0, z) * 1.3, 4, 0.5).abs();
+    let floor = Mesh::height_grid(half, scene.floor_y, 128, true, relief);
+    let ceiling = Mesh::height_grid(half, scene.ceiling_y, 128, false, move |x, z| {
+        -relief(x + 17.0, z)
+    });
+    (floor, ceiling)
+}
+
+/// The chamber's rock and its pass.
+struct Chamber {
+    rock: LitMeshPass,
+    floor: GpuMesh,
+    ceiling: GpuMesh,
+}
+
+impl Chamber {
+    fn new(ctx: &Arc<Context>, scene: &GrowthScene) -> Result<Self> {
+        let (floor, ceiling) = chamber_meshes(scene);
+        Ok(Self {
+            rock: LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
+            ceiling: GpuMesh::upload(ctx, "cave ceiling", &ceiling)?,
+        })
+    }
+}
+
+/// The viewer's clock and steering state.
+#[derive(Debug, Default)]
+struct Live {
+    paused: bool,
+    /// A growth pass every `every` frames.
+    every: u32,
+    frame: u64,
+    /// Grow one pass on the next tick even though paused.
+    step: bool,
+    /// What the last key did, for the panel.
+    message: String,
+}
+
+/// Speleothems growing: the [`Scene`] of `sediment grow`, `view grow` and the bench.
+pub struct GrowthFrame {
+    /// The scene with every change made so far.
+    scene: GrowthScene,
+    plan: GrowthPlan,
+    growth: Box<dyn Growth>,
+    surface: SpeleothemSurfacePass,
+    /// `None` for the bench's bare speleothems.
+    chamber: Option<Chamber>,
+    lighting: Lighting,
+    /// Passes grown in the frame being recorded.
+    passes_now: u32,
+    live: Live,
+    /// Per frame that grew: the growth's milliseconds (its GPU span, or the CPU's time
+    /// for the CPU path).
+    pass_ms: Vec<f64>,
+    /// The CPU path's time in the frame being recorded.
+    cpu_ms: f64,
+}
+
+impl GrowthFrame {
+    /// The speleothems of `scene` in their chamber under the lamp, grown on `path`.
+    pub fn new(ctx: &Arc<Context>, scene: GrowthScene, path: GrowthPath) -> Result<Self> {
+        let chamber = Some(Chamber::new(ctx, &scene)?);
+        let lighting = lamp_lighting(&scene);
+        Self::with(ctx, scene, path, chamber, lighting)
+    }
+
+    /// The speleothems alone (no chamber) under `lighting`.
+    pub fn bare(
+        ctx: &Arc<Context>,
+        scene: GrowthScene,
+        path: GrowthPath,
+        lighting: Lighting,
+    ) -> Result<Self> {
+        Self::with(ctx, scene, path, None, lighting)
+    }
+
+    fn with(
+        ctx: &Arc<Context>,
+        scene: GrowthScene,
+        path: GrowthPath,
+        chamber: Option<Chamber>,
+        lighting: Lighting,
+    ) -> Result<Self> {
+        let plan = scene.plan()?;
+        Ok(Self {
+            growth: path.start(ctx, &plan)?,
+            surface: SpeleothemSurfacePass::new(
+                ctx,
+                COLOR_FORMAT,
+                DEPTH_FORMAT,
+                &plan,
+                scene.seed,
+            )?,
+            chamber,
+            lighting,
+            passes_now: 0,
+            live: Live {
+                every: 1,
+                ..Live::default()
+            },
+            pass_ms: Vec::new(),
+            cpu_ms: 0.0,
+            plan,
+            scene,
+        })
+    }
+
+    pub fn plan(&self) -> &GrowthPlan {
+        &self.plan
+    }
+
+    pub fn passes_done(&self) -> u32 {
+        self.growth.passes_done()
+    }
+
+    /// The viewer grows one pass every `every` frames (1..=120).
+    pub fn set_every(&mut self, every: u32) {
+        self.live.every = every.clamp(1, 120);
+    }
+
+    /// The parameters the next pass grows with.
+    pub fn params(&self) -> GrowthParams {
+        self.scene.params_at(self.passes_done())
+    }
+
+    /// The growth so far, checked: an error if a capture ran out of room.
+    pub fn counts(&self) -> Result<crate::render::growth::GrowthCounts> {
+        self.growth.counts()
+    }
+
+    /// The grown mesh, read back.
+    pub fn read_back(&self, ctx: &Arc<Context>) -> Result<Vec<RingVertex>> {
+        self.growth.counts()?;
+        self.growth.read_back(ctx, &self.plan)
+    }
+
+    /// Passes due on a viewer tick: one every `every` frames unless paused or done.
+    fn due(&mut self) -> u32 {
+        let live = &mut self.live;
+        live.frame += 1;
+        let due = std::mem::take(&mut live.step)
+            || (!live.paused && (live.frame - 1) % u64::from(live.every.max(1)) == 0);
+        u32::from(due && self.passes_done() < self.plan.passes)
+    }
+
+    /// Starts over with the parameters in force now as the scene's own.
+    fn restart(&mut self, ctx: &Arc<Context>, seed: u64) -> Result<()> {
+        self.scene.params = self.params();
+        self.scene.changes.clear();
+        self.scene.seed = seed;
+        self.rebuild(ctx, self.scene.plan()?, 0)?;
+        self.live.message = format!("restarted (seed {seed})");
+        Ok(())
+    }
+
+    /// Records a change at the current pass (merged with one made there already).
+    fn change(&mut self, ctx: &Arc<Context>, set: impl FnOnce(&mut ParamChange)) -> Result<()> {
+        let pass = self.passes_done();
+        let changes = &mut self.scene.changes;
+        if !changes.iter().any(|c| c.pass == pass) {
+            changes.push(ParamChange {
+                pass,
+                ..ParamChange::default()
+            });
+            changes.sort_by_key(|c| c.pass);
+        }
+        if let Some(c) = changes.iter_mut().find(|c| c.pass == pass) {
+            set(c);
+        }
+        self.replan(ctx)?;
+        let p = self.params();
+        self.live.message = format!(
+            "from pass {pass}: pil {} drip {} co2 {} wind {:.1} at {:.0} deg",
+            p.pil, p.drip, p.co2, p.wind_intensity, p.wind_direction_degrees
+        );
+        Ok(())
+    }
+
+    /// Re-plans the scene and continues the growth with the new plan.
+    fn replan(&mut self, ctx: &Arc<Context>) -> Result<()> {
+        let plan = self.scene.plan()?;
+        let done = self.passes_done();
+        let n = plan.speleothems.len();
+        let same_so_far = n == self.plan.speleothems.len()
+            && plan.steps[..done as usize * n] == self.plan.steps[..done as usize * n];
+        if same_so_far && self.growth.set_plan(&plan)? {
+            // Same speleothems: the surface reads colours and ring counts from the plan
+            // every frame.
+            self.plan = plan;
+            return Ok(());
+        }
+        self.rebuild(ctx, plan, done)
+    }
+
+    /// A new growth of `plan` (the current scene's), regrown to `passes` in one
+    /// submission.
+    fn rebuild(&mut self, ctx: &Arc<Context>, plan: GrowthPlan, passes: u32) -> Result<()> {
+        self.growth = self.growth.path().start(ctx, &plan)?;
+        self.surface =
+            SpeleothemSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &plan, self.scene.seed)?;
+        if self.chamber.is_some() {
+            self.chamber = Some(Chamber::new(ctx, &self.scene)?);
+        }
+        self.plan = plan;
+        if passes > 0 {
+            let growth = &mut self.growth;
+            ctx.submit_and_wait("regrow", |cmd| growth.record(cmd, passes))?;
+            self.growth.counts()?;
+        }
+        Ok(())
+    }
+
+    /// The growth keys, for the panel and `--help`.
+    pub const CONTROLS: &'static [&'static str] = &[
+        "space pause  n one pass  r restart  t reseed  [ ] pass every k frames",
+        "p pil  i drip  c co2  left/right wind dir  up/down wind  m mineral  -/= its intensity",
+    ];
+}
+
+fn cycle<T: Copy + PartialEq>(all: &[T], now: T) -> T {
+    let i = all.iter().position(|&v| v == now).unwrap_or(0);
+    all[(i + 1) % all.len()]
+}
+
+/// The pass-time samples around ring `k` (five passes), for the bench.
+fn around(pass_ms: &[f64], k: u32) -> &[f64] {
+    let lo = (k as usize).saturating_sub(2);
+    let hi = (k as usize + 2).min(pass_ms.len().saturating_sub(1));
+    pass_ms.get(lo..=hi).unwrap_or(&[])
+}
+
+/// The rings at which the bench reports the pass time.
+pub const RING_MARKS: [u32; 3] = [8, 32, 128];
+
+impl Scene for GrowthFrame {
+    fn name(&self) -> &'static str {
+        "grow"
+    }
+
+    fn set_frame(
+        &mut self,
+        _ctx: &Arc<Context>,
+        camera: &Camera,
+        aspect: f32,
+        time: Time,
+    ) -> Result<()> {
+        self.passes_now = match time {
+            Time::At(n) => n.min(self.plan.passes).saturating_sub(self.passes_done()),
+            Time::Tick => self.due(),
+        };
+        let frame = self.lighting.frame_uniforms(camera, aspect);
+        if let Some(c) = &mut self.chamber {
+            c.rock.set_frame(&frame)?;
+        }
+        self.surface
+            .set_frame(&frame, &self.plan, self.passes_done() + self.passes_now)
+    }
+
+    fn record(
+        &mut self,
+        cmd: &Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()> {
+        if self.growth.path().on_gpu() {
+            let span = timer.begin(cmd, "ring growth")?;
+            self.growth.record(cmd, self.passes_now)?;
+            timer.end(cmd, span);
+        } else {
+            let t = Instant::now();
+            self.growth.record(cmd, self.passes_now)?;
+            self.cpu_ms = t.elapsed().as_secs_f64() * 1e3;
+        }
+        let span = timer.begin(cmd, "shading")?;
+        target.begin(cmd, CLEAR);
+        if let Some(c) = &self.chamber {
+            c.rock.draw(cmd, &c.floor, &ROCK)?;
+            c.rock.draw(cmd, &c.ceiling, &ROCK)?;
+        }
+        self.surface.draw(cmd, self.growth.source())?;
+        target.end(cmd);
+        timer.end(cmd, span);
+        Ok(())
+    }
+
+    fn after(&mut self, spans: &[Span]) -> Result<()> {
+        if self.passes_now > 0 {
+            self.pass_ms.push(if self.growth.path().on_gpu() {
+                spans
+                    .iter()
+                    .filter(|s| s.name == "ring growth")
+                    .map(|s| s.milliseconds)
+                    .sum()
+            } else {
+                self.cpu_ms
+            });
+        }
+        Ok(())
+    }
+
+    fn steps(&self) -> Option<u32> {
+        Some(self.plan.passes)
+    }
+
+    /// The pass time at rings 8, 32 and 128 and their ratio (O(mesh) or O(one ring)
+    /// per pass), vertices emitted per second of growth, and the final vertex count.
+    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
+        let stats = |s: &[f64]| crate::bench::report::Stats::of(s).median;
+        let mut m = BTreeMap::new();
+        for k in RING_MARKS {
+            m.insert(
+                format!("pass_ms_at_ring_{k}"),
+                stats(around(&self.pass_ms, k)),
+            );
+        }
+        if let (Some(early), Some(late)) = (
+            m.get("pass_ms_at_ring_8").copied(),
+            m.get("pass_ms_at_ring_128").copied(),
+        ) {
+            m.insert("pass_ratio_ring_128_to_8".into(), late / early.max(1e-9));
+        }
+        let counts = self.growth.counts()?;
+        let total_ms: f64 = self.pass_ms.iter().sum();
+        m.insert(
+            "vertices_per_s".into(),
+            counts.emitted as f64 / (total_ms / 1e3).max(1e-9),
+        );
+        m.insert("final_vertices".into(), counts.vertices as f64);
+        Ok(m)
+    }
+
+    fn status(&self) -> Vec<String> {
+        let p = self.params();
+        let state = if self.passes_done() >= self.plan.passes {
+            "done - r restarts"
+        } else if self.live.paused {
+            "paused"
+        } else {
+            "growing"
+        };
+        vec![
+            format!(
+                "pass {}/{}  {state}  one pass every {} frame(s)  {}",
+                self.passes_done(),
+                self.plan.passes,
+                self.live.every,
+                self.growth.path()
+            ),
+            format!(
+                "pil {}  drip {}  co2 {}  wind {:.1} at {:.0} deg",
+                p.pil, p.drip, p.co2, p.wind_intensity, p.wind_direction_degrees
+            ),
+            format!(
+                "mineral {} at {:.1}  seed {}  {} speleothems",
+                self.scene.params.mineral,
+                self.scene.params.mineral_intensity,
+                self.scene.seed,
+                self.plan.speleothems.len()
+            ),
+        ]
+    }
+
+    fn key(&mut self, ctx: &Arc<Context>, key: Key) -> Result<bool> {
+        let p = self.params();
+        match key {
+            Key::Space => {
+                self.live.paused = !self.live.paused;
+                self.live.message = if self.live.paused {
+                    "paused"
+                } else {
+                    "growing"
+                }
+                .into();
+            }
+            Key::Char('n') => {
+                self.live.step = true;
+                self.live.paused = true;
+                self.live.message = "one pass".into();
+            }
+            Key::Char('r') => self.restart(ctx, self.scene.seed)?,
+            Key::Char('t') => self.restart(ctx, self.scene.seed.wrapping_add(1))?,
+            Key::Char('[') => self.set_every(self.live.every.saturating_sub(1)),
+            Key::Char(']') => self.set_every(self.live.every + 1),
+            Key::Char('p') => {
+                let pil = cycle(&[Pil::Dry, Pil::Stalactites, Pil::Dripping], p.pil);
+                self.change(ctx, |c| c.pil = Some(pil))?;
+            }
+            Key::Char('i') => {
+                let all = [DripInterval::Dry, DripInterval::Standard, DripInterval::Wet];
+                let drip = cycle(&all, p.drip);
+                self.change(ctx, |c| c.drip = Some(drip))?;
+            }
+            Key::Char('c') => {
+                let co2 = cycle(&[Co2::Low, Co2::Normal, Co2::High], p.co2);
+                self.change(ctx, |c| c.co2 = Some(co2))?;
+            }
+            Key::Left | Key::Right => {
+                let turn = if key == Key::Left { -15.0 } else { 15.0 };
+                let d = (p.wind_direction_degrees + turn).rem_euclid(360.0);
+                self.change(ctx, |c| c.wind_direction_degrees = Some(d))?;
+            }
+            Key::Up | Key::Down => {
+                let step = if key == Key::Up { 0.1 } else { -0.1 };
+                let w = (((p.wind_intensity + step) * 10.0).round() / 10.0).clamp(0.0, 1.0);
+                self.change(ctx, |c| c.wind_intensity = Some(w))?;
+            }
+            // The mineral colours the whole speleothem (Table 1); it is a scene
+            // parameter, not a per-pass one.
+            Key::Char('m') => {
+                self.scene.params.mineral = cycle(&Mineral::ALL, self.scene.params.mineral);
+                self.replan(ctx)?;
+            }
+            Key::Char('-') | Key::Char('=') => {
+                let step = if key == Key::Char('=') { 0.1 } else { -0.1 };
+                let v = ((self.scene.params.mineral_intensity + step) * 10.0).round() / 10.0;
+                self.scene.params.mineral_intensity = v.clamp(0.0, 1.0);
+                self.replan(ctx)?;
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    fn controls(&self) -> &'static [&'static str] {
+        Self::CONTROLS
+    }
+
+    fn message(&self) -> &str {
+        &self.live.message
+    }
+
+    /// The grown mesh as the re-streaming pass holds it.
+    fn grown(&self, ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
+        Ok(Some((self.plan.clone(), self.read_back(ctx)?)))
+    }
+}
+
+/// What to produce besides the final frame, and how to grow.
+#[derive(Clone, Debug, Default)]
+pub struct GrowOutputs {
+    pub path: GrowthPath,
+    /// The camera (default: `default_camera`).
+    pub camera: Option<Camera>,
+    /// Also render a frame before the first pass and every `k` passes (for a GIF).
+    pub frame_every: Option<u32>,
+    /// Read the grown mesh back.
+    pub mesh: bool,
+}
+
+/// The result of a growth.
+pub struct Grown {
+    pub plan: GrowthPlan,
+    /// The final frame.
+    pub image: image::RgbaImage,
+    /// GPU time of each pass of the final frame's submission.
+    pub gpu_spans: Vec<Span>,
+    /// Wall-clock milliseconds of the whole growth and render.
+    pub wall_ms: f64,
+    /// Frames of the growth (when requested), the last one equal to `image`.
+    pub frames: Vec<image::RgbaImage>,
+    pub mesh: Option<Vec<RingVertex>>,
+}
+
+/// Plans, grows and renders `scene` at `size`. `progress(done, total)` is called after
+/// every submitted batch of passes.
+pub fn grow(
+    ctx: &Arc<Context>,
+    scene: &GrowthScene,
+    size: Size,
+    outputs: &GrowOutputs,
+    progress: &mut dyn FnMut(u32, u32),
+) -> Result<Grown> {
+    let start = Instant::now();
+    let camera = outputs
+        .camera
+        .clone()
+        .unwrap_or_else(|| default_camera(scene));
+    let mut runner = FrameRunner::new(ctx, size)?;
+    let mut frame = GrowthFrame::new(ctx, scene.clone(), outputs.path)?;
+    let passes = frame.plan.passes;
+    let step = outputs.frame_every.unwrap_or(passes).max(1);
+    // With frames requested, the first renders the base rings before any pass.
+    let mut time = if outputs.frame_every.is_some() {
+        0
+    } else {
+        step
+    };
+    let mut frames = Vec::new();
+    loop {
+        let (image, f) = runner.render(&mut frame, &camera, Time::At(time))?;
+        progress(frame.passes_done(), passes);
+        let done = frame.passes_done() >= passes;
+        if outputs.frame_every.is_some() {
+            frames.push(image.clone());
+        }
+        if done {
+            frame.counts()?;
+            let mesh = if outputs.mesh {
+                Some(frame.read_back(ctx)?)
+            } else {
+                None
+            };
+            return Ok(Grown {
+                plan: frame.plan.clone(),
+                image,
+                gpu_spans: f.spans,
+                wall_ms: start.elapsed().as_secs_f64() * 1e3,
+                frames,
+                mesh,
+            });
+        }
+        time += step;
+    }
+}
+
+/// The grown mesh as an exportable triangle soup: positions, the shading normals and
+/// the mineral colours the surface shader uses (`mix(calcite, mc * ring / rc, i)`).
+pub fn export_mesh(plan: &GrowthPlan, vertices: &[RingVertex]) -> TriangleSoup {
+    const CALCITE: Vec3 = Vec3::splat(0.8);
+    let info = speleothem_info(plan, plan.passes);
+    let mut soup = TriangleSoup::default();
+    for v in vertices {
+        let sp = v.speleothem().min(plan.speleothems.len().saturating_sub(1));
+        let (mineral, misc) = (info[2 * sp], info[2 * sp + 1]);
+        let g = Vec3::new(0.0, misc.x, 0.0);
+        let normal = (v.normal() - g * v.extra[2]).normalize_or(g);
+        let t = if mineral.w > 0.0 {
+            (v.extra[3] / mineral.w).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let color = CALCITE.lerp(mineral.truncate() * t, misc.y);
+        soup.positions.push(v.position().to_array());
+        soup.normals.push(normal.to_array());
+        soup.colors.push(color.to_array());
+    }
+    soup
+}
+
+/// The speleothem scene in the registry.
+pub struct Kind;
+
+impl SceneKind for Kind {
+    fn name(&self) -> &'static str {
+        "grow"
+    }
+
+    fn presets(&self) -> &'static [(&'static str, &'static str)] {
+        PRESETS
+    }
+
+    /// Every Figure 9 panel.
+    fn gallery(&self) -> Vec<GalleryEntry> {
+        PRESETS
+            .iter()
+            .map(|&(name, description)| GalleryEntry {
+                name,
+                description,
+                render: Box::new(move |ctx, size, seed| {
+                    let scene = GrowthScene {
+                        seed,
+                        ..super::preset(name)?
+                    };
+                    let g = grow(ctx, &scene, size, &GrowOutputs::default(), &mut |_, _| {})?;
+                    Ok(Shot {
+                        image: g.image,
+                        gpu_spans: g.gpu_spans,
+                        wall_ms: g.wall_ms,
+                        animation: Vec::new(),
+                        extras: Vec::new(),
+                    })
+                }),
+            })
+            .collect()
+    }
+
+    fn bench(&self) -> Option<Box<dyn crate::frame::BenchScene>> {
+        Some(Box::new(super::bench::GrowBench))
+    }
+}

@@ -1,0 +1,151 @@
+//! The rock's frame: the displaced rock and a ground square, drawn with the lit-mesh
+//! pass.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::{Mat4, Vec3, Vec4};
+
+use super::RockScene;
+use crate::error::Result;
+use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
+use crate::gpu::{COLOR_FORMAT, Commands, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget};
+use crate::model::mesh::Mesh;
+use crate::model::rock::rock_mesh;
+use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
+use crate::scene::Size;
+use crate::scene::camera::{Camera, Lighting};
+
+/// A square of ground in the xz plane at height `y`, facing up.
+fn ground(half: f32, y: f32) -> Mesh {
+    Mesh {
+        positions: vec![
+            Vec3::new(-half, y, -half),
+            Vec3::new(-half, y, half),
+            Vec3::new(half, y, half),
+            Vec3::new(half, y, -half),
+        ],
+        normals: vec![Vec3::Y; 4],
+        indices: vec![0, 1, 2, 0, 2, 3],
+    }
+}
+
+/// The rock on its ground, as a [`Scene`].
+pub struct RockFrame {
+    pass: LitMeshPass,
+    rock: GpuMesh,
+    ground: GpuMesh,
+    albedo: Vec3,
+    lighting: Lighting,
+}
+
+impl RockFrame {
+    pub fn new(ctx: &Arc<Context>, scene: &RockScene) -> Result<Self> {
+        let rock = rock_mesh(&scene.rock)?;
+        let floor_y = rock
+            .positions
+            .iter()
+            .map(|p| p.y)
+            .fold(f32::INFINITY, f32::min)
+            + 0.08;
+        Ok(Self {
+            pass: LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            rock: GpuMesh::upload(ctx, "rock", &rock)?,
+            ground: GpuMesh::upload(ctx, "ground", &ground(20.0, floor_y))?,
+            albedo: scene.albedo,
+            lighting: scene.lighting.clone(),
+        })
+    }
+}
+
+impl Scene for RockFrame {
+    fn name(&self) -> &'static str {
+        "rock"
+    }
+
+    fn set_frame(
+        &mut self,
+        _ctx: &Arc<Context>,
+        camera: &Camera,
+        aspect: f32,
+        _time: Time,
+    ) -> Result<()> {
+        self.pass
+            .set_frame(&self.lighting.frame_uniforms(camera, aspect))
+    }
+
+    /// The ground, then the rock (span "lit mesh").
+    fn record(
+        &mut self,
+        cmd: &Commands<'_>,
+        target: &OffscreenTarget,
+        timer: &mut GpuTimer,
+    ) -> Result<()> {
+        // Sky colour behind the rock, already in the linear space the sRGB target
+        // expects.
+        let clear = [0.05, 0.07, 0.10, 1.0];
+        let span = timer.begin(cmd, "lit mesh")?;
+        target.begin(cmd, clear);
+        self.pass.draw(
+            cmd,
+            &self.ground,
+            &ObjectPush {
+                model: Mat4::IDENTITY,
+                albedo: Vec4::new(0.07, 0.065, 0.06, 1.0),
+                material: Vec4::new(8.0, 0.02, 0.0, 0.0),
+            },
+        )?;
+        self.pass.draw(
+            cmd,
+            &self.rock,
+            &ObjectPush {
+                model: Mat4::IDENTITY,
+                albedo: self.albedo.extend(1.0),
+                material: Vec4::new(24.0, 0.08, 0.0, 0.0),
+            },
+        )?;
+        target.end(cmd);
+        timer.end(cmd, span);
+        Ok(())
+    }
+
+    fn status(&self) -> Vec<String> {
+        vec!["the foundation's rock".to_owned()]
+    }
+}
+
+/// Renders the scene offscreen at `size` and reads it back.
+pub fn render(ctx: &Arc<Context>, scene: &RockScene, size: Size) -> Result<Shot> {
+    let start = Instant::now();
+    let mut runner = FrameRunner::new(ctx, size)?;
+    let mut frame = RockFrame::new(ctx, scene)?;
+    let (image, f) = runner.render(&mut frame, &scene.camera, Time::At(0))?;
+    Ok(Shot {
+        image,
+        gpu_spans: f.spans,
+        wall_ms: start.elapsed().as_secs_f64() * 1e3,
+        animation: Vec::new(),
+        extras: Vec::new(),
+    })
+}
+
+/// The rock in the registry.
+pub struct Kind;
+
+impl SceneKind for Kind {
+    fn name(&self) -> &'static str {
+        "rock"
+    }
+
+    fn presets(&self) -> &'static [(&'static str, &'static str)] {
+        &[]
+    }
+
+    fn gallery(&self) -> Vec<GalleryEntry> {
+        vec![GalleryEntry {
+            name: "rock",
+            description: "foundation test scene: fBm-displaced rock, sun + sky light, ACES tone mapping",
+            render: Box::new(|ctx, size, seed| render(ctx, &RockScene::new(seed), size)),
+        }]
+    }
+}
