@@ -112,6 +112,19 @@ pub struct Shot {
     pub extras: Vec<(&'static str, image::RgbaImage)>,
 }
 
+impl Shot {
+    /// A picture alone (no animation, no extra pictures).
+    pub fn still(image: image::RgbaImage, gpu_spans: Vec<Span>, wall_ms: f64) -> Self {
+        Self {
+            image,
+            gpu_spans,
+            wall_ms,
+            animation: Vec::new(),
+            extras: Vec::new(),
+        }
+    }
+}
+
 /// Renders one gallery picture at a size with a seed.
 pub type RenderFn = Box<dyn Fn(&Arc<Context>, Size, u64) -> Result<Shot>>;
 

@@ -9,6 +9,7 @@
 //! afterwards: a pass that needed more room than it had is an error, never a silent
 //! truncation.
 
+use std::ops::Range;
 use std::sync::Arc;
 
 use super::growth::{Growth, GrowthCounts, GrowthPath, MeshSource};
@@ -71,20 +72,31 @@ pub enum EmitMode {
     Frozen = 2,
 }
 
-/// The growth pipeline and its plan, shared by the re-streaming and the append-only
-/// paths.
-pub(crate) struct GrowthPipeline {
+/// What both GS/XFB paths share: the growth pipeline and its plan, the base
+/// primitives, the stream queries (`queries_per_pass` a pass) and the passes done.
+pub(crate) struct XfbCore {
     plan_set: DescriptorSet,
     // Read by the shader every pass; rewritten when the plan is steered.
     plan_buffer: Buffer,
     pipeline: Pipeline,
     layout: PipelineLayout,
+    pub(crate) queries: StreamQueries,
+    queries_per_pass: u32,
+    base: Buffer,
+    base_vertices: u32,
     speleothem_count: u32,
     segments: u32,
+    pub(crate) passes_done: u32,
+    total_passes: u32,
 }
 
-impl GrowthPipeline {
-    pub(crate) fn new(ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Self> {
+impl XfbCore {
+    pub(crate) fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        plan: &GrowthPlan,
+        queries_per_pass: u32,
+    ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "ring growth layout",
@@ -103,28 +115,70 @@ impl GrowthPipeline {
         )?;
         let plan_set = layout.allocate_set("ring growth plan set", 0)?;
         plan_set.write_buffer(0, &plan_buffer)?;
+        let initial = initial_rings(plan);
+        let base = Buffer::with_data(
+            ctx,
+            &format!("{name} base primitives"),
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+            &initial,
+        )?;
+        let queries = StreamQueries::new(
+            ctx,
+            &format!("{name} stream queries"),
+            queries_per_pass * plan.passes,
+        )?;
         Ok(Self {
             plan_set,
             plan_buffer,
             pipeline,
             layout,
+            queries,
+            queries_per_pass,
+            base,
+            base_vertices: initial.len() as u32,
             speleothem_count: plan.speleothems.len() as u32,
             segments: plan.segments,
+            passes_done: 0,
+            total_passes: plan.passes,
         })
     }
 
-    /// Replaces the plan with one of the same shape (speleothems, passes), e.g. the same
-    /// scene re-planned after a parameter change; false (and nothing changed) otherwise.
-    /// No submission may be reading the plan.
-    pub(crate) fn write_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
+    /// Vertices of the base primitives.
+    pub(crate) fn base_vertices(&self) -> u64 {
+        u64::from(self.base_vertices)
+    }
+
+    /// Replaces the plan with one of the same shape (speleothems, passes) whose
+    /// largest mesh, `needed` vertices, fits `capacity`; false (and nothing changed)
+    /// otherwise. No submission may be reading the plan.
+    pub(crate) fn write_plan(
+        &mut self,
+        plan: &GrowthPlan,
+        needed: u64,
+        capacity: u64,
+    ) -> Result<bool> {
         let steps = plan.gpu_steps();
-        if plan.speleothems.len() as u32 != self.speleothem_count
+        if needed > capacity
+            || plan.speleothems.len() as u32 != self.speleothem_count
             || std::mem::size_of_val(steps.as_slice()) as u64 != self.plan_buffer.size()
         {
             return Ok(false);
         }
         self.plan_buffer.write(0, &steps)?;
         Ok(true)
+    }
+
+    /// The passes the next `record(passes)` grows (clamped to the plan), with their
+    /// stream queries reset; empty when there is nothing to grow.
+    pub(crate) fn begin(&self, cmd: &Commands<'_>, passes: u32) -> Result<Range<u32>> {
+        let first = self.passes_done;
+        let last = (first + passes).min(self.total_passes);
+        if last > first {
+            let k = self.queries_per_pass;
+            self.queries
+                .reset_range(cmd, k * first, k * (last - first))?;
+        }
+        Ok(first..last)
     }
 
     /// Binds the pipeline for pass `pass` emitting `mode` (inside a rendering scope).
@@ -140,18 +194,61 @@ impl GrowthPipeline {
             },
         )
     }
+
+    /// Draws pass `pass`'s input: the base primitives (a CPU vertex count) for the
+    /// first pass, else what `previous` captured (DrawAuto).
+    pub(crate) fn draw_input(
+        &self,
+        cmd: &Commands<'_>,
+        pass: u32,
+        previous: &XfbStream,
+    ) -> Result<()> {
+        if pass == 0 {
+            cmd.bind_vertex_buffer(&self.base, 0);
+            cmd.draw(self.base_vertices, 1);
+            Ok(())
+        } else {
+            previous.draw(cmd, VERTEX_STRIDE, 1)
+        }
+    }
+
+    /// Every pass's stream counts so far, or the error of the first capture that ran
+    /// out of room (`capacity(i)`: the vertices query `i`'s buffer holds).
+    pub(crate) fn counts(&self, capacity: impl Fn(u32) -> u64) -> Result<Vec<StreamCounts>> {
+        let k = self.queries_per_pass;
+        let counts = self.queries.results(k * self.passes_done)?;
+        if let Some((i, c)) = counts.iter().enumerate().find(|(_, c)| c.overflowed()) {
+            return Err(Error::CaptureOverflow {
+                pass: i as u32 / k,
+                written: c.written,
+                needed: c.needed,
+                capacity_vertices: capacity(i as u32),
+            });
+        }
+        Ok(counts)
+    }
+
+    /// Before the first pass: the base primitives.
+    pub(crate) fn base_source(&self) -> MeshSource<'_> {
+        MeshSource::Counted {
+            buffer: &self.base,
+            vertices: self.base_vertices,
+        }
+    }
+
+    /// The base primitives, read back.
+    pub(crate) fn base_mesh(&self) -> Result<Vec<RingVertex>> {
+        let mut base: Vec<RingVertex> = self.base.read()?;
+        base.truncate(self.base_vertices as usize);
+        Ok(base)
+    }
 }
 
 /// A growth in progress on the GPU, re-streaming the whole mesh every pass.
 pub struct RingGrowth {
-    queries: StreamQueries,
     /// Ping-pong: pass `p` captures into `captures[p % 2]` from the other one.
     captures: [XfbStream; 2],
-    input: Buffer,
-    growth: GrowthPipeline,
-    initial_vertices: u32,
-    passes_done: u32,
-    total_passes: u32,
+    core: XfbCore,
     capacity_vertices: u64,
 }
 
@@ -163,33 +260,19 @@ impl RingGrowth {
         plan: &GrowthPlan,
         capacity_vertices: Option<u64>,
     ) -> Result<Self> {
-        let growth = GrowthPipeline::new(ctx, plan)?;
-        let initial = initial_rings(plan);
-        let input = Buffer::with_data(
-            ctx,
-            "ring growth base primitives",
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-            &initial,
-        )?;
+        let core = XfbCore::new(ctx, "ring growth", plan, 1)?;
         let predicted = vertex_counts(plan)
             .last()
             .copied()
-            .unwrap_or(initial.len() as u64);
+            .unwrap_or(core.base_vertices());
         let capacity_vertices = capacity_vertices.unwrap_or(predicted).max(3);
         let bytes = capacity_vertices * u64::from(VERTEX_STRIDE);
-        let captures = [
-            XfbStream::new(ctx, "ring growth capture A", bytes)?,
-            XfbStream::new(ctx, "ring growth capture B", bytes)?,
-        ];
-        let queries = StreamQueries::new(ctx, "ring growth stream queries", plan.passes)?;
         Ok(Self {
-            queries,
-            captures,
-            input,
-            growth,
-            initial_vertices: initial.len() as u32,
-            passes_done: 0,
-            total_passes: plan.passes,
+            captures: [
+                XfbStream::new(ctx, "ring growth capture A", bytes)?,
+                XfbStream::new(ctx, "ring growth capture B", bytes)?,
+            ],
+            core,
             capacity_vertices,
         })
     }
@@ -201,21 +284,12 @@ impl RingGrowth {
     /// After the submission: every pass's stream counts, or an error for the first
     /// pass whose capture buffer was too small.
     pub fn check_counts(&self) -> Result<Vec<StreamCounts>> {
-        let counts = self.queries.results(self.passes_done)?;
-        if let Some((pass, c)) = counts.iter().enumerate().find(|(_, c)| c.overflowed()) {
-            return Err(Error::CaptureOverflow {
-                pass: pass as u32,
-                written: c.written,
-                needed: c.needed,
-                capacity_vertices: self.capacity_vertices,
-            });
-        }
-        Ok(counts)
+        self.core.counts(|_| self.capacity_vertices)
     }
 
-    /// The stream the last pass captured into.
-    fn last(&self) -> &XfbStream {
-        &self.captures[((self.passes_done.max(1) - 1) % 2) as usize]
+    /// The stream pass `pass` captures into.
+    fn capture(&self, pass: u32) -> &XfbStream {
+        &self.captures[(pass % 2) as usize]
     }
 }
 
@@ -225,44 +299,31 @@ impl Growth for RingGrowth {
     }
 
     fn passes_done(&self) -> u32 {
-        self.passes_done
+        self.core.passes_done
     }
 
     fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
         let needed = vertex_counts(plan).into_iter().max().unwrap_or(0);
-        if needed > self.capacity_vertices {
-            return Ok(false);
-        }
-        self.growth.write_plan(plan)
+        self.core.write_plan(plan, needed, self.capacity_vertices)
     }
 
     fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
-        let first = self.passes_done;
-        let last = (first + passes).min(self.total_passes);
-        if last == first {
-            return Ok(());
-        }
-        self.queries.reset_range(cmd, first, last - first)?;
-        for pass in first..last {
-            let dst = &self.captures[(pass % 2) as usize];
+        let range = self.core.begin(cmd, passes)?;
+        for pass in range.clone() {
+            let dst = self.capture(pass);
             // `dst` was the input of the previous pass: its stream orders the reads.
             XfbStream::prepare_captures(cmd, &[(dst, CaptureMode::Restart)]);
             cmd.begin_rendering_without_attachments(1, 1);
-            self.growth.bind(cmd, pass, EmitMode::All)?;
-            self.queries.begin(cmd, pass)?;
+            self.core.bind(cmd, pass, EmitMode::All)?;
+            self.core.queries.begin(cmd, pass)?;
             dst.begin(cmd, CaptureMode::Restart)?;
-            if pass == 0 {
-                cmd.bind_vertex_buffer(&self.input, 0);
-                cmd.draw(self.initial_vertices, 1);
-            } else {
-                self.captures[((pass + 1) % 2) as usize].draw(cmd, VERTEX_STRIDE, 1)?;
-            }
+            self.core.draw_input(cmd, pass, self.capture(pass + 1))?;
             dst.end(cmd)?;
-            self.queries.end(cmd, pass)?;
+            self.core.queries.end(cmd, pass)?;
             cmd.end_rendering();
             XfbStream::finish_captures(cmd, &[dst]);
         }
-        self.passes_done = last;
+        self.core.passes_done = range.end.max(self.core.passes_done);
         Ok(())
     }
 
@@ -271,28 +332,22 @@ impl Growth for RingGrowth {
         Ok(GrowthCounts {
             vertices: counts
                 .last()
-                .map_or(u64::from(self.initial_vertices), |c| c.written * 3),
+                .map_or(self.core.base_vertices(), |c| c.written * 3),
             emitted: counts.iter().map(|c| c.written * 3).sum(),
         })
     }
 
     fn source(&self) -> MeshSource<'_> {
-        if self.passes_done == 0 {
-            MeshSource::Counted {
-                buffer: &self.input,
-                vertices: self.initial_vertices,
-            }
-        } else {
-            MeshSource::Captured(self.last())
+        match self.core.passes_done {
+            0 => self.core.base_source(),
+            done => MeshSource::Captured(self.capture(done - 1)),
         }
     }
 
     fn read_back(&self, ctx: &Arc<Context>, _plan: &GrowthPlan) -> Result<Vec<RingVertex>> {
-        if self.passes_done == 0 {
-            let mut base: Vec<RingVertex> = self.input.read()?;
-            base.truncate(self.initial_vertices as usize);
-            return Ok(base);
+        match self.core.passes_done {
+            0 => self.core.base_mesh(),
+            done => self.capture(done - 1).read_back(ctx),
         }
-        self.last().read_back(ctx)
     }
 }

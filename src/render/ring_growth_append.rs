@@ -15,29 +15,21 @@
 use std::sync::Arc;
 
 use super::growth::{Growth, GrowthCounts, GrowthPath, MeshSource};
-use super::ring_growth::{EmitMode, GrowthPipeline};
-use crate::error::{Error, Result};
-use crate::gpu::{
-    Buffer, CaptureMode, Commands, Context, StreamCounts, StreamQueries, XfbStream, vk,
-};
+use super::ring_growth::{EmitMode, XfbCore};
+use crate::error::Result;
+use crate::gpu::{CaptureMode, Commands, Context, StreamCounts, XfbStream};
 use crate::model::speleothem::{
-    GrowthPlan, RingVertex, VERTEX_STRIDE, accumulated_thickening, initial_rings, unfreeze,
-    vertex_counts,
+    GrowthPlan, RingVertex, VERTEX_STRIDE, accumulated_thickening, unfreeze, vertex_counts,
 };
 
 /// An append-only growth in progress on the GPU.
 pub struct AppendGrowth {
-    growth: GrowthPipeline,
-    /// Two stream queries per pass: frozen, then front.
-    queries: StreamQueries,
     /// Ping-pong: pass `p` writes the next front into `fronts[p % 2]`.
     fronts: [XfbStream; 2],
     /// Every pass appends what left the front here, resuming its counter.
     frozen: XfbStream,
-    input: Buffer,
-    initial_vertices: u32,
-    passes_done: u32,
-    total_passes: u32,
+    /// Two stream queries per pass: frozen, then front.
+    core: XfbCore,
     frozen_capacity: u64,
     front_capacity: u64,
 }
@@ -47,32 +39,17 @@ impl AppendGrowth {
     /// final vertex count, each front buffer the base primitives' (a front band never
     /// has more triangles than the base band).
     pub fn new(ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Self> {
-        let growth = GrowthPipeline::new(ctx, plan)?;
-        let initial = initial_rings(plan);
-        let input = Buffer::with_data(
-            ctx,
-            "append growth base primitives",
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-            &initial,
-        )?;
-        let front_capacity = (initial.len() as u64).max(3);
+        let core = XfbCore::new(ctx, "append growth", plan, 2)?;
+        let front_capacity = core.base_vertices().max(3);
         let frozen_capacity = vertex_counts(plan).last().copied().unwrap_or(0).max(3);
         let stride = u64::from(VERTEX_STRIDE);
-        let fronts = [
-            XfbStream::new(ctx, "append growth front A", front_capacity * stride)?,
-            XfbStream::new(ctx, "append growth front B", front_capacity * stride)?,
-        ];
-        let frozen = XfbStream::new(ctx, "append growth frozen", frozen_capacity * stride)?;
-        let queries = StreamQueries::new(ctx, "append growth stream queries", 2 * plan.passes)?;
         Ok(Self {
-            growth,
-            queries,
-            fronts,
-            frozen,
-            input,
-            initial_vertices: initial.len() as u32,
-            passes_done: 0,
-            total_passes: plan.passes,
+            fronts: [
+                XfbStream::new(ctx, "append growth front A", front_capacity * stride)?,
+                XfbStream::new(ctx, "append growth front B", front_capacity * stride)?,
+            ],
+            frozen: XfbStream::new(ctx, "append growth frozen", frozen_capacity * stride)?,
+            core,
             frozen_capacity,
             front_capacity,
         })
@@ -81,24 +58,19 @@ impl AppendGrowth {
     /// After the submission: every pass's (frozen, front) stream counts, or an error
     /// for the first capture that ran out of room.
     pub fn check_counts(&self) -> Result<Vec<(StreamCounts, StreamCounts)>> {
-        let counts = self.queries.results(2 * self.passes_done)?;
-        if let Some((i, c)) = counts.iter().enumerate().find(|(_, c)| c.overflowed()) {
-            return Err(Error::CaptureOverflow {
-                pass: i as u32 / 2,
-                written: c.written,
-                needed: c.needed,
-                capacity_vertices: if i % 2 == 0 {
-                    self.frozen_capacity
-                } else {
-                    self.front_capacity
-                },
-            });
-        }
+        let counts = self.core.counts(|i| {
+            if i % 2 == 0 {
+                self.frozen_capacity
+            } else {
+                self.front_capacity
+            }
+        })?;
         Ok(counts.chunks_exact(2).map(|c| (c[0], c[1])).collect())
     }
 
-    fn front(&self) -> &XfbStream {
-        &self.fronts[((self.passes_done.max(1) - 1) % 2) as usize]
+    /// The front stream pass `pass` captures into.
+    fn front(&self, pass: u32) -> &XfbStream {
+        &self.fronts[(pass % 2) as usize]
     }
 }
 
@@ -108,27 +80,18 @@ impl Growth for AppendGrowth {
     }
 
     fn passes_done(&self) -> u32 {
-        self.passes_done
+        self.core.passes_done
     }
 
     fn set_plan(&mut self, plan: &GrowthPlan) -> Result<bool> {
         let needed = vertex_counts(plan).last().copied().unwrap_or(0);
-        if needed > self.frozen_capacity {
-            return Ok(false);
-        }
-        self.growth.write_plan(plan)
+        self.core.write_plan(plan, needed, self.frozen_capacity)
     }
 
     fn record(&mut self, cmd: &Commands<'_>, passes: u32) -> Result<()> {
-        let first = self.passes_done;
-        let last = (first + passes).min(self.total_passes);
-        if last == first {
-            return Ok(());
-        }
-        self.queries
-            .reset_range(cmd, 2 * first, 2 * (last - first))?;
-        for pass in first..last {
-            let dst = &self.fronts[(pass % 2) as usize];
+        let range = self.core.begin(cmd, passes)?;
+        for pass in range.clone() {
+            let dst = self.front(pass);
             // The frozen stream appends (from zero on its first pass; after its own
             // last capture: the write-after-write chain runs through its barriers);
             // `dst` was the input of the previous pass.
@@ -144,23 +107,18 @@ impl Growth for AppendGrowth {
                 (EmitMode::Frozen, &self.frozen, CaptureMode::Append),
                 (EmitMode::Front, dst, CaptureMode::Restart),
             ] {
-                self.growth.bind(cmd, pass, mode)?;
+                self.core.bind(cmd, pass, mode)?;
                 let query = 2 * pass + u32::from(mode == EmitMode::Front);
-                self.queries.begin(cmd, query)?;
+                self.core.queries.begin(cmd, query)?;
                 stream.begin(cmd, capture)?;
-                if pass == 0 {
-                    cmd.bind_vertex_buffer(&self.input, 0);
-                    cmd.draw(self.initial_vertices, 1);
-                } else {
-                    self.fronts[((pass + 1) % 2) as usize].draw(cmd, VERTEX_STRIDE, 1)?;
-                }
+                self.core.draw_input(cmd, pass, self.front(pass + 1))?;
                 stream.end(cmd)?;
-                self.queries.end(cmd, query)?;
+                self.core.queries.end(cmd, query)?;
             }
             cmd.end_rendering();
             XfbStream::finish_captures(cmd, &[&self.frozen, dst]);
         }
-        self.passes_done = last;
+        self.core.passes_done = range.end.max(self.core.passes_done);
         Ok(())
     }
 
@@ -170,7 +128,7 @@ impl Growth for AppendGrowth {
         Ok(GrowthCounts {
             vertices: match counts.last() {
                 Some((_, front)) => frozen + front.written * 3,
-                None => u64::from(self.initial_vertices),
+                None => self.core.base_vertices(),
             },
             // Each pass emits the front's share only: what froze and the next front.
             emitted: counts
@@ -181,35 +139,30 @@ impl Growth for AppendGrowth {
     }
 
     fn source(&self) -> MeshSource<'_> {
-        if self.passes_done == 0 {
-            MeshSource::Counted {
-                buffer: &self.input,
-                vertices: self.initial_vertices,
-            }
-        } else {
-            MeshSource::Appended {
+        match self.core.passes_done {
+            0 => self.core.base_source(),
+            done => MeshSource::Appended {
                 frozen: &self.frozen,
-                front: self.front(),
-            }
+                front: self.front(done - 1),
+            },
         }
     }
 
     /// The frozen vertices brought up to date (as the surface shader draws them), then
     /// the front.
     fn read_back(&self, ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Vec<RingVertex>> {
-        if self.passes_done == 0 {
-            let mut base: Vec<RingVertex> = self.input.read()?;
-            base.truncate(self.initial_vertices as usize);
-            return Ok(base);
+        let done = self.core.passes_done;
+        if done == 0 {
+            return self.core.base_mesh();
         }
-        let thickening = accumulated_thickening(plan, self.passes_done);
+        let thickening = accumulated_thickening(plan, done);
         let mut mesh: Vec<RingVertex> = self
             .frozen
             .read_back::<RingVertex>(ctx)?
             .iter()
-            .map(|v| unfreeze(v, &thickening, self.passes_done))
+            .map(|v| unfreeze(v, &thickening, done))
             .collect();
-        mesh.extend(self.front().read_back::<RingVertex>(ctx)?);
+        mesh.extend(self.front(done - 1).read_back::<RingVertex>(ctx)?);
         Ok(mesh)
     }
 }

@@ -245,13 +245,7 @@ pub struct Params {
 impl SceneParams for Params {
     type Scene = CaveScene;
 
-    fn preset(&self) -> Option<&str> {
-        self.preset.as_deref()
-    }
-
-    fn set_preset(&mut self, name: Option<String>) {
-        self.preset = name;
-    }
+    super::params::preset_and_camera_fields!();
 
     fn base(preset: Option<&str>) -> Result<CaveScene> {
         preset.map_or_else(|| Ok(CaveScene::default()), self::preset)
@@ -289,14 +283,6 @@ impl SceneParams for Params {
 
     fn validate(scene: &CaveScene) -> Result<()> {
         scene.validate()
-    }
-
-    fn camera(&self) -> &CameraOptions {
-        &self.camera
-    }
-
-    fn camera_mut(&mut self) -> &mut CameraOptions {
-        &mut self.camera
     }
 }
 

@@ -363,13 +363,7 @@ pub struct Params {
 impl SceneParams for Params {
     type Scene = DunesScene;
 
-    fn preset(&self) -> Option<&str> {
-        self.preset.as_deref()
-    }
-
-    fn set_preset(&mut self, name: Option<String>) {
-        self.preset = name;
-    }
+    super::params::preset_and_camera_fields!();
 
     fn base(preset: Option<&str>) -> Result<DunesScene> {
         preset.map_or_else(|| Ok(DunesScene::default()), self::preset)
@@ -441,14 +435,6 @@ impl SceneParams for Params {
 
     fn validate(scene: &DunesScene) -> Result<()> {
         scene.validate()
-    }
-
-    fn camera(&self) -> &CameraOptions {
-        &self.camera
-    }
-
-    fn camera_mut(&mut self) -> &mut CameraOptions {
-        &mut self.camera
     }
 }
 

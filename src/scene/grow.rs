@@ -286,13 +286,7 @@ pub struct ChangeOptions {
 impl SceneParams for Params {
     type Scene = GrowthScene;
 
-    fn preset(&self) -> Option<&str> {
-        self.preset.as_deref()
-    }
-
-    fn set_preset(&mut self, name: Option<String>) {
-        self.preset = name;
-    }
+    super::params::preset_and_camera_fields!();
 
     fn base(preset: Option<&str>) -> Result<GrowthScene> {
         preset.map_or_else(|| Ok(GrowthScene::default()), self::preset)
@@ -378,14 +372,6 @@ impl SceneParams for Params {
 
     fn validate(scene: &GrowthScene) -> Result<()> {
         scene.validate()
-    }
-
-    fn camera(&self) -> &CameraOptions {
-        &self.camera
-    }
-
-    fn camera_mut(&mut self) -> &mut CameraOptions {
-        &mut self.camera
     }
 }
 

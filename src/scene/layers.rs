@@ -336,13 +336,7 @@ pub struct Params {
 impl SceneParams for Params {
     type Scene = LayersSetup;
 
-    fn preset(&self) -> Option<&str> {
-        self.preset.as_deref()
-    }
-
-    fn set_preset(&mut self, name: Option<String>) {
-        self.preset = name;
-    }
+    super::params::preset_and_camera_fields!();
 
     fn base(preset: Option<&str>) -> Result<LayersSetup> {
         preset.map_or_else(|| Ok(LayersSetup::default()), self::preset)
@@ -374,14 +368,6 @@ impl SceneParams for Params {
 
     fn validate(scene: &LayersSetup) -> Result<()> {
         scene.schedule().map(drop)
-    }
-
-    fn camera(&self) -> &CameraOptions {
-        &self.camera
-    }
-
-    fn camera_mut(&mut self) -> &mut CameraOptions {
-        &mut self.camera
     }
 }
 

@@ -56,6 +56,29 @@ pub trait SceneParams: Default + Clone + Serialize + DeserializeOwned {
     fn camera_mut(&mut self) -> &mut CameraOptions;
 }
 
+/// The `SceneParams` methods that read a `Params` struct's `preset` and `camera`
+/// fields, the same in every scene.
+macro_rules! preset_and_camera_fields {
+    () => {
+        fn preset(&self) -> Option<&str> {
+            self.preset.as_deref()
+        }
+
+        fn set_preset(&mut self, name: Option<String>) {
+            self.preset = name;
+        }
+
+        fn camera(&self) -> &CameraOptions {
+            &self.camera
+        }
+
+        fn camera_mut(&mut self) -> &mut CameraOptions {
+            &mut self.camera
+        }
+    };
+}
+pub(crate) use preset_and_camera_fields;
+
 /// The effective scene: preset, then scene file, then options.
 #[derive(Clone, Debug)]
 pub struct Resolved<S> {

@@ -8,6 +8,7 @@ use anyhow::{Context as _, bail};
 use clap::{Parser, Subcommand};
 use sediment::gpu::{Context, ContextOptions};
 use sediment::scene::Size;
+use sediment::scene::params::{Resolved, SceneFileArgs, SceneParams, resolve, to_toml};
 
 /// `println!` that ignores a closed stdout (`sediment ... | head`): the files the
 /// command writes matter more than its report.
@@ -214,6 +215,22 @@ fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
         say!("| {name} | {} | {gpu:.2} | {wall:.1} |", path.display());
     }
     Ok(())
+}
+
+/// The effective scene of a subcommand's options and `--scene` file; with
+/// `--print-scene` it is written to stdout as TOML instead, and `None` tells the
+/// command to stop there.
+pub fn scene_or_print<P: SceneParams>(
+    cli: &Cli,
+    params: &P,
+    file: &SceneFileArgs,
+) -> anyhow::Result<Option<Resolved<P::Scene>>> {
+    let resolved = resolve(params, file.scene.as_deref(), cli.seed)?;
+    if file.print_scene {
+        say!("{}", to_toml::<P>(&resolved)?);
+        return Ok(None);
+    }
+    Ok(Some(resolved))
 }
 
 pub fn fail_on_validation_errors(ctx: &Context) -> anyhow::Result<()> {

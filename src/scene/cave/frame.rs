@@ -392,11 +392,8 @@ impl SceneKind for Kind {
                         let mut frames = render(ctx, &scene, &model, size, &cameras)?.frames;
                         let (image, frame) = frames.remove(0);
                         Ok(Shot {
-                            image,
-                            gpu_spans: frame.spans,
-                            wall_ms: start.elapsed().as_secs_f64() * 1e3,
                             animation: frames.into_iter().map(|f| f.0).collect(),
-                            extras: Vec::new(),
+                            ..Shot::still(image, frame.spans, start.elapsed().as_secs_f64() * 1e3)
                         })
                     }),
                 },

@@ -519,13 +519,7 @@ impl SceneKind for Kind {
                     };
                     let terrain = simulate(&scene, &mut |_, _| {})?;
                     let out = render(ctx, &scene, &terrain, size, None, 0)?;
-                    Ok(Shot {
-                        image: out.image,
-                        gpu_spans: out.gpu_spans,
-                        wall_ms: out.wall_ms,
-                        animation: Vec::new(),
-                        extras: Vec::new(),
-                    })
+                    Ok(Shot::still(out.image, out.gpu_spans, out.wall_ms))
                 }),
             })
             .collect()

@@ -613,13 +613,7 @@ impl SceneKind for Kind {
                         ..super::preset(name)?
                     };
                     let g = grow(ctx, &scene, size, &GrowOutputs::default(), &mut |_, _| {})?;
-                    Ok(Shot {
-                        image: g.image,
-                        gpu_spans: g.gpu_spans,
-                        wall_ms: g.wall_ms,
-                        animation: Vec::new(),
-                        extras: Vec::new(),
-                    })
+                    Ok(Shot::still(g.image, g.gpu_spans, g.wall_ms))
                 }),
             })
             .collect()

@@ -171,11 +171,8 @@ impl SceneKind for Kind {
                     };
                     let out = render(ctx, &cut, size, None)?;
                     Ok(Shot {
-                        image: out.image,
-                        gpu_spans: out.gpu_spans,
-                        wall_ms: out.wall_ms,
-                        animation: Vec::new(),
                         extras: vec![("section", section::png(&s, &style, 600, 800))],
+                        ..Shot::still(out.image, out.gpu_spans, out.wall_ms)
                     })
                 }),
             })

@@ -120,13 +120,11 @@ pub fn render(ctx: &Arc<Context>, scene: &RockScene, size: Size) -> Result<Shot>
     let mut runner = FrameRunner::new(ctx, size)?;
     let mut frame = RockFrame::new(ctx, scene)?;
     let (image, f) = runner.render(&mut frame, &scene.camera, Time::At(0))?;
-    Ok(Shot {
+    Ok(Shot::still(
         image,
-        gpu_spans: f.spans,
-        wall_ms: start.elapsed().as_secs_f64() * 1e3,
-        animation: Vec::new(),
-        extras: Vec::new(),
-    })
+        f.spans,
+        start.elapsed().as_secs_f64() * 1e3,
+    ))
 }
 
 /// The rock in the registry.

@@ -8,9 +8,9 @@ use std::sync::Arc;
 use anyhow::bail;
 use sediment::export::check_extension;
 use sediment::scene::cave;
-use sediment::scene::params::{SceneFileArgs, resolve, to_toml};
+use sediment::scene::params::SceneFileArgs;
 
-use crate::{Cli, fail_on_validation_errors, open_context, progress};
+use crate::{Cli, fail_on_validation_errors, open_context, progress, scene_or_print};
 
 #[derive(clap::Args, Debug)]
 pub struct CaveArgs {
@@ -37,11 +37,9 @@ pub struct CaveArgs {
 }
 
 pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
-    let resolved = resolve(&a.scene, a.file.scene.as_deref(), cli.seed)?;
-    if a.file.print_scene {
-        say!("{}", to_toml::<cave::Params>(&resolved)?);
+    let Some(resolved) = scene_or_print(cli, &a.scene, &a.file)? else {
         return Ok(());
-    }
+    };
     let scene = &resolved.scene;
     if a.table {
         let rows = cave::table(&scene.cave, &mut |d| {

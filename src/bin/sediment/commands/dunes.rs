@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use anyhow::bail;
 use sediment::export::check_extension;
 use sediment::scene::dunes;
-use sediment::scene::params::{SceneFileArgs, resolve, to_toml};
+use sediment::scene::params::SceneFileArgs;
 
-use crate::{Cli, fail_on_validation_errors, open_context, progress};
+use crate::{Cli, fail_on_validation_errors, open_context, progress, scene_or_print};
 
 #[derive(clap::Args, Debug)]
 pub struct DunesArgs {
@@ -42,11 +42,9 @@ pub struct DunesArgs {
 }
 
 pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
-    let resolved = resolve(&a.scene, a.file.scene.as_deref(), cli.seed)?;
-    if a.file.print_scene {
-        say!("{}", to_toml::<dunes::Params>(&resolved)?);
+    let Some(resolved) = scene_or_print(cli, &a.scene, &a.file)? else {
         return Ok(());
-    }
+    };
     let scene = &resolved.scene;
     if a.timing_frames > 1000 {
         bail!(sediment::Error::invalid(

@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use anyhow::bail;
 use sediment::export::check_extension;
 use sediment::render::growth::GrowthPath;
-use sediment::scene::grow::{self, GrowthScene};
-use sediment::scene::params::{Resolved, SceneFileArgs, resolve, to_toml};
+use sediment::scene::grow;
+use sediment::scene::params::SceneFileArgs;
 
-use crate::{Cli, fail_on_validation_errors, open_context, progress};
+use crate::{Cli, fail_on_validation_errors, open_context, progress, scene_or_print};
 
 #[derive(clap::Args, Debug)]
 pub struct GrowArgs {
@@ -43,22 +43,11 @@ pub struct GrowArgs {
     mesh: Option<PathBuf>,
 }
 
-/// The effective growth scene of the options and scene file.
-pub fn growth_scene(
-    cli: &Cli,
-    params: &grow::Params,
-    file: &SceneFileArgs,
-) -> anyhow::Result<Resolved<GrowthScene>> {
-    Ok(resolve(params, file.scene.as_deref(), cli.seed)?)
-}
-
 pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
     // Everything the user gave is checked before any GPU work or file is touched.
-    let resolved = growth_scene(cli, &a.scene, &a.file)?;
-    if a.file.print_scene {
-        say!("{}", to_toml::<grow::Params>(&resolved)?);
+    let Some(resolved) = scene_or_print(cli, &a.scene, &a.file)? else {
         return Ok(());
-    }
+    };
     let scene = &resolved.scene;
     let camera = resolved.camera.over(grow::default_camera(scene))?;
     if !(1..=512).contains(&a.gif_every) {

@@ -7,9 +7,9 @@ use anyhow::bail;
 use sediment::export::check_extension;
 use sediment::scene::Size;
 use sediment::scene::layers;
-use sediment::scene::params::{SceneFileArgs, resolve, to_toml};
+use sediment::scene::params::SceneFileArgs;
 
-use crate::{Cli, fail_on_validation_errors, open_context, parse_size};
+use crate::{Cli, fail_on_validation_errors, open_context, parse_size, scene_or_print};
 
 #[derive(clap::Args, Debug)]
 pub struct LayersArgs {
@@ -49,11 +49,9 @@ pub struct LayersArgs {
 
 pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
     use sediment::export::section::{self, SectionStyle};
-    let resolved = resolve(&a.scene, a.file.scene.as_deref(), cli.seed)?;
-    if a.file.print_scene {
-        say!("{}", to_toml::<layers::Params>(&resolved)?);
+    let Some(resolved) = scene_or_print(cli, &a.scene, &a.file)? else {
         return Ok(());
-    }
+    };
     let setup = &resolved.scene;
     let output = a
         .output
