@@ -367,3 +367,18 @@ fn table2_holds_on_the_gpu_output() {
         assert!((g_high / g_low - 3.0).abs() < 0.01, "{g_low} {g_high}");
     });
 }
+
+#[test]
+fn a_growth_before_its_first_pass_counts_its_base_without_a_query() {
+    // Reading zero stream queries used to call vkGetQueryPoolResults with no data (a
+    // validation error every frame of a paused viewer after a restart).
+    common::with_gpu(|ctx| {
+        let plan = scene(GrowthParams::default(), 2, 4).plan().expect("plan");
+        let base = sediment::model::speleothem::initial_rings(&plan).len() as u64;
+        for path in GrowthPath::ALL {
+            let growth = path.start(ctx, &plan).expect("set-up");
+            let counts = growth.counts().expect("counts");
+            assert_eq!((counts.vertices, counts.emitted), (base, 0), "{path}");
+        }
+    });
+}

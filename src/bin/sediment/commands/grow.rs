@@ -21,7 +21,7 @@ pub struct GrowArgs {
     /// geometry shader every pass), `append` (only the growth front through the same
     /// shader; new bands appended by resuming the transform-feedback counter, O(one
     /// ring) per pass), `compute` (the same pass as a compute shader) or `cpu` (the CPU
-    /// reference, uploaded). All give the same mesh. Default restream.
+    /// reference, uploaded). All give the same mesh.
     #[arg(
         long,
         value_name = "restream|append|compute|cpu",

@@ -55,7 +55,7 @@ struct ViewGrowArgs {
     file: SceneFileArgs,
     /// The growth path: `append` (only the growth front through the geometry shader,
     /// O(one ring) per pass: real time), `restream` (the paper's pass, O(mesh) per
-    /// pass), `compute` or `cpu`. All give the same mesh. Default append.
+    /// pass), `compute` or `cpu`. All give the same mesh.
     #[arg(
         long,
         value_name = "append|restream|compute|cpu",
