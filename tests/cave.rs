@@ -79,6 +79,26 @@ fn grown_speleothems_in_the_cave_equal_the_cpu_reference() {
             &sorted_triangles(&cpu),
             scale,
         );
+        // Drawn and exported with their caps, the speleothems are closed but for the
+        // base rings sunk in the rock.
+        let caps = sediment::model::speleothem::caps(&gpu, &plan, plan.passes);
+        let base: Vec<_> = gpu
+            .iter()
+            .filter(|v| v.ring() == 0)
+            .map(|v| v.position())
+            .collect();
+        let on_base = |p: glam::Vec3| base.iter().any(|b| (*b - p).length() < 1e-3);
+        let open = sediment::model::speleothem::open_boundary(&gpu, &caps);
+        let stray = open
+            .iter()
+            .filter(|(a, b)| !(on_base(*a) && on_base(*b)))
+            .count();
+        assert_eq!(
+            stray,
+            0,
+            "{stray} of {} open edges off the base rings",
+            open.len()
+        );
         // Every base ring starts inside the rock: the sites' sunk heights.
         for (site, s) in growth.sites.iter().zip(&model.sites) {
             assert!(site.ceiling_y > s.ceiling.y && site.floor_y < s.floor.y);

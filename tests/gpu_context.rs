@@ -61,6 +61,7 @@ fn an_unknown_device_name_is_a_clear_error() {
         device: Some("no-such-gpu-xyz".to_owned()),
         validate: false,
         window: None,
+        samples: None,
     }) {
         Ok(_) => panic!("no device is called no-such-gpu-xyz"),
         Err(e) => e.to_string(),

@@ -5,7 +5,9 @@ mod common;
 
 use common::Tolerance;
 use common::growth::{assert_matches, sorted_triangles};
+use common::picture::{brightest_hue_saturation, hue_distance, hue_saturation_of};
 use sediment::model::speleothem::grow_reference;
+use sediment::model::speleothem::table2::Mineral;
 use sediment::render::growth::GrowthPath;
 use sediment::scene::Size;
 use sediment::scene::grow::{self, GrowOutputs};
@@ -30,9 +32,40 @@ fn figure9_presets_match_their_goldens() {
                 grown.plan.speleothems.iter().all(|s| s.rings > 0),
                 "{name}: every speleothem grew"
             );
+            assert_mineral_reads_true(name, scene.params.mineral, &grown.image);
             common::assert_golden(&format!("{name}-240x160"), &grown.image, FIG9_TOLERANCE);
         }
     });
+}
+
+/// The paper's Fig. 9 text: (a, b, c, f) calcareous, white; (d, e, g) iron, red to
+/// yellow; (h) malachite, blue-greenish. Measured on the mean colour of the brightest
+/// 5 % of the pixels: a white mineral at saturation <= 0.08, a coloured one within
+/// 20 degrees of its Table 1 hue and keeping at least 30 % of Table 1's saturation
+/// (iron's hue is the grey-brown limestone's too: its saturation tells them apart).
+fn assert_mineral_reads_true(name: &str, mineral: Mineral, image: &image::RgbaImage) {
+    let expected = match name {
+        "fig9a" | "fig9b" | "fig9c" | "fig9f" => Mineral::Calcareous,
+        "fig9d" | "fig9e" | "fig9g" => Mineral::Iron,
+        "fig9h" => Mineral::Malachite,
+        other => panic!("no Figure 9 text for {other}"),
+    };
+    assert_eq!(mineral, expected, "{name}: the paper's mineral");
+    let (hue, saturation) = brightest_hue_saturation(image);
+    eprintln!("{name} ({mineral}): brightest 5 % at hue {hue:.0}, saturation {saturation:.3}");
+    if mineral == Mineral::Calcareous {
+        assert!(
+            saturation <= 0.08,
+            "{name}: white calcite at saturation {saturation:.3}"
+        );
+    } else {
+        let (table_hue, table_saturation) = hue_saturation_of(mineral.color());
+        assert!(
+            hue_distance(hue, table_hue) <= 20.0 && saturation >= 0.3 * table_saturation,
+            "{name}: {mineral} at hue {hue:.0}, saturation {saturation:.3} (Table 1: \
+             {table_hue:.0}, {table_saturation:.3})"
+        );
+    }
 }
 
 #[test]

@@ -382,3 +382,66 @@ fn a_growth_before_its_first_pass_counts_its_base_without_a_query() {
         }
     });
 }
+
+/// Sorted position bit patterns of one speleothem's vertices.
+fn positions_of(mesh: &[RingVertex], index: usize) -> Vec<[u32; 3]> {
+    let mut out: Vec<[u32; 3]> = mesh
+        .iter()
+        .filter(|v| v.speleothem() == index)
+        .map(|v| v.position().to_array().map(f32::to_bits))
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+#[test]
+fn adding_stalagmites_mid_growth_keeps_the_grown_stalactites_identical_on_the_gpu() {
+    common::with_gpu(|ctx| {
+        let hanging = GrowthScene {
+            seed: 11,
+            mode: StepMode::Random { jitter: 0.5 },
+            ..scene(
+                GrowthParams {
+                    wind_intensity: 0.5,
+                    ..GrowthParams::default()
+                },
+                6,
+                20,
+            )
+        };
+        let dripping = GrowthScene {
+            changes: vec![ParamChange {
+                pass: 10,
+                pil: Some(Pil::Dripping),
+                ..ParamChange::default()
+            }],
+            ..hanging.clone()
+        };
+        let (a, b) = (
+            hanging.plan().expect("plan"),
+            dripping.plan().expect("plan"),
+        );
+        let grown = |plan: &GrowthPlan| {
+            let mut growth = GrowthPath::XfbRestream.start(ctx, plan).expect("set-up");
+            ctx.submit_and_wait("pil change", |cmd| growth.record(cmd, 10))
+                .expect("submission");
+            growth.read_back(ctx, plan).expect("read back")
+        };
+        let (gpu_a, gpu_b) = (grown(&a), grown(&b));
+        let (cpu_a, cpu_b) = (grow_reference(&a, 10), grow_reference(&b, 10));
+        for site in 0..a.speleothems.len() {
+            let reference = positions_of(&gpu_a, site);
+            assert!(reference.len() > 10 * 16, "site {site} grew");
+            assert_eq!(
+                reference,
+                positions_of(&gpu_b, 2 * site),
+                "GPU, site {site}"
+            );
+            assert_eq!(
+                positions_of(&cpu_a, site),
+                positions_of(&cpu_b, 2 * site),
+                "CPU, site {site}"
+            );
+        }
+    });
+}

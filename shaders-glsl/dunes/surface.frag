@@ -159,5 +159,5 @@ void main() {
     float dist = length(in_world - frame.camera_pos.xyz);
     float haze = 1.0 - exp(-dist / (2.5 * dune.tile.w));
     hdr = mix(hdr, horizon_haze(l), haze);
-    out_color = vec4(tonemap_aces(hdr, frame.params.x), 1.0);
+    out_color = vec4(tonemap(hdr, frame.params), 1.0);
 }

@@ -32,6 +32,7 @@ void main() {
     light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, radiance);
     vec3 albedo = object.albedo.rgb;
     vec3 hdr = albedo * hemisphere_ambient(n, frame.sky_color.rgb, frame.ground_color.rgb)
-             + sun_light(n, v, l, albedo, radiance, object.material.x, object.material.y);
-    out_color = vec4(tonemap_aces(hdr, frame.params.x), 1.0);
+             + sun_light(n, v, l, albedo, radiance, object.material.x, object.material.y)
+             + albedo * object.material.z;
+    out_color = vec4(tonemap(hdr, frame.params), 1.0);
 }

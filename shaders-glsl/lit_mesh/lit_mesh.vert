@@ -14,7 +14,7 @@ layout(set = 0, binding = 0) uniform Frame {
 layout(push_constant) uniform Object {
     mat4 model;
     vec4 albedo;   // rgb linear albedo
-    vec4 material; // x shininess, y specular weight
+    vec4 material; // x shininess, y specular weight, z emission (times the albedo)
 } object;
 
 layout(location = 0) in vec3 in_position;

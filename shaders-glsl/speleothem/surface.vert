@@ -11,8 +11,8 @@ layout(set = 0, binding = 0) uniform Frame {
     vec4 params;
 } frame;
 
-// Per speleothem, 2 vec4: (mineral colour rgb, rings grown so far), (growth sign,
-// mineral mix intensity, thickening accumulated so far, 0).
+// Per speleothem, 3 vec4: (mineral colour rgb, rings grown so far), (growth sign,
+// mineral mix intensity, thickening accumulated so far, 0), (tip ring centre, 0).
 layout(set = 0, binding = 1, std430) readonly buffer Speleothems {
     vec4 info[];
 } speleothems;
@@ -21,6 +21,8 @@ layout(push_constant) uniform Surface {
     // x segments per ring, y texture repeats per unit of length, z normal-map strength,
     // w 1 for vertices frozen by the append-only growth, else 0
     vec4 params;
+    // x environment reflection strength, y the environment cube's last mip level
+    vec4 look;
 } surface;
 
 layout(location = 0) in vec4 in_pos_id;
@@ -30,15 +32,21 @@ layout(location = 2) in vec4 in_extra;
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec3 out_tangent;
-layout(location = 3) out vec2 out_uv;
+layout(location = 3) out vec3 out_uv;
 layout(location = 4) out vec3 out_color;
+// For the cap pass (`cap.geom`): the tip ring's centre, the ring ID, and the growth
+// direction.
+layout(location = 5) out vec3 out_tip_centre;
+layout(location = 6) out float out_id;
+layout(location = 7) out vec3 out_growth;
 
 const vec3 CALCITE = vec3(0.8, 0.8, 0.8);
 
+
 void main() {
     uint sp = uint(in_normal_sp.w + 0.5);
-    vec4 mineral = speleothems.info[2u * sp];
-    vec4 misc = speleothems.info[2u * sp + 1u];
+    vec4 mineral = speleothems.info[3u * sp];
+    vec4 misc = speleothems.info[3u * sp + 1u];
     vec3 g = vec3(0.0, misc.x, 0.0);
     vec3 n_radial = in_normal_sp.xyz;
     // Surface normal of a band whose radius changes by `slope` per unit of height:
@@ -46,14 +54,23 @@ void main() {
     // slope is -1, giving the growth direction itself).
     out_normal = normalize(n_radial - g * in_extra.z + vec3(0.0, 1e-6, 0.0));
     out_tangent = length(n_radial) > 0.5 ? normalize(cross(g, n_radial)) : vec3(1.0, 0.0, 0.0);
-    out_uv = vec2(in_extra.x / surface.params.x, in_extra.y * surface.params.y);
-    // Tortelli & Walter: fv_c = mc * (arID / rc), linear from base to tip; the user's
-    // intensity mixes it into white calcite.
+    // Around the ring u runs 0..1 and wraps; a second copy shifted by half a turn is
+    // continuous where the first jumps (Tarini 2012): the fragment shader uses
+    // whichever varies less, so no seam shows where the segment index wraps.
+    float u = in_extra.x / surface.params.x;
+    out_uv = vec3(u, fract(u + 0.5), in_extra.y * surface.params.y);
+    // Tortelli & Walter: fv_c = mc * (arID / rc), "a linear variation from base to
+    // tip". Read literally every base is black, which no figure of theirs shows; read
+    // as the mineral's share of the colour over white calcite, rising linearly from
+    // base to tip (from 35 % at the base), scaled by the user's intensity.
     float t = mineral.w > 0.0 ? clamp(in_extra.w / mineral.w, 0.0, 1.0) : 1.0;
-    out_color = mix(CALCITE, mineral.rgb * t, misc.y);
+    out_color = mix(CALCITE, mineral.rgb, misc.y * (0.35 + 0.65 * t));
     // The append-only growth writes a vertex once, less the thickening accumulated when
     // it left the front; add the current total (model::speleothem::unfreeze).
     vec3 p = in_pos_id.xyz + n_radial * (misc.z * surface.params.w);
     out_world = p;
+    out_tip_centre = speleothems.info[3u * sp + 2u].xyz;
+    out_id = in_pos_id.w;
+    out_growth = g;
     gl_Position = frame.view_proj * vec4(p, 1.0);
 }

@@ -24,7 +24,7 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::frame::{Frame, FrameRunner};
-use crate::gpu::{COLOR_FORMAT, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
+use crate::gpu::{Context, GpuTimer, OffscreenTarget, Span, TargetFormat};
 use crate::render::sky::SkyPass;
 use crate::scene::Size;
 use crate::scene::camera::Camera;
@@ -226,8 +226,14 @@ fn floor(ctx: &Arc<Context>, opts: &BenchOptions) -> Result<Vec<SeriesResult>> {
         })?;
         timer.read()
     })?;
-    let target = OffscreenTarget::new(ctx, opts.size.width, opts.size.height)?;
-    let sky = SkyPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?;
+    // One sample: the floor stays the trivial pass it was before frames were
+    // multisampled, so multiples of it compare across versions.
+    let single = TargetFormat {
+        samples: crate::gpu::vk::SampleCountFlags::TYPE_1,
+        ..ctx.frame_format()
+    };
+    let target = OffscreenTarget::with_format(ctx, opts.size.width, opts.size.height, single)?;
+    let sky = SkyPass::new(ctx, single)?;
     let camera = Camera {
         eye: Vec3::new(0.0, 1.0, 3.0),
         target: Vec3::ZERO,

@@ -25,7 +25,12 @@ pub struct ContextOptions {
     /// Present to windows of this display (enables the surface and swapchain
     /// extensions); `None` for headless work.
     pub window: Option<raw_window_handle::RawDisplayHandle>,
+    /// Anti-aliasing samples per pixel of every frame (1, 2, 4 or 8; `None`: 4).
+    pub samples: Option<u32>,
 }
+
+/// Frames' samples per pixel unless asked otherwise.
+pub const DEFAULT_SAMPLES: u32 = 4;
 
 impl ContextOptions {
     /// Fills unset options from `SEDIMENT_DEVICE` and `SEDIMENT_VALIDATE=1`.
@@ -193,6 +198,8 @@ pub fn probe_devices() -> Result<Vec<DeviceReport>> {
 /// The device and everything that lives as long as it. Shared as `Arc<Context>`;
 /// every owning wrapper holds one and frees itself in `Drop`.
 pub struct Context {
+    /// What every frame is drawn into (its samples are `ContextOptions::samples`).
+    frame_format: super::TargetFormat,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
     pub(crate) xfb: ash::ext::transform_feedback::Device,
@@ -241,6 +248,12 @@ impl Context {
     ) -> std::result::Result<Self, (Error, Option<InstanceParts>)> {
         let (physical, report) = match choose_device(&parts.instance, options.device.as_deref()) {
             Ok(found) => found,
+            Err(e) => return Err((e, Some(parts))),
+        };
+        // SAFETY: `physical` came from this instance.
+        let limits = unsafe { parts.instance.get_physical_device_properties(physical) }.limits;
+        let frame_format = match frame_format(options.samples, &limits) {
+            Ok(f) => f,
             Err(e) => return Err((e, Some(parts))),
         };
         let Some((queue_family, _)) = features::graphics_queue_family(&parts.instance, physical)
@@ -375,6 +388,7 @@ impl Context {
             max_geometry_total_output_components: props.limits.max_geometry_total_output_components,
         };
         let ctx = Context {
+            frame_format,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(command_pool),
             xfb: xfb_device,
@@ -397,6 +411,11 @@ impl Context {
     /// The chosen device's names and limits.
     pub fn info(&self) -> &DeviceInfo {
         &self.info
+    }
+
+    /// The format, depth and samples of every frame drawn on this context.
+    pub fn frame_format(&self) -> super::TargetFormat {
+        self.frame_format
     }
 
     /// Whether validation is on for this context.
@@ -534,6 +553,35 @@ impl Context {
         // SAFETY: valid device.
         unsafe { self.device.device_wait_idle() }.vk("vkDeviceWaitIdle")
     }
+}
+
+/// The frame format with `samples` per pixel, if the device renders colour and depth
+/// with that many.
+fn frame_format(
+    samples: Option<u32>,
+    limits: &vk::PhysicalDeviceLimits,
+) -> Result<super::TargetFormat> {
+    let n = samples.unwrap_or(DEFAULT_SAMPLES);
+    let flag = vk::SampleCountFlags::from_raw(n);
+    let supported = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
+    if !n.is_power_of_two() || n > 64 || !supported.contains(flag) {
+        let counts: Vec<String> = (0..7)
+            .map(|k| 1u32 << k)
+            .filter(|&k| supported.contains(vk::SampleCountFlags::from_raw(k)))
+            .map(|k| k.to_string())
+            .collect();
+        return Err(Error::invalid(
+            "--samples",
+            format!(
+                "{n} samples per pixel: this device renders {}",
+                counts.join(", ")
+            ),
+        ));
+    }
+    Ok(super::TargetFormat {
+        samples: flag,
+        ..super::TargetFormat::FRAME
+    })
 }
 
 fn choose_device(

@@ -17,6 +17,10 @@ pub struct ImageDesc {
     pub format: vk::Format,
     pub mip_levels: u32,
     pub usage: vk::ImageUsageFlags,
+    /// Samples per texel (multisampled attachments).
+    pub samples: vk::SampleCountFlags,
+    /// Six layers seen as a cube (an environment map), else one 2D layer.
+    pub cube: bool,
 }
 
 impl ImageDesc {
@@ -27,11 +31,31 @@ impl ImageDesc {
             format,
             mip_levels: 1,
             usage,
+            samples: vk::SampleCountFlags::TYPE_1,
+            cube: false,
         }
+    }
+
+    /// A cube map of `size`² faces (six layers, viewed as a cube).
+    pub fn new_cube(size: u32, format: vk::Format, usage: vk::ImageUsageFlags) -> Self {
+        Self {
+            cube: true,
+            ..Self::new_2d(size, size, format, usage)
+        }
+    }
+
+    /// Array layers: six for a cube.
+    pub fn layers(&self) -> u32 {
+        if self.cube { 6 } else { 1 }
     }
 
     pub fn mip_levels(mut self, levels: u32) -> Self {
         self.mip_levels = levels;
+        self
+    }
+
+    pub fn samples(mut self, samples: vk::SampleCountFlags) -> Self {
+        self.samples = samples;
         self
     }
 
@@ -79,8 +103,13 @@ impl Image {
                 depth: 1,
             })
             .mip_levels(desc.mip_levels)
-            .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .array_layers(desc.layers())
+            .flags(if desc.cube {
+                vk::ImageCreateFlags::CUBE_COMPATIBLE
+            } else {
+                vk::ImageCreateFlags::empty()
+            })
+            .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
@@ -124,7 +153,11 @@ impl Image {
         }
         let view_info = vk::ImageViewCreateInfo::default()
             .image(raw)
-            .view_type(vk::ImageViewType::TYPE_2D)
+            .view_type(if desc.cube {
+                vk::ImageViewType::CUBE
+            } else {
+                vk::ImageViewType::TYPE_2D
+            })
             .format(desc.format)
             .subresource_range(image.full_range());
         // SAFETY: the image is bound to memory and the range is within it.
@@ -254,99 +287,133 @@ impl Image {
                     &regions,
                 )
             };
-            let level_range = |k: u32| vk::ImageSubresourceRange {
-                base_mip_level: k,
-                level_count: 1,
-                ..range
-            };
-            for k in given..desc.mip_levels {
-                // Level k-1 becomes a blit source.
-                super::barrier::images(
-                    ctx,
-                    cmd.raw,
-                    &[super::barrier::ImageTransition {
-                        image: image.raw,
-                        range: level_range(k - 1),
-                        from: (
-                            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                            vk::PipelineStageFlags2::ALL_TRANSFER,
-                            vk::AccessFlags2::TRANSFER_WRITE,
-                        ),
-                        to: (
-                            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                            vk::PipelineStageFlags2::ALL_TRANSFER,
-                            vk::AccessFlags2::TRANSFER_READ,
-                        ),
-                    }],
-                );
-                let extent = |k: u32| vk::Offset3D {
-                    x: (desc.width >> k).max(1) as i32,
-                    y: (desc.height >> k).max(1) as i32,
-                    z: 1,
-                };
-                let layers = |k: u32| vk::ImageSubresourceLayers {
-                    aspect_mask: range.aspect_mask,
-                    mip_level: k,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                };
-                let blit = [vk::ImageBlit {
-                    src_subresource: layers(k - 1),
-                    src_offsets: [vk::Offset3D::default(), extent(k - 1)],
-                    dst_subresource: layers(k),
-                    dst_offsets: [vk::Offset3D::default(), extent(k)],
-                }];
-                // SAFETY: level k-1 is in TRANSFER_SRC and level k in TRANSFER_DST; the
-                // format supports linear blits (checked by validation in tests).
-                unsafe {
-                    ctx.device.cmd_blit_image(
-                        cmd.raw,
-                        image.raw,
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        image.raw,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        &blit,
-                        vk::Filter::LINEAR,
-                    )
-                };
-            }
-            // Every level to shader reads, from the layout the copies and blits left it
-            // in.
-            let to_read = (
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                vk::AccessFlags2::SHADER_SAMPLED_READ,
-            );
-            let transitions: Vec<super::barrier::ImageTransition> =
-                layouts_after_copies_and_blits(given, desc.mip_levels)
-                    .into_iter()
-                    .map(|(base, count, layout)| super::barrier::ImageTransition {
-                        image: image.raw,
-                        range: vk::ImageSubresourceRange {
-                            base_mip_level: base,
-                            level_count: count,
-                            ..range
-                        },
-                        from: if layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
-                            (
-                                layout,
-                                vk::PipelineStageFlags2::ALL_TRANSFER,
-                                vk::AccessFlags2::TRANSFER_READ,
-                            )
-                        } else {
-                            (
-                                layout,
-                                vk::PipelineStageFlags2::ALL_TRANSFER,
-                                vk::AccessFlags2::TRANSFER_WRITE,
-                            )
-                        },
-                        to: to_read,
-                    })
-                    .collect();
-            super::barrier::images(ctx, cmd.raw, &transitions);
+            image.record_mips(cmd, given);
             Ok(())
         })?;
         Ok(image)
+    }
+
+    /// Records the rest of the mip chain and the hand-over to shaders: levels
+    /// `0..given` of every layer are in TRANSFER_DST (copied); each later level is a
+    /// linear blit (a box filter) of the one before, which becomes a TRANSFER_SRC
+    /// first; then every level goes to SHADER_READ_ONLY_OPTIMAL from the layout it is
+    /// in (`layouts_after_copies_and_blits`).
+    pub(crate) fn record_mips(&self, cmd: &super::Commands<'_>, given: u32) {
+        let (desc, range) = (&self.desc, self.full_range());
+        let level_range = |k: u32| vk::ImageSubresourceRange {
+            base_mip_level: k,
+            level_count: 1,
+            ..range
+        };
+        if desc.mip_levels > given {
+            // The levels to be blitted, whatever they held, become destinations.
+            super::barrier::images(
+                cmd.ctx,
+                cmd.raw,
+                &[super::barrier::ImageTransition {
+                    image: self.raw,
+                    range: vk::ImageSubresourceRange {
+                        base_mip_level: given,
+                        level_count: desc.mip_levels - given,
+                        ..range
+                    },
+                    from: (
+                        vk::ImageLayout::UNDEFINED,
+                        vk::PipelineStageFlags2::TOP_OF_PIPE,
+                        vk::AccessFlags2::NONE,
+                    ),
+                    to: (
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        vk::PipelineStageFlags2::ALL_TRANSFER,
+                        vk::AccessFlags2::TRANSFER_WRITE,
+                    ),
+                }],
+            );
+        }
+        for k in given..desc.mip_levels {
+            // Level k-1 becomes a blit source.
+            super::barrier::images(
+                cmd.ctx,
+                cmd.raw,
+                &[super::barrier::ImageTransition {
+                    image: self.raw,
+                    range: level_range(k - 1),
+                    from: (
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        vk::PipelineStageFlags2::ALL_TRANSFER,
+                        vk::AccessFlags2::TRANSFER_WRITE,
+                    ),
+                    to: (
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        vk::PipelineStageFlags2::ALL_TRANSFER,
+                        vk::AccessFlags2::TRANSFER_READ,
+                    ),
+                }],
+            );
+            let extent = |k: u32| vk::Offset3D {
+                x: (desc.width >> k).max(1) as i32,
+                y: (desc.height >> k).max(1) as i32,
+                z: 1,
+            };
+            let layers = |k: u32| vk::ImageSubresourceLayers {
+                aspect_mask: range.aspect_mask,
+                mip_level: k,
+                base_array_layer: 0,
+                layer_count: desc.layers(),
+            };
+            let blit = [vk::ImageBlit {
+                src_subresource: layers(k - 1),
+                src_offsets: [vk::Offset3D::default(), extent(k - 1)],
+                dst_subresource: layers(k),
+                dst_offsets: [vk::Offset3D::default(), extent(k)],
+            }];
+            // SAFETY: level k-1 is in TRANSFER_SRC and level k in TRANSFER_DST; the
+            // format supports linear blits (checked by validation in tests).
+            unsafe {
+                cmd.ctx.device.cmd_blit_image(
+                    cmd.raw,
+                    self.raw,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    self.raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &blit,
+                    vk::Filter::LINEAR,
+                )
+            };
+        }
+        // Every level to shader reads, from the layout the copies and blits left it in.
+        let to_read = (
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            vk::AccessFlags2::SHADER_SAMPLED_READ,
+        );
+        let transitions: Vec<super::barrier::ImageTransition> =
+            layouts_after_copies_and_blits(given, desc.mip_levels)
+                .into_iter()
+                .map(|(base, count, layout)| super::barrier::ImageTransition {
+                    image: self.raw,
+                    range: vk::ImageSubresourceRange {
+                        base_mip_level: base,
+                        level_count: count,
+                        ..range
+                    },
+                    from: if layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
+                        (
+                            layout,
+                            vk::PipelineStageFlags2::ALL_TRANSFER,
+                            vk::AccessFlags2::TRANSFER_READ,
+                        )
+                    } else {
+                        (
+                            layout,
+                            vk::PipelineStageFlags2::ALL_TRANSFER,
+                            vk::AccessFlags2::TRANSFER_WRITE,
+                        )
+                    },
+                    to: to_read,
+                })
+                .collect();
+        super::barrier::images(cmd.ctx, cmd.raw, &transitions);
     }
 
     /// Reads mip level `level` of a sampled RGBA8 image back (tightly packed rows),
@@ -430,7 +497,7 @@ impl Image {
             base_mip_level: 0,
             level_count: self.desc.mip_levels,
             base_array_layer: 0,
-            layer_count: 1,
+            layer_count: self.desc.layers(),
         }
     }
 }

@@ -30,7 +30,7 @@ pub use pipeline::{DescriptorSet, GraphicsPipelineDesc, Pipeline, PipelineLayout
 pub use sampler::Sampler;
 pub use shader::ShaderModule;
 pub use swapchain::{Presented, Surface, Swapchain};
-pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget};
+pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, TargetFormat};
 pub use timing::{GpuTimer, Span, SpanId};
 pub use validation::ValidationLog;
 pub use xfb::{CaptureMode, StreamCounts, StreamQueries, XfbStream};

@@ -339,6 +339,8 @@ pub struct GraphicsPipelineDesc<'a> {
     /// Constant and slope depth bias (pushes filled faces back behind lines drawn
     /// over them), or none.
     pub depth_bias: Option<(f32, f32)>,
+    /// Samples per pixel of the attachments drawn into.
+    pub samples: vk::SampleCountFlags,
 }
 
 impl<'a> GraphicsPipelineDesc<'a> {
@@ -362,6 +364,7 @@ impl<'a> GraphicsPipelineDesc<'a> {
             depth_write: true,
             alpha_blend: false,
             depth_bias: None,
+            samples: vk::SampleCountFlags::TYPE_1,
         }
     }
 
@@ -383,6 +386,14 @@ impl<'a> GraphicsPipelineDesc<'a> {
     pub fn targets(mut self, color: &[vk::Format], depth: Option<vk::Format>) -> Self {
         self.color_formats = color.to_vec();
         self.depth_format = depth;
+        self
+    }
+
+    /// Draws into an offscreen target of `format` (its colour, depth and samples).
+    pub fn target(mut self, format: super::TargetFormat) -> Self {
+        self.color_formats = vec![format.color];
+        self.depth_format = Some(format.depth);
+        self.samples = format.samples;
         self
     }
 
@@ -447,8 +458,8 @@ impl<'a> GraphicsPipelineDesc<'a> {
             .depth_bias_enable(self.depth_bias.is_some())
             .depth_bias_constant_factor(self.depth_bias.map_or(0.0, |b| b.0))
             .depth_bias_slope_factor(self.depth_bias.map_or(0.0, |b| b.1));
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(self.samples);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(self.depth_test && self.depth_format.is_some())
             .depth_write_enable(self.depth_write && self.depth_format.is_some())

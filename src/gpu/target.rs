@@ -1,5 +1,5 @@
-//! The offscreen frame: a colour + depth target of any size and its readback into an
-//! `image::RgbaImage`.
+//! The offscreen frame: a multisampled colour + depth target of any size, resolved
+//! into a single-sampled colour image, and its readback into an `image::RgbaImage`.
 
 use std::sync::Arc;
 
@@ -14,17 +14,53 @@ use crate::error::{Error, Result};
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// A colour + depth render target with a host-visible readback buffer.
+/// What a pass draws into: the formats and sample count of an offscreen target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TargetFormat {
+    pub color: vk::Format,
+    pub depth: vk::Format,
+    pub samples: vk::SampleCountFlags,
+}
+
+impl TargetFormat {
+    /// Every frame sediment shows or writes: sRGB colour, 32-bit depth, 4x MSAA
+    /// (silhouettes and shadow-map edges resolved from four samples a pixel) unless the
+    /// context was made with other samples (`Context::frame_format`).
+    pub const FRAME: Self = Self {
+        color: COLOR_FORMAT,
+        depth: DEPTH_FORMAT,
+        samples: vk::SampleCountFlags::TYPE_4,
+    };
+}
+
+/// A colour + depth render target, multisampled and resolved into a single-sampled
+/// colour image, with a host-visible readback buffer.
 pub struct OffscreenTarget {
     readback: Buffer,
     depth: Image,
+    /// The multisampled colour attachment (`None` with one sample: `color` is drawn).
+    samples: Option<Image>,
+    /// The resolved colour: what is read back, blitted or copied.
     color: Image,
+    format: TargetFormat,
     width: u32,
     height: u32,
 }
 
 impl OffscreenTarget {
+    /// A target of the context's frame format (`Context::frame_format`).
     pub fn new(ctx: &Arc<Context>, width: u32, height: u32) -> Result<Self> {
+        Self::with_format(ctx, width, height, ctx.frame_format())
+    }
+
+    /// A target of any format (a readback of a format other than RGBA8 reads raw
+    /// texels, see `read_image`).
+    pub fn with_format(
+        ctx: &Arc<Context>,
+        width: u32,
+        height: u32,
+        format: TargetFormat,
+    ) -> Result<Self> {
         let max = ctx.info().max_image_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
             return Err(Error::invalid(
@@ -32,41 +68,70 @@ impl OffscreenTarget {
                 format!("{width}x{height} is outside 1..={max} pixels per side on this device"),
             ));
         }
+        let multisampled = format.samples != vk::SampleCountFlags::TYPE_1;
         let color = Image::new(
             ctx,
             "offscreen colour",
             ImageDesc::new_2d(
                 width,
                 height,
-                COLOR_FORMAT,
+                format.color,
                 vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
             ),
         )?;
+        let samples = if multisampled {
+            Some(Image::new(
+                ctx,
+                "offscreen colour samples",
+                ImageDesc::new_2d(
+                    width,
+                    height,
+                    format.color,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT
+                        | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+                )
+                .samples(format.samples),
+            )?)
+        } else {
+            None
+        };
         let depth = Image::new(
             ctx,
             "offscreen depth",
             ImageDesc::new_2d(
                 width,
                 height,
-                DEPTH_FORMAT,
+                format.depth,
                 vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-            ),
+            )
+            .samples(format.samples),
         )?;
+        let texel = if format.color == vk::Format::R16G16B16A16_SFLOAT {
+            8
+        } else {
+            4
+        };
         let readback = Buffer::new(
             ctx,
             "offscreen readback",
             BufferDesc::readback(
-                u64::from(width) * u64::from(height) * 4,
+                u64::from(width) * u64::from(height) * texel,
                 vk::BufferUsageFlags::TRANSFER_DST,
             ),
         )?;
         Ok(Self {
             readback,
             depth,
+            samples,
             color,
+            format,
             width,
             height,
         })
+    }
+
+    pub fn format(&self) -> TargetFormat {
+        self.format
     }
 
     pub fn width(&self) -> u32 {
@@ -81,53 +146,67 @@ impl OffscreenTarget {
         self.color.raw()
     }
 
-    /// Transitions both attachments, clears them and opens a rendering scope with the
-    /// viewport set to the whole target.
+    /// Transitions the attachments, clears them and opens a rendering scope with the
+    /// viewport set to the whole target; with samples, the colour resolves into the
+    /// single-sampled image when the scope closes.
     pub fn begin(&self, cmd: &Commands<'_>, clear: [f32; 4]) {
-        barrier::images(
-            cmd.ctx,
-            cmd.raw,
-            &[
-                ImageTransition {
-                    image: self.color.raw(),
-                    range: self.color.full_range(),
-                    from: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::TOP_OF_PIPE,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    to: (
-                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    ),
-                },
-                ImageTransition {
-                    image: self.depth.raw(),
-                    range: self.depth.full_range(),
-                    from: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::TOP_OF_PIPE,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    to: (
-                        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
-                            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
-                    ),
-                },
-            ],
-        );
-        let color_attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(self.color.view())
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue { float32: clear },
-            })];
+        let attachment = |image: &Image| ImageTransition {
+            image: image.raw(),
+            range: image.full_range(),
+            from: (
+                vk::ImageLayout::UNDEFINED,
+                vk::PipelineStageFlags2::TOP_OF_PIPE,
+                vk::AccessFlags2::NONE,
+            ),
+            to: (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+        };
+        let mut transitions = vec![
+            attachment(&self.color),
+            ImageTransition {
+                image: self.depth.raw(),
+                range: self.depth.full_range(),
+                from: (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::PipelineStageFlags2::TOP_OF_PIPE,
+                    vk::AccessFlags2::NONE,
+                ),
+                to: (
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
+                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
+                ),
+            },
+        ];
+        if let Some(samples) = &self.samples {
+            transitions.push(attachment(samples));
+        }
+        barrier::images(cmd.ctx, cmd.raw, &transitions);
+        let clear_color = vk::ClearValue {
+            color: vk::ClearColorValue { float32: clear },
+        };
+        let color_attachment = [match &self.samples {
+            Some(samples) => vk::RenderingAttachmentInfo::default()
+                .image_view(samples.view())
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(self.color.view())
+                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .clear_value(clear_color),
+            None => vk::RenderingAttachmentInfo::default()
+                .image_view(self.color.view())
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(clear_color),
+        }];
         let depth_attachment = vk::RenderingAttachmentInfo::default()
             .image_view(self.depth.view())
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
@@ -165,6 +244,68 @@ impl OffscreenTarget {
     /// without reading it back: what a window does with frames it does not save.
     pub fn finish_for_transfer(&self, cmd: &Commands<'_>) {
         self.to_transfer_src(cmd);
+    }
+
+    /// Copies the resolved colour (after `end`) into mip level 0 of `layer` of `image`
+    /// (same size and format), leaving that level in TRANSFER_DST for
+    /// `Image::record_mips`; the layer's old contents are discarded.
+    pub fn copy_into_layer(&self, cmd: &Commands<'_>, image: &Image, layer: u32) {
+        self.to_transfer_src(cmd);
+        let range = vk::ImageSubresourceRange {
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: layer,
+            layer_count: 1,
+            ..image.full_range()
+        };
+        barrier::images(
+            cmd.ctx,
+            cmd.raw,
+            &[ImageTransition {
+                image: image.raw(),
+                range,
+                from: (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::PipelineStageFlags2::TOP_OF_PIPE,
+                    vk::AccessFlags2::NONE,
+                ),
+                to: (
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                ),
+            }],
+        );
+        let layers = |layer| vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: layer,
+            layer_count: 1,
+        };
+        let region = [vk::ImageCopy {
+            src_subresource: layers(0),
+            src_offset: vk::Offset3D::default(),
+            dst_subresource: layers(layer),
+            dst_offset: vk::Offset3D::default(),
+            extent: vk::Extent3D {
+                width: self.width,
+                height: self.height,
+                depth: 1,
+            },
+        }];
+        // SAFETY: the colour is in TRANSFER_SRC_OPTIMAL and the layer's level 0 in
+        // TRANSFER_DST_OPTIMAL; sizes and formats match (the caller's contract, checked
+        // by validation in tests).
+        unsafe {
+            cmd.ctx.device.cmd_copy_image(
+                cmd.raw,
+                self.color.raw(),
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                image.raw(),
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &region,
+            )
+        };
     }
 
     /// Copies the colour image into the readback buffer (after `end`).
@@ -216,6 +357,12 @@ impl OffscreenTarget {
 
     /// The frame copied by the last `copy_out` (after its submission finished).
     pub fn read_image(&self) -> Result<image::RgbaImage> {
+        if self.format.color != COLOR_FORMAT {
+            return Err(Error::internal(
+                "readback",
+                format!("{:?} is not read back as RGBA8", self.format.color),
+            ));
+        }
         let bytes = self.readback.mapped()?.to_vec();
         image::RgbaImage::from_raw(self.width, self.height, bytes).ok_or_else(|| {
             Error::internal("readback", "the readback buffer is smaller than the frame")

@@ -62,6 +62,35 @@ impl Mesh {
         mesh
     }
 
+    /// A UV sphere of `radius` about `centre` with `rings` latitude bands and
+    /// `2 * rings` segments, wound outward.
+    pub fn sphere(centre: Vec3, radius: f32, rings: u32) -> Mesh {
+        let (rings, segments) = (rings.max(2), 2 * rings.max(2));
+        let mut mesh = Mesh::default();
+        for i in 0..=rings {
+            let theta = std::f32::consts::PI * i as f32 / rings as f32;
+            for j in 0..=segments {
+                let phi = std::f32::consts::TAU * j as f32 / segments as f32;
+                let n = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.cos(),
+                    theta.sin() * phi.sin(),
+                );
+                mesh.positions.push(centre + n * radius);
+                mesh.normals.push(n);
+            }
+        }
+        let at = |i: u32, j: u32| i * (segments + 1) + j;
+        for i in 0..rings {
+            for j in 0..segments {
+                let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+                // Outward: from +y down, phi turning from +x toward +z.
+                mesh.indices.extend([a, b, c, a, c, d]);
+            }
+        }
+        mesh
+    }
+
     /// Area-weighted vertex normals from the triangles.
     pub fn recompute_normals(&mut self) {
         let mut normals = vec![Vec3::ZERO; self.positions.len()];

@@ -25,6 +25,11 @@ fn periodic_noise(seed: u64, p: Vec2, period: i64) -> f32 {
     a + (b - a) * v
 }
 
+/// Noise octaves: the finest has 16 cells across the map, features of 8 texels of a
+/// 128² map — about four pixels on a speleothem in a 720x480 frame, so the relief is
+/// resolved rather than averaged away (finer octaves only sparkled and aliased).
+const OCTAVES: u64 = 3;
+
 /// A `size` x `size` tileable normal map (RGBA8, row-major); `strength` scales the
 /// relief (0: flat).
 pub fn calcite_normal_map(seed: u64, size: u32, strength: f32) -> Vec<u8> {
@@ -35,7 +40,7 @@ pub fn calcite_normal_map(seed: u64, size: u32, strength: f32) -> Vec<u8> {
             let mut h = 0.0;
             let mut amplitude = 1.0;
             let mut cells = 4i64;
-            for octave in 0..5u64 {
+            for octave in 0..OCTAVES {
                 let p = Vec2::new(x as f32, y as f32) * (cells as f32 / n as f32);
                 h += amplitude * periodic_noise(seed.wrapping_add(octave), p, cells);
                 amplitude *= 0.55;

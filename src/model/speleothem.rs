@@ -288,6 +288,94 @@ pub fn grow_pass(
     }
 }
 
+/// One cap triangle of an open growth front.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cap {
+    /// Counter-clockwise seen from outside (along the growth direction).
+    pub corners: [Vec3; 3],
+    /// The growth direction (the cap's outward normal).
+    pub normal: Vec3,
+    /// The tip vertex whose attributes the cap takes (colour, ring).
+    pub from: RingVertex,
+}
+
+/// The caps of the open growth fronts of `mesh` after `passes` passes of `plan` (the
+/// CPU twin of `shaders-glsl/speleothem/cap.geom`): a front-band triangle with two
+/// vertices on the tip ring (ID -1) and one on the ring behind (ID 0) gives the
+/// triangle between the two tips and the tip ring's centre (`GrowthPlan::tip_centre`).
+/// The mesh itself, the paper's, stays open; the caps are drawn and exported beside it.
+pub fn caps(mesh: &[RingVertex], plan: &GrowthPlan, passes: u32) -> Vec<Cap> {
+    let mut out = Vec::new();
+    for tri in mesh.chunks_exact(3) {
+        let tips: Vec<&RingVertex> = tri.iter().filter(|v| (v.id() + 1.0).abs() < 0.25).collect();
+        let behind = tri.iter().any(|v| v.id().abs() < 0.25);
+        if tips.len() != 2 || !behind {
+            continue;
+        }
+        let (a, b) = (tips[0], tips[1]);
+        let c = plan.tip_centre(a.speleothem(), passes);
+        if (a.position() - b.position()).length() < 1e-6 {
+            continue;
+        }
+        let sign = plan
+            .speleothems
+            .get(a.speleothem())
+            .map_or(1.0, |s| s.kind.sign());
+        let g = Vec3::new(0.0, sign, 0.0);
+        let (pa, pb) = if (b.position() - a.position()).cross(c - a.position()).dot(g) < 0.0 {
+            (b.position(), a.position())
+        } else {
+            (a.position(), b.position())
+        };
+        out.push(Cap {
+            corners: [pa, pb, c],
+            normal: g,
+            from: *a,
+        });
+    }
+    out
+}
+
+/// The open boundary of `mesh` with `caps`: the edges (welded by position, to 0.1 mm
+/// of scene units) that only one non-degenerate triangle has — where a drawn or
+/// exported surface is not closed.
+pub fn open_boundary(mesh: &[RingVertex], caps: &[Cap]) -> Vec<(Vec3, Vec3)> {
+    use std::collections::HashMap;
+    let key = |p: Vec3| {
+        let q = p * 1e4;
+        (q.x.round() as i64, q.y.round() as i64, q.z.round() as i64)
+    };
+    // Welded edge (smaller end first) -> triangles using it, and its ends.
+    type Welded = (i64, i64, i64);
+    let mut edges: HashMap<(Welded, Welded), (usize, Vec3, Vec3)> = HashMap::new();
+    let mut add = |a: Vec3, b: Vec3| {
+        let (ka, kb) = (key(a), key(b));
+        if ka == kb {
+            return;
+        }
+        let k = if ka < kb { (ka, kb) } else { (kb, ka) };
+        edges.entry(k).or_insert((0, a, b)).0 += 1;
+    };
+    let triangles = mesh
+        .chunks_exact(3)
+        .map(|t| [t[0].position(), t[1].position(), t[2].position()])
+        .chain(caps.iter().map(|c| c.corners));
+    for [a, b, c] in triangles {
+        // Degenerate (cone apex) triangles add no area and close nothing.
+        if (b - a).cross(c - a).length_squared() < 1e-14 {
+            continue;
+        }
+        add(a, b);
+        add(b, c);
+        add(c, a);
+    }
+    edges
+        .into_values()
+        .filter(|e| e.0 == 1)
+        .map(|e| (e.1, e.2))
+        .collect()
+}
+
 /// The whole growth on the CPU: `passes` passes from the initial rings.
 pub fn grow_reference(plan: &GrowthPlan, passes: u32) -> Vec<RingVertex> {
     let steps = plan.gpu_steps();

@@ -9,7 +9,7 @@ use glam::{Vec3, Vec4};
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Pipeline,
-    PipelineLayout, Pod, vk,
+    PipelineLayout, Pod, TargetFormat, vk,
 };
 use crate::render::lit_mesh::{self, FrameUniforms, GpuMesh, ObjectPush};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
@@ -62,7 +62,7 @@ pub enum Style {
 }
 
 impl CaveWallPass {
-    pub fn new(ctx: &Arc<Context>, color: vk::Format, depth: vk::Format) -> Result<Self> {
+    pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "cave layout",
@@ -72,7 +72,7 @@ impl CaveWallPass {
             GraphicsPipelineDesc::new(name, lit_mesh::VERTEX_INTERFACE.shader)
                 .fragment(FRAGMENT_INTERFACE.shader)
                 .vertex_layout(lit_mesh::lit_vertex_layout())
-                .targets(&[color], Some(depth))
+                .target(target)
         };
         let fill = desc("cave faces").build(ctx, &layout)?;
         let mut under = desc("cave faces under lines");

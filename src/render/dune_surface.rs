@@ -13,7 +13,7 @@ use super::ripple_maps::RippleMaps;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
-    Pipeline, PipelineLayout, Pod, Sampler, vk,
+    Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, vk,
 };
 use crate::model::mesh::Mesh;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
@@ -225,12 +225,7 @@ pub struct DuneSurfacePass {
 }
 
 impl DuneSurfacePass {
-    pub fn new(
-        ctx: &Arc<Context>,
-        color: vk::Format,
-        depth: vk::Format,
-        textures: &DuneTextures,
-    ) -> Result<Self> {
+    pub fn new(ctx: &Arc<Context>, target: TargetFormat, textures: &DuneTextures) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "dune surface layout",
@@ -239,7 +234,7 @@ impl DuneSurfacePass {
         let mut desc = GraphicsPipelineDesc::new("dune surface", VERTEX_INTERFACE.shader)
             .fragment(FRAGMENT_INTERFACE.shader)
             .vertex_layout(lit_vertex_layout())
-            .targets(&[color], Some(depth));
+            .target(target);
         // Back faces are dropped per quad on the CPU when culling is on (the paper's
         // comparison needs them drawn when it is off).
         desc.cull_mode = vk::CullModeFlags::NONE;

@@ -7,8 +7,8 @@ use glam::{Mat4, Vec3, Vec4};
 
 use crate::error::Result;
 use crate::gpu::{
-    Buffer, Commands, Context, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pod, VertexLayout,
-    vk,
+    Buffer, Commands, Context, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pod, TargetFormat,
+    VertexLayout, vk,
 };
 use crate::model::dust::DustBlob;
 use crate::shaders::{ShaderInterface, compiled};
@@ -53,12 +53,7 @@ pub struct DustPass {
 }
 
 impl DustPass {
-    pub fn new(
-        ctx: &Arc<Context>,
-        color: vk::Format,
-        depth: vk::Format,
-        blobs: &[DustBlob],
-    ) -> Result<Self> {
+    pub fn new(ctx: &Arc<Context>, target: TargetFormat, blobs: &[DustBlob]) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "dust layout",
@@ -71,7 +66,7 @@ impl DustPass {
                 stride: 16,
                 attributes: vec![(0, vk::Format::R32G32B32A32_SFLOAT, 0)],
             })
-            .targets(&[color], Some(depth));
+            .target(target);
         desc.topology = vk::PrimitiveTopology::POINT_LIST;
         desc.cull_mode = vk::CullModeFlags::NONE;
         desc.alpha_blend = true;

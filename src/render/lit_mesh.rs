@@ -8,7 +8,7 @@ use glam::{Mat4, Vec4};
 use crate::error::Result;
 use crate::gpu::{
     Buffer, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pod,
-    VertexLayout, vk,
+    TargetFormat, VertexLayout, vk,
 };
 use crate::model::mesh::Mesh;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
@@ -47,7 +47,8 @@ pub struct ObjectPush {
     pub model: Mat4,
     /// rgb: linear albedo.
     pub albedo: Vec4,
-    /// x: Blinn-Phong shininess, y: specular weight.
+    /// x: Blinn-Phong shininess, y: specular weight, z: emission (radiance per unit
+    /// of albedo: a lamp).
     pub material: Vec4,
 }
 // SAFETY: repr(C), Mat4 + two Vec4, no padding.
@@ -149,17 +150,31 @@ pub struct LitMeshPass {
 }
 
 impl LitMeshPass {
-    pub fn new(ctx: &Arc<Context>, color: vk::Format, depth: vk::Format) -> Result<Self> {
+    pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
+        Self::with_culling(ctx, target, vk::CullModeFlags::BACK)
+    }
+
+    /// Drawing both faces (a mirrored projection, as a cube map's faces are).
+    pub fn two_sided(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
+        Self::with_culling(ctx, target, vk::CullModeFlags::NONE)
+    }
+
+    fn with_culling(
+        ctx: &Arc<Context>,
+        target: TargetFormat,
+        cull: vk::CullModeFlags,
+    ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "lit mesh layout",
             &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
         )?;
-        let pipeline = GraphicsPipelineDesc::new("lit mesh", VERTEX_INTERFACE.shader)
+        let mut desc = GraphicsPipelineDesc::new("lit mesh", VERTEX_INTERFACE.shader)
             .fragment(FRAGMENT_INTERFACE.shader)
             .vertex_layout(lit_vertex_layout())
-            .targets(&[color], Some(depth))
-            .build(ctx, &layout)?;
+            .target(target);
+        desc.cull_mode = cull;
+        let pipeline = desc.build(ctx, &layout)?;
         let frame_buffer = Buffer::new(
             ctx,
             "lit mesh frame uniforms",

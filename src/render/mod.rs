@@ -5,6 +5,7 @@ pub mod cave_wall;
 pub mod dune_shadow;
 pub mod dune_surface;
 pub mod dust;
+pub mod environment;
 pub mod growth;
 pub mod lit_mesh;
 pub mod ring_growth;
@@ -39,6 +40,7 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &ring_growth_compute::INTERFACE,
         &ring_growth::GEOMETRY_INTERFACE,
         &speleothem_surface::VERTEX_INTERFACE,
+        &speleothem_surface::CAP_GEOMETRY_INTERFACE,
         &speleothem_surface::FRAGMENT_INTERFACE,
         &xfb_selftest::VERTEX_INTERFACE,
         &xfb_selftest::GEOMETRY_INTERFACE,

@@ -6,7 +6,9 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3, Vec4};
 
 use crate::error::Result;
-use crate::gpu::{Commands, Context, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pod, vk};
+use crate::gpu::{
+    Commands, Context, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pod, TargetFormat, vk,
+};
 use crate::shaders::{ShaderInterface, compiled};
 
 /// Push constants of the sky shaders.
@@ -40,12 +42,12 @@ pub struct SkyPass {
 }
 
 impl SkyPass {
-    pub fn new(ctx: &Arc<Context>, color: vk::Format, depth: vk::Format) -> Result<Self> {
+    pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
         let layout =
             PipelineLayout::new(ctx, "sky layout", &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE])?;
         let mut desc = GraphicsPipelineDesc::new("sky", VERTEX_INTERFACE.shader)
             .fragment(FRAGMENT_INTERFACE.shader)
-            .targets(&[color], Some(depth));
+            .target(target);
         desc.cull_mode = vk::CullModeFlags::NONE;
         // Drawn last at the far plane: the depth test (less-or-equal against the cleared
         // 1.0) keeps it to pixels no surface covered, so it is shaded only there.

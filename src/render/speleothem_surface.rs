@@ -6,13 +6,14 @@ use std::sync::Arc;
 
 use glam::Vec4;
 
+use super::environment::EnvironmentMap;
 use super::growth::MeshSource;
 use super::lit_mesh::FrameUniforms;
 use super::ring_growth::ring_vertex_layout;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, Pipeline,
-    PipelineLayout, Pod, Sampler, vk,
+    PipelineLayout, Pod, Sampler, TargetFormat, vk,
 };
 use crate::model::normal_map::calcite_normal_map;
 use crate::model::speleothem::{GrowthPlan, PassAction, VERTEX_STRIDE, accumulated_thickening};
@@ -26,14 +27,19 @@ pub struct SurfacePush {
     /// w 1 when drawing vertices frozen by the append-only growth (shifted by their
     /// speleothem's accumulated thickening), else 0.
     pub params: Vec4,
+    /// x environment reflection strength, y the environment cube's last mip level.
+    pub look: Vec4,
 }
-// SAFETY: repr(C), one Vec4.
+// SAFETY: repr(C), two Vec4.
 unsafe impl Pod for SurfacePush {}
 
 const FRAME: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
 const SPELEOTHEMS: DescriptorBinding = DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer);
 const NORMAL_MAP: DescriptorBinding = DescriptorBinding::new(0, 2, DescriptorKind::SampledImage);
 const NORMAL_SAMPLER: DescriptorBinding = DescriptorBinding::new(0, 3, DescriptorKind::Sampler);
+const ENVIRONMENT: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKind::SampledImage);
+const ENVIRONMENT_SAMPLER: DescriptorBinding =
+    DescriptorBinding::new(0, 5, DescriptorKind::Sampler);
 
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_SURFACE_VERT,
@@ -41,22 +47,37 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<SurfacePush>() as u32,
 };
 
+/// Declared by hand (naga has no geometry stage); `tests/speleothem_caps.rs` holds its
+/// output against the CPU twin `model::speleothem::caps`.
+pub static CAP_GEOMETRY_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::SPELEOTHEM_CAP_GEOM,
+    bindings: &[FRAME],
+    push_constant_bytes: 0,
+};
+
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_SURFACE_FRAG,
-    bindings: &[FRAME, NORMAL_MAP, NORMAL_SAMPLER],
+    bindings: &[
+        FRAME,
+        NORMAL_MAP,
+        NORMAL_SAMPLER,
+        ENVIRONMENT,
+        ENVIRONMENT_SAMPLER,
+    ],
     push_constant_bytes: size_of::<SurfacePush>() as u32,
 };
 
-/// Per-speleothem shading data for `pass` passes grown: mineral colour, rings so far
-/// (the paper's `rc`), growth direction, mix intensity and accumulated thickening.
+/// Per-speleothem shading data for `pass` passes grown, three vec4 each: mineral colour
+/// and rings so far (the paper's `rc`); growth direction, mix intensity and
+/// accumulated thickening; the tip ring's centre (the caps').
 pub fn speleothem_info(plan: &GrowthPlan, passes: u32) -> Vec<Vec4> {
-    let mut out = Vec::with_capacity(plan.speleothems.len() * 2);
+    let mut out = Vec::with_capacity(plan.speleothems.len() * 3);
     let thickening = accumulated_thickening(plan, passes);
     for (i, s) in plan.speleothems.iter().enumerate() {
         let rings = (0..passes.min(plan.passes))
             .filter(|&p| plan.step(p, i).action != PassAction::Idle)
             .count();
-        let [r, g, b] = s.mineral.color();
+        let [r, g, b] = s.mineral.albedo();
         out.push(Vec4::new(r, g, b, rings as f32));
         out.push(Vec4::new(
             s.kind.sign(),
@@ -64,6 +85,7 @@ pub fn speleothem_info(plan: &GrowthPlan, passes: u32) -> Vec<Vec4> {
             thickening[i],
             0.0,
         ));
+        out.push(plan.tip_centre(i, passes).extend(0.0));
     }
     out
 }
@@ -76,6 +98,9 @@ pub struct SpeleothemSurfacePass {
     info: Buffer,
     frame: Buffer,
     pipeline: Pipeline,
+    /// The same stages with `cap.geom` between them: the caps of open fronts.
+    caps: Pipeline,
+    caps_on: bool,
     layout: PipelineLayout,
     push: SurfacePush,
 }
@@ -83,23 +108,30 @@ pub struct SpeleothemSurfacePass {
 impl SpeleothemSurfacePass {
     pub fn new(
         ctx: &Arc<Context>,
-        color: vk::Format,
-        depth: vk::Format,
+        target: TargetFormat,
         plan: &GrowthPlan,
         seed: u64,
+        environment: &EnvironmentMap,
     ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "speleothem surface layout",
-            &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
+            &[
+                &VERTEX_INTERFACE,
+                &CAP_GEOMETRY_INTERFACE,
+                &FRAGMENT_INTERFACE,
+            ],
         )?;
         let mut desc = GraphicsPipelineDesc::new("speleothem surface", VERTEX_INTERFACE.shader)
             .fragment(FRAGMENT_INTERFACE.shader)
             .vertex_layout(ring_vertex_layout())
-            .targets(&[color], Some(depth));
+            .target(target);
         // Straws are open tubes: both sides are visible (the shader flips back faces).
         desc.cull_mode = vk::CullModeFlags::NONE;
         let pipeline = desc.build(ctx, &layout)?;
+        let caps = desc
+            .geometry(CAP_GEOMETRY_INTERFACE.shader)
+            .build(ctx, &layout)?;
         let frame = Buffer::new(
             ctx,
             "speleothem frame uniforms",
@@ -121,7 +153,7 @@ impl SpeleothemSurfacePass {
             MAP_SIZE,
             MAP_SIZE,
             &calcite_normal_map(seed, MAP_SIZE, 5.0),
-            false,
+            true,
         )?;
         let sampler = Sampler::linear_repeat(ctx, "calcite normal sampler")?;
         let set = layout.allocate_set("speleothem surface set", 0)?;
@@ -133,6 +165,12 @@ impl SpeleothemSurfacePass {
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         )?;
         set.write_sampler(NORMAL_SAMPLER.binding, &sampler)?;
+        set.write_image(
+            ENVIRONMENT.binding,
+            environment.view(),
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        set.write_sampler(ENVIRONMENT_SAMPLER.binding, environment.sampler())?;
         Ok(Self {
             set,
             _sampler: sampler,
@@ -140,11 +178,25 @@ impl SpeleothemSurfacePass {
             info,
             frame,
             pipeline,
+            caps,
+            caps_on: true,
             layout,
             push: SurfacePush {
                 params: Vec4::new(plan.segments as f32, 2.5, 1.0, 0.0),
+                look: Vec4::new(1.0, (environment.levels() - 1) as f32, 0.0, 0.0),
             },
         })
+    }
+
+    /// Draws the caps of open fronts (on unless a test compares without them).
+    pub fn set_caps(&mut self, on: bool) {
+        self.caps_on = on;
+    }
+
+    /// The normal-map strength (0..=4) and the environment reflection's (0..=4).
+    pub fn set_look(&mut self, bump: f32, environment: f32) {
+        self.push.params.z = bump;
+        self.push.look.x = environment;
     }
 
     /// Camera and lights, and the ring counts after `passes` passes.
@@ -158,22 +210,37 @@ impl SpeleothemSurfacePass {
         self.info.write(0, &speleothem_info(plan, passes))
     }
 
-    /// Draws the current mesh inside an open rendering scope.
+    /// Draws the current mesh inside an open rendering scope, then the caps of its
+    /// open fronts.
     pub fn draw(&self, cmd: &Commands<'_>, source: MeshSource<'_>) -> Result<()> {
-        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
-        cmd.push_constants(&self.layout, &self.push)?;
-        match source {
-            MeshSource::Counted { buffer, vertices } => {
-                cmd.bind_vertex_buffer(buffer, 0);
-                cmd.draw(vertices, 1);
-            }
-            MeshSource::Captured(stream) => stream.draw(cmd, VERTEX_STRIDE, 1)?,
-            MeshSource::Appended { frozen, front } => {
-                for (part, shifted) in [(frozen, 1.0), (front, 0.0)] {
-                    let mut push = self.push;
-                    push.params.w = shifted;
-                    cmd.push_constants(&self.layout, &push)?;
-                    part.draw(cmd, VERTEX_STRIDE, 1)?;
+        let pipelines: &[&Pipeline] = if self.caps_on {
+            &[&self.pipeline, &self.caps]
+        } else {
+            &[&self.pipeline]
+        };
+        for &pipeline in pipelines {
+            cmd.bind_pipeline(pipeline, &self.layout, &[&self.set]);
+            cmd.push_constants(&self.layout, &self.push)?;
+            match source {
+                MeshSource::Counted { buffer, vertices } => {
+                    cmd.bind_vertex_buffer(buffer, 0);
+                    cmd.draw(vertices, 1);
+                }
+                MeshSource::Captured(stream) => stream.draw(cmd, VERTEX_STRIDE, 1)?,
+                MeshSource::Appended { frozen, front } => {
+                    // The fronts are all in `front`: only it can need caps.
+                    let parts: &[(&crate::gpu::XfbStream, f32)] =
+                        if std::ptr::eq(pipeline, &self.caps) {
+                            &[(front, 0.0)]
+                        } else {
+                            &[(frozen, 1.0), (front, 0.0)]
+                        };
+                    for &(part, shifted) in parts {
+                        let mut push = self.push;
+                        push.params.w = shifted;
+                        cmd.push_constants(&self.layout, &push)?;
+                        part.draw(cmd, VERTEX_STRIDE, 1)?;
+                    }
                 }
             }
         }

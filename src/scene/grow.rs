@@ -8,7 +8,7 @@ pub mod frame;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, CameraOptions, Lighting};
+use super::camera::{Camera, CameraOptions, Lighting, ToneMap};
 use super::params::{SceneParams, Way};
 use crate::error::{Error, Result};
 pub use crate::model::speleothem::plan::GrowthScene;
@@ -59,8 +59,8 @@ pub fn preset(name: &str) -> Result<GrowthScene> {
         params: GrowthParams {
             pil,
             mineral,
+            // Random mode draws the wind direction per ring (Fig. 7).
             wind_intensity: 0.3,
-            wind_direction_degrees: 20.0,
             ..GrowthParams::default()
         },
         ..base.clone()
@@ -101,9 +101,108 @@ pub fn default_camera(scene: &GrowthScene) -> Camera {
     }
 }
 
-/// A warm lamp in front of the chamber, above and to the left of the camera.
-pub fn lamp_lighting(scene: &GrowthScene) -> Lighting {
+/// The lamp's colour (`--lamp`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Lamp {
+    /// White light: the minerals show their own colours (Table 1).
+    #[default]
+    Neutral,
+    /// A warm incandescent lamp (as sediment drew before), which tints every mineral.
+    Warm,
+}
+
+impl std::fmt::Display for Lamp {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Lamp::Neutral => "neutral",
+            Lamp::Warm => "warm",
+        })
+    }
+}
+
+impl std::str::FromStr for Lamp {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "neutral" => Ok(Lamp::Neutral),
+            "warm" => Ok(Lamp::Warm),
+            other => Err(Error::invalid(
+                "--lamp",
+                format!("\"{other}\" is not neutral or warm"),
+            )),
+        }
+    }
+}
+
+crate::serde_as_text!(Lamp);
+
+/// How the speleothems are shaded (Tortelli & Walter 4.2: normal, tone and environment
+/// mapping, all three changeable while growing), and the lamp.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Look {
+    pub tonemap: ToneMap,
+    /// Exposure before tone mapping, (0, 64].
+    pub exposure: f32,
+    /// Normal-map strength, 0..=4 (0: smooth calcite).
+    pub bump: f32,
+    /// Strength of the environment-mapped reflection (the wet film), 0..=4.
+    pub environment: f32,
+    pub lamp: Lamp,
+}
+
+impl Default for Look {
+    fn default() -> Self {
+        Self {
+            tonemap: ToneMap::Ashikhmin,
+            exposure: 1.0,
+            bump: 1.0,
+            environment: 1.0,
+            lamp: Lamp::Neutral,
+        }
+    }
+}
+
+impl Look {
+    pub fn validate(&self) -> Result<()> {
+        let check = crate::error::ensure_in_range;
+        check(
+            self.exposure > 0.0 && self.exposure <= 64.0,
+            "--exposure",
+            "(0, 64]",
+        )?;
+        check((0.0..=4.0).contains(&self.bump), "--bump", "0..=4")?;
+        check(
+            (0.0..=4.0).contains(&self.environment),
+            "--environment",
+            "0..=4",
+        )
+    }
+}
+
+/// The speleothem scene: the growth and how it is shaded.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SpeleothemScene {
+    pub growth: GrowthScene,
+    pub look: Look,
+}
+
+/// The lamp in front of the chamber, above and to the left of the camera, with the
+/// look's tone mapping.
+pub fn lamp_lighting(scene: &GrowthScene, look: &Look) -> Lighting {
     let height = scene.ceiling_y - scene.floor_y;
+    let (color, sky, ground) = match look.lamp {
+        Lamp::Warm => (
+            Vec3::new(9.0, 7.2, 5.0),
+            Vec3::new(0.035, 0.035, 0.04),
+            Vec3::new(0.02, 0.017, 0.014),
+        ),
+        // The warm lamp's luminance, in white.
+        Lamp::Neutral => (
+            Vec3::splat(7.4),
+            Vec3::new(0.035, 0.035, 0.037),
+            Vec3::splat(0.017),
+        ),
+    };
     Lighting {
         sun_direction: Vec3::new(
             -0.9 * height,
@@ -111,10 +210,11 @@ pub fn lamp_lighting(scene: &GrowthScene) -> Lighting {
             scene.extent + 0.9 * height,
         ),
         point: true,
-        sun_color: Vec3::new(9.0, 7.2, 5.0) * (height / 2.4).powi(2),
-        sky_color: Vec3::new(0.035, 0.035, 0.04),
-        ground_color: Vec3::new(0.02, 0.017, 0.014),
-        exposure: 1.1,
+        sun_color: color * (height / 2.4).powi(2),
+        sky_color: sky,
+        ground_color: ground,
+        exposure: look.exposure,
+        tonemap: look.tonemap,
     }
 }
 
@@ -184,6 +284,9 @@ pub struct Params {
     #[command(flatten)]
     #[serde(default)]
     pub units: UnitsOptions,
+    #[command(flatten)]
+    #[serde(default)]
+    pub look: LookOptions,
     /// Parameter changes from a given pass on (scene files only: `[[change]]`).
     #[arg(skip)]
     #[serde(default, rename = "change", skip_serializing_if = "Vec::is_empty")]
@@ -232,7 +335,8 @@ pub struct GrowthOptions {
     /// Wind intensity wi, 0..=1 (displaces each new ring by wi x 0.02 units; default 0).
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
     pub wind: Option<f32>,
-    /// Wind direction in degrees from +x toward +z, finite (default 0).
+    /// Wind direction in degrees from +x toward +z, finite (default 0). Manual mode
+    /// only: random mode draws a direction for every new ring (the paper's Fig. 7).
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub wind_direction: Option<f32>,
     /// Mineral colour (Table 1): calcareous, iron, manganese, copper, malachite
@@ -271,6 +375,31 @@ pub struct UnitsOptions {
     pub thicken: Option<f32>,
 }
 
+/// The `[look]` section: how the speleothems are shaded (changeable live in `sediment
+/// view grow`).
+#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LookOptions {
+    /// Tone mapping: ashikhmin (Ashikhmin 2002's global operator, as the paper cites),
+    /// aces (a filmic curve) or reinhard (default ashikhmin).
+    #[arg(long, value_name = "ashikhmin|aces|reinhard")]
+    pub tonemap: Option<ToneMap>,
+    /// Exposure before tone mapping, (0, 64] (default 1).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub exposure: Option<f32>,
+    /// Normal-map strength (the calcite's ruggedness), 0..=4; 0 is smooth (default 1).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub bump: Option<f32>,
+    /// Strength of the environment-mapped reflection of the chamber (the wet film),
+    /// 0..=4; 0 turns it off (default 1).
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    pub environment: Option<f32>,
+    /// The lamp's colour: neutral (white: the minerals show their own colours) or warm
+    /// (default neutral).
+    #[arg(long, value_name = "neutral|warm")]
+    pub lamp: Option<Lamp>,
+}
+
 /// One `[[change]]`: parameters in force from `pass` on.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -284,19 +413,29 @@ pub struct ChangeOptions {
 }
 
 impl SceneParams for Params {
-    type Scene = GrowthScene;
+    type Scene = SpeleothemScene;
 
     super::params::preset_and_camera_fields!();
 
-    fn base(preset: Option<&str>) -> Result<GrowthScene> {
-        preset.map_or_else(|| Ok(GrowthScene::default()), self::preset)
+    fn base(preset: Option<&str>) -> Result<SpeleothemScene> {
+        Ok(SpeleothemScene {
+            growth: preset.map_or_else(|| Ok(GrowthScene::default()), self::preset)?,
+            look: Look::default(),
+        })
     }
 
-    fn set_seed(scene: &mut GrowthScene, seed: u64) {
-        scene.seed = seed;
+    fn set_seed(scene: &mut SpeleothemScene, seed: u64) {
+        scene.growth.seed = seed;
     }
 
-    fn sync(&mut self, s: &mut GrowthScene, way: Way) -> Result<()> {
+    fn sync(&mut self, scene: &mut SpeleothemScene, way: Way) -> Result<()> {
+        let (l, look) = (&mut self.look, &mut scene.look);
+        way.field(&mut l.tonemap, &mut look.tonemap);
+        way.field(&mut l.exposure, &mut look.exposure);
+        way.field(&mut l.bump, &mut look.bump);
+        way.field(&mut l.environment, &mut look.environment);
+        way.field(&mut l.lamp, &mut look.lamp);
+        let s = &mut scene.growth;
         let g = &mut self.growth;
         way.field(&mut g.seed, &mut s.seed);
         way.field(&mut g.count, &mut s.count);
@@ -370,8 +509,9 @@ impl SceneParams for Params {
         Ok(())
     }
 
-    fn validate(scene: &GrowthScene) -> Result<()> {
-        scene.validate()
+    fn validate(scene: &SpeleothemScene) -> Result<()> {
+        scene.growth.validate()?;
+        scene.look.validate()
     }
 }
 
@@ -385,7 +525,7 @@ mod tests {
         let mut scene = Params::base(file.preset())?;
         file.clone().sync(&mut scene, Way::Apply)?;
         Params::validate(&scene)?;
-        Ok(scene)
+        Ok(scene.growth)
     }
 
     #[test]

@@ -438,3 +438,38 @@ impl Params {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cut-away's outer surface covers the stalagmite from the ground to the apex:
+    /// in every tenth of the height its vertices fill at least 8 of 12 azimuth sectors
+    /// (the wedge removes 3).
+    #[test]
+    fn the_cut_away_has_its_outer_surface_over_the_whole_height() {
+        for (name, _) in PRESETS {
+            let (stalagmite, _) = preset(name).expect("preset").grow().expect("grow");
+            let c = cut_away(&stalagmite, 10);
+            for tenth in 0..10 {
+                let lo = c.base_y + c.height * tenth as f32 / 10.0;
+                let hi = lo + c.height / 10.0;
+                let mut sectors = [false; 12];
+                for p in c
+                    .surface
+                    .positions
+                    .iter()
+                    .filter(|p| (lo..=hi).contains(&p.y))
+                {
+                    let a = p.z.atan2(p.x).rem_euclid(std::f32::consts::TAU);
+                    sectors[((a / std::f32::consts::TAU * 12.0) as usize).min(11)] = true;
+                }
+                let filled = sectors.iter().filter(|&&s| s).count();
+                assert!(
+                    filled >= 8,
+                    "{name}: {filled} of 12 sectors between heights {lo:.3} and {hi:.3}"
+                );
+            }
+        }
+    }
+}

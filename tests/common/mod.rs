@@ -9,6 +9,7 @@
 pub mod cli;
 pub mod display;
 pub mod growth;
+pub mod picture;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -18,12 +19,18 @@ use sediment::gpu::{Context, ContextOptions};
 /// A device with the validation layer on. With no Vulkan device, no driver or no
 /// layer this fails the test with the packages to install — never a silent skip.
 pub fn gpu() -> Arc<Context> {
+    gpu_with_samples(None)
+}
+
+/// `gpu()` whose frames take `samples` per pixel (`None`: the default, 4).
+pub fn gpu_with_samples(samples: Option<u32>) -> Arc<Context> {
     let options = ContextOptions {
         device: std::env::var("SEDIMENT_DEVICE")
             .ok()
             .filter(|s| !s.is_empty()),
         validate: true,
         window: None,
+        samples,
     };
     match Context::new(&options) {
         Ok(ctx) => {

@@ -44,6 +44,11 @@ pub struct Cli {
           value_parser = parse_size)]
     pub size: Size,
 
+    /// Anti-aliasing: samples per pixel of every frame (multisampling), 1 (off), 2, 4
+    /// or 8 as the device allows.
+    #[arg(long, global = true, value_name = "N", default_value_t = 4)]
+    pub samples: u32,
+
     /// Seed for every random choice (0..=18446744073709551615); the same seed and
     /// driver give the same bytes.
     #[arg(long, global = true, value_name = "N", default_value_t = 1)]
@@ -170,6 +175,7 @@ pub fn context_options(cli: &Cli) -> ContextOptions {
         device: cli.device.clone(),
         validate: cli.validate,
         window: None,
+        samples: Some(cli.samples),
     }
     .with_env()
 }

@@ -32,6 +32,7 @@ pub fn cut_away(s: &Stalagmite, band: usize) -> CutAway {
         Vec3::new(x * a.cos(), y, x * a.sin())
     };
     let top = s.surface();
+    let outer = outer_profile(s);
     let (mut base_y, mut top_y) = (f32::MAX, f32::MIN);
     for p in s.layers.iter().flatten() {
         base_y = base_y.min(p[1] as f32);
@@ -51,11 +52,11 @@ pub fn cut_away(s: &Stalagmite, band: usize) -> CutAway {
     let mut surface = Mesh::default();
     for i in 0..=steps {
         let a = kept * i as f32 / steps as f32;
-        for p in top {
+        for p in &outer {
             surface.positions.push(to3(*p, a));
         }
     }
-    let n = top.len() as u32;
+    let n = outer.len() as u32;
     for i in 0..steps {
         for j in 0..n - 1 {
             let (a, b) = (i * n + j, (i + 1) * n + j);
@@ -120,6 +121,63 @@ pub fn cut_away(s: &Stalagmite, band: usize) -> CutAway {
         height: top_y - base_y,
         radius,
         base_y,
+    }
+}
+
+/// The outer surface's profile from the apex down to the ground: the newest layer,
+/// then where it ends (its support points migrate up the flank as the stalagmite
+/// grows, so below some height no single layer is the surface) the ends of older and
+/// older layers — at each height the outermost layer that reaches it — until they lie
+/// on the base. Points closer than the newest layer's own spacing are skipped.
+pub fn outer_profile(s: &Stalagmite) -> Vec<[f64; 2]> {
+    let top = s.surface();
+    let (Some(base), Some(&last)) = (s.layers.first(), top.last()) else {
+        return top.to_vec();
+    };
+    let length = arc_lengths(top).last().copied().unwrap_or(0.0);
+    let spacing = length / top.len().max(2) as f64;
+    let height = top.iter().map(|p| p[1]).fold(f64::MIN, f64::max)
+        - base.iter().map(|p| p[1]).fold(f64::MAX, f64::min);
+    let ground = |x: f64| ground_height(base, x);
+    let on_ground = 1e-4 * height.max(1e-9);
+    let mut out = top.to_vec();
+    let mut lowest = last;
+    if lowest[1] - ground(lowest[0]) <= on_ground {
+        return out;
+    }
+    for layer in s.layers[1..s.layers.len() - 1].iter().rev() {
+        let Some(&end) = layer.last() else { continue };
+        // Only ends below the trail so far: an older layer's end above it is inside.
+        if end[1] >= lowest[1] {
+            continue;
+        }
+        let gap = ((end[0] - lowest[0]).powi(2) + (end[1] - lowest[1]).powi(2)).sqrt();
+        let grounded = end[1] - ground(end[0]) <= on_ground;
+        if gap >= spacing || grounded {
+            out.push(end);
+            lowest = end;
+        }
+        if grounded {
+            break;
+        }
+    }
+    // Down onto the base, so that no gap shows between the surface and the floor.
+    out.push([lowest[0], ground(lowest[0])]);
+    out
+}
+
+/// The base's height at `x` (linear between its support points, flat beyond).
+fn ground_height(base: &[[f64; 2]], x: f64) -> f64 {
+    for w in base.windows(2) {
+        if (w[0][0]..=w[1][0]).contains(&x) && w[1][0] > w[0][0] {
+            let t = (x - w[0][0]) / (w[1][0] - w[0][0]);
+            return w[0][1] + t * (w[1][1] - w[0][1]);
+        }
+    }
+    match (base.first(), base.last()) {
+        (Some(f), _) if x < f[0] => f[1],
+        (_, Some(l)) => l[1],
+        _ => 0.0,
     }
 }
 

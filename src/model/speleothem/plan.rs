@@ -240,6 +240,10 @@ impl GrowthStep {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Speleothem {
     pub kind: Kind,
+    /// The site it grows at (a stalactite and its stalagmite share one). Its random
+    /// draws are keyed by (site, kind, pass), so adding stalagmites mid-growth leaves
+    /// every stalactite's draws, and so its shape, unchanged.
+    pub site: u32,
     /// Centre of the base ring (on the roof or the floor).
     pub base: Vec3,
     pub initial_radius: f32,
@@ -270,6 +274,24 @@ impl GrowthPlan {
     }
 
     /// The buffer the growth shaders read (layout documented in `ring_growth.glsl`).
+    /// The centre of speleothem `index`'s tip ring (the open end of its growth front)
+    /// after `passes` passes: the base ring's centre, one ring thickness along the
+    /// growth, and every grown band's height and wind. Flank deposits and thickening
+    /// move ring vertices radially only, so the centre is exact.
+    pub fn tip_centre(&self, index: usize, passes: u32) -> Vec3 {
+        let n = self.speleothems.len();
+        let Some(s) = self.speleothems.get(index) else {
+            return Vec3::ZERO;
+        };
+        let g = Vec3::Y * s.kind.sign();
+        let grown: Vec3 = (0..passes.min(self.passes) as usize)
+            .map(|p| self.steps[p * n + index])
+            .filter(|st| st.action == PassAction::Grow)
+            .map(|st| g * st.height + st.wind)
+            .sum();
+        s.base + g * self.ring_thickness + grown
+    }
+
     pub fn gpu_steps(&self) -> Vec<Vec4> {
         let mut out = Vec::with_capacity(self.steps.len() * STEP_VEC4S);
         // Per speleothem, the thickening accumulated through the current pass.
@@ -445,6 +467,7 @@ impl GrowthScene {
             };
             let make = |kind: Kind, y: f32| Speleothem {
                 kind,
+                site: site as u32,
                 base: Vec3::new(x, y, z),
                 initial_radius: radius,
                 mineral: self.params.mineral,
@@ -488,7 +511,7 @@ impl GrowthScene {
                     Kind::Stalagmite => params.pil == Pil::Dripping,
                 };
                 if active {
-                    candidates[i] = Some(self.candidate(s, i, pass, &params, fronts[i].radius));
+                    candidates[i] = Some(self.candidate(s, pass, &params, fronts[i].radius));
                 }
             }
             for &(a, b) in &pairs {
@@ -560,15 +583,16 @@ impl GrowthScene {
     fn candidate(
         &self,
         s: &Speleothem,
-        index: usize,
         pass: u32,
         params: &GrowthParams,
         current_radius: f32,
     ) -> GrowthStep {
         let u = &self.units;
-        let mut rng = Rng::new(mix64(
-            self.seed ^ mix64(((index as u64) << 32) | u64::from(pass)),
-        ));
+        // Keyed by site and kind, not by the index in the plan: a PIL change that adds
+        // stalagmites shifts the indices but must not change the stalactites' draws.
+        let kind_bit = u64::from(s.kind == Kind::Stalagmite);
+        let key = (u64::from(s.site) << 33) | (kind_bit << 32) | u64::from(pass);
+        let mut rng = Rng::new(mix64(self.seed ^ mix64(key)));
         let (co2, drip, jitter) = match self.mode {
             StepMode::Manual => (params.co2, params.drip, 0.0),
             StepMode::Random { jitter } => {
@@ -583,7 +607,10 @@ impl GrowthScene {
             Kind::Stalagmite => stalagmite_steps(drip, co2),
         };
         let mut jittered = |v: f32| v * (1.0 + jitter * rng.range_f32(-1.0, 1.0));
-        let height = jittered(multiples.height * u.height_unit);
+        // Never below the band thickness: a shorter step would put the new band's
+        // bottom ring above the old band's top ring and fold the link strip back
+        // (random jitter could take a x1 step of 0.035 to 0.0175 < 0.02).
+        let height = jittered(multiples.height * u.height_unit).max(u.ring_thickness);
         let mut radius = jittered(multiples.radius * u.radius_unit);
         if s.kind == Kind::Stalactite {
             // A stalactite ring is never wider than the one before (section 4.1).
@@ -595,7 +622,14 @@ impl GrowthScene {
                 (params.wind_intensity * (1.0 + jitter * rng.range_f32(-1.0, 1.0))).clamp(0.0, 1.0)
             }
         };
-        let angle = params.wind_direction_degrees.to_radians();
+        // Random mode draws the direction too, once per ring (Tortelli & Walter, Fig. 7:
+        // "random wi values at each ring creation and also random w"); manual mode
+        // takes the set direction.
+        let angle = match self.mode {
+            StepMode::Manual => params.wind_direction_degrees.to_radians(),
+            StepMode::Random { .. } if wi > 0.0 => rng.range_f32(0.0, std::f32::consts::TAU),
+            StepMode::Random { .. } => 0.0,
+        };
         // The paper prints v' = wi (v + w); read as a displacement of the new ring along
         // the unit wind direction w by wi (times the scene's wind scale).
         let wind = Vec3::new(angle.cos(), 0.0, angle.sin()) * (wi * u.wind_scale);

@@ -58,6 +58,24 @@ impl Mineral {
         }
     }
 
+    /// The mineral colour as the linear-light albedo the shaders use. Table 1's colours
+    /// are display values (the paper's Direct3D 10 renderer shaded in display space,
+    /// with no sRGB target): used as linear albedo through an sRGB target they display
+    /// paler (malachite's saturation 0.18 shows as 0.08). So each is decoded from sRGB
+    /// and scaled so that calcareous keeps the 0.8 albedo of white calcite.
+    pub fn albedo(self) -> [f32; 3] {
+        let decode = |c: f32| {
+            if c <= 0.04045 {
+                c / 12.92
+            } else {
+                ((c + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        let white = Mineral::Calcareous.color()[0];
+        let scale = white / decode(white);
+        self.color().map(|c| (decode(c) * scale).min(1.0))
+    }
+
     pub const ALL: [Mineral; 5] = [
         Mineral::Calcareous,
         Mineral::Iron,
@@ -202,6 +220,18 @@ mod tests {
             Some(Mineral::Malachite)
         );
         assert_eq!(Mineral::Iron.to_string(), "iron");
+        assert_eq!(Mineral::Calcareous.albedo(), Mineral::Calcareous.color());
+        for m in Mineral::ALL {
+            let (c, a) = (m.color(), m.albedo());
+            // Decoding keeps the order of the channels (the hue's sextant) and
+            // saturates: the darkest channel falls relative to the brightest.
+            let order = |v: [f32; 3]| v[0] <= v[1] && v[1] <= v[2];
+            assert_eq!(order(c), order(a), "{m}");
+            let sat = |v: [f32; 3]| {
+                1.0 - v.iter().fold(1f32, |x, y| x.min(*y)) / v.iter().fold(0f32, |x, y| x.max(*y))
+            };
+            assert!(sat(a) >= sat(c) - 1e-6, "{m}");
+        }
         let err = "3"
             .parse::<Pil>()
             .expect_err("PIL 3 does not exist")

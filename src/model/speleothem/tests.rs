@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use glam::Vec3;
 
-use super::plan::{GrowthParams, GrowthScene, Kind, PassAction, StepMode, StopReason};
+use super::plan::{GrowthParams, GrowthScene, GrowthStep, Kind, PassAction, StepMode, StopReason};
 use super::table2::{Co2, DripInterval, Pil};
 use super::{RingVertex, grow_reference, initial_rings, ring_measure, vertex_counts};
 
@@ -391,4 +391,149 @@ fn a_front_waiting_out_idle_passes_grows_when_the_parameters_allow() {
         open_edges(&mesh).len(),
         12 * (plan.speleothems.len() + open_tips)
     );
+}
+
+#[test]
+fn every_preset_is_closed_but_its_base_ring_with_the_caps() {
+    for (name, _) in crate::scene::grow::PRESETS {
+        let plan = crate::scene::grow::preset(name)
+            .expect("preset")
+            .plan()
+            .expect("plan");
+        let mesh = grow_reference(&plan, plan.passes);
+        let caps = super::caps(&mesh, &plan, plan.passes);
+        // Base rings: the initial primitive's rings (ring index 0), sunk in the rock.
+        let base: Vec<Vec3> = mesh
+            .iter()
+            .filter(|v| v.ring() == 0)
+            .map(|v| v.position())
+            .collect();
+        let on_base = |p: Vec3| base.iter().any(|b| (*b - p).length() < 1e-4);
+        let open = super::open_boundary(&mesh, &caps);
+        let stray: Vec<_> = open
+            .iter()
+            .filter(|(a, b)| !(on_base(*a) && on_base(*b)))
+            .collect();
+        assert!(
+            stray.is_empty(),
+            "{name}: {} of {} open edges lie off the base rings, e.g. {:?}",
+            stray.len(),
+            open.len(),
+            stray.first()
+        );
+        // Without the caps the fronts are open.
+        let uncapped = super::open_boundary(&mesh, &[]);
+        let fronts = plan
+            .speleothems
+            .iter()
+            .filter(|s| {
+                !matches!(
+                    s.stop,
+                    Some((_, super::StopReason::TipClosed | super::StopReason::Column))
+                )
+            })
+            .count();
+        if fronts > 0 {
+            assert!(
+                uncapped.len() > open.len(),
+                "{name}: the caps close something"
+            );
+        }
+    }
+}
+
+/// Random-mode scene with hanging stalactites, and the same scene whose PIL turns to
+/// dripping at `change` (stalagmites are added: every stalactite's plan index moves).
+fn random_with_and_without_dripping(change: u32) -> (GrowthScene, GrowthScene) {
+    let hanging = GrowthScene {
+        seed: 11,
+        mode: StepMode::Random { jitter: 0.5 },
+        params: GrowthParams {
+            wind_intensity: 0.5,
+            ..GrowthParams::default()
+        },
+        ..scene(GrowthParams::default(), 6, 2 * change)
+    };
+    let dripping = GrowthScene {
+        changes: vec![super::plan::ParamChange {
+            pass: change,
+            pil: Some(Pil::Dripping),
+            ..Default::default()
+        }],
+        ..hanging.clone()
+    };
+    (hanging, dripping)
+}
+
+/// The bit patterns of every position of speleothem `index`, sorted.
+fn positions_of(mesh: &[RingVertex], index: usize) -> Vec<[u32; 3]> {
+    let mut out: Vec<[u32; 3]> = mesh
+        .iter()
+        .filter(|v| v.speleothem() == index)
+        .map(|v| v.position().to_array().map(f32::to_bits))
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+#[test]
+fn adding_stalagmites_mid_growth_keeps_the_grown_stalactites_identical() {
+    let (hanging, dripping) = random_with_and_without_dripping(10);
+    let (a, b) = (
+        hanging.plan().expect("plan"),
+        dripping.plan().expect("plan"),
+    );
+    assert_eq!(b.speleothems.len(), 2 * a.speleothems.len());
+    let (mesh_a, mesh_b) = (grow_reference(&a, 10), grow_reference(&b, 10));
+    for (site, s) in a.speleothems.iter().enumerate() {
+        let in_b = 2 * site;
+        assert_eq!(b.speleothems[in_b].kind, s.kind);
+        let pa = positions_of(&mesh_a, site);
+        assert!(pa.len() > 10 * 16, "site {site} grew");
+        assert_eq!(pa, positions_of(&mesh_b, in_b), "site {site}'s stalactite");
+        // Its steps after the change are its own too, until a stalagmite meets it.
+        let joined = b.speleothems[in_b].stop.map(|(_, r)| r) == Some(StopReason::Column);
+        if !joined {
+            for pass in 0..a.passes {
+                assert_eq!(
+                    a.step(pass, site),
+                    b.step(pass, in_b),
+                    "site {site} pass {pass}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn random_mode_draws_a_wind_direction_per_ring_and_never_folds_a_band() {
+    let (_, dripping) = random_with_and_without_dripping(15);
+    let plan = dripping.plan().expect("plan");
+    let grows: Vec<&GrowthStep> = plan
+        .steps
+        .iter()
+        .filter(|s| s.action == PassAction::Grow)
+        .collect();
+    assert!(grows.len() > 100, "{} grown bands", grows.len());
+    let angles: Vec<f32> = grows
+        .iter()
+        .filter(|s| s.wind.length() > 0.0)
+        .map(|s| s.wind.z.atan2(s.wind.x))
+        .collect();
+    // Spread over the circle: every quadrant gets rings.
+    for q in 0..4 {
+        let lo = -std::f32::consts::PI + q as f32 * std::f32::consts::FRAC_PI_2;
+        let n = angles
+            .iter()
+            .filter(|a| (lo..lo + std::f32::consts::FRAC_PI_2).contains(*a))
+            .count();
+        assert!(
+            n * 8 > angles.len(),
+            "quadrant {q}: {n} of {}",
+            angles.len()
+        );
+    }
+    let band = plan.ring_thickness;
+    let folded = grows.iter().filter(|s| s.height < band).count();
+    assert_eq!(folded, 0, "height steps below the band {band}");
 }

@@ -7,34 +7,91 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::{Mat4, Vec3, Vec4};
 
 use super::build::{CaveModel, build, shown_wall};
 use super::{CaveScene, PRESETS, Speleothems, default_camera, flythrough, preset};
 use crate::error::{Error, Result};
 use crate::export::mesh::TriangleSoup;
 use crate::frame::{BenchScene, FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
-use crate::gpu::{COLOR_FORMAT, Commands, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget};
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::cave_wall::{CaveFrame as WallUniforms, CaveWallPass, Style};
+use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
-use crate::render::lit_mesh::GpuMesh;
+use crate::render::lit_mesh::{GpuMesh, ObjectPush};
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
 use crate::scene::Size;
-use crate::scene::camera::{Camera, Lighting};
+use crate::scene::camera::{Camera, Lighting, ToneMap};
 use crate::view::input::Key;
 
 const ROCK: Vec3 = Vec3::new(0.34, 0.29, 0.24);
 const CALCITE: Vec3 = Vec3::new(0.78, 0.7, 0.58);
 const FOG: Vec3 = Vec3::new(0.012, 0.011, 0.012);
 
-/// The grown speleothems: their plan, growth and surface pass.
+/// The grown speleothems: their plan, growth and surface pass (reflecting the cave).
 struct Grown {
     plan: GrowthPlan,
     growth: Box<dyn Growth>,
+    // Reads the environment map: declared (and dropped) before it.
     surface: SpeleothemSurfacePass,
+    _environment: EnvironmentMap,
     /// The growth ran (in the first frame recorded).
     done: bool,
+}
+
+/// The cave as the grown speleothems reflect it: the smoothed wall under the cave's
+/// directional light, seen from the middle of the speleothem sites.
+fn cave_environment(
+    ctx: &Arc<Context>,
+    scene: &CaveScene,
+    model: &CaveModel,
+) -> Result<EnvironmentMap> {
+    let mut env = EnvironmentMap::new(ctx, 64)?;
+    let sites = &model.sites;
+    let centre = sites
+        .iter()
+        .map(|s| 0.5 * (s.ceiling + s.floor))
+        .fold(Vec3::ZERO, |a, b| a + b)
+        / sites.len().max(1) as f32;
+    let wall = GpuMesh::upload(ctx, "cave wall (environment)", &model.cave.mesh)?;
+    let light = Lighting {
+        tonemap: ToneMap::Linear,
+        ..cave_lighting()
+    };
+    let camera = Camera {
+        eye: centre,
+        target: centre + Vec3::X,
+        up: Vec3::Y,
+        fov_y_degrees: 90.0,
+        near: 0.01,
+        far: 2.0 * scene.cave.size_m,
+    };
+    let rock = ObjectPush {
+        model: Mat4::IDENTITY,
+        albedo: ROCK.extend(1.0),
+        material: Vec4::new(8.0, 0.04, 0.0, 0.0),
+    };
+    env.render(
+        ctx,
+        centre,
+        &light.frame_uniforms(&camera, 1.0),
+        &[(&wall, rock)],
+    )?;
+    Ok(env)
+}
+
+/// The paper's directional light over the cave, and its ambient.
+fn cave_lighting() -> Lighting {
+    Lighting {
+        sun_direction: Vec3::new(0.35, 1.0, 0.25),
+        point: false,
+        sun_color: Vec3::splat(0.5),
+        sky_color: Vec3::new(0.05, 0.05, 0.055),
+        ground_color: Vec3::new(0.02, 0.018, 0.016),
+        exposure: 1.0,
+        tonemap: ToneMap::Aces,
+    }
 }
 
 /// A generated cave, ready to draw: the [`Scene`] of `sediment cave`, `view cave` and
@@ -69,16 +126,18 @@ impl CaveFrame {
         let grown = match &model.growth {
             Some(g) => {
                 let plan = g.plan()?;
+                let environment = cave_environment(ctx, scene, &model)?;
                 Some(Grown {
                     // Append-only: all passes in one submission at O(one ring) each.
                     growth: GrowthPath::XfbAppend.start(ctx, &plan)?,
                     surface: SpeleothemSurfacePass::new(
                         ctx,
-                        COLOR_FORMAT,
-                        DEPTH_FORMAT,
+                        ctx.frame_format(),
                         &plan,
                         scene.cave.volume.seed,
+                        &environment,
                     )?,
+                    _environment: environment,
                     plan,
                     done: false,
                 })
@@ -86,7 +145,7 @@ impl CaveFrame {
             None => None,
         };
         let mut frame = Self {
-            pass: CaveWallPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            pass: CaveWallPass::new(ctx, ctx.frame_format())?,
             walls: [(None, None), (None, None)],
             short,
             grown,
@@ -136,14 +195,7 @@ impl Scene for CaveFrame {
         aspect: f32,
         _time: Time,
     ) -> Result<()> {
-        let lighting = Lighting {
-            sun_direction: Vec3::new(0.35, 1.0, 0.25),
-            point: false,
-            sun_color: Vec3::splat(0.5),
-            sky_color: Vec3::new(0.05, 0.05, 0.055),
-            ground_color: Vec3::new(0.02, 0.018, 0.016),
-            exposure: 1.0,
-        };
+        let lighting = cave_lighting();
         self.pass.set_frame(&WallUniforms {
             base: lighting.frame_uniforms(camera, aspect),
             lamp: self.lamp.extend(0.0),

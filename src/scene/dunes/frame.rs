@@ -11,7 +11,7 @@ use glam::Vec3;
 use super::{DunesScene, PRESETS, Shadows, default_camera, preset};
 use crate::error::{Error, Result};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
-use crate::gpu::{COLOR_FORMAT, Commands, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, visible_quads};
 use crate::model::dune_shadow::DuneGrid;
 use crate::model::dust::{DustParams, dust_at};
@@ -162,7 +162,7 @@ impl DunesFrame {
         precompute.extend(shadow_map(ctx, &shadow, sun)?);
         let grain = grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize);
         let textures = DuneTextures::new(ctx, &maps, &shadow, &grain, GRAIN_SIZE)?;
-        let surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
+        let surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures)?;
         let blobs = match &scene.dust {
             Some(params) => {
                 let grid = DuneGrid {
@@ -185,9 +185,9 @@ impl DunesFrame {
         Ok(Self {
             geometry: DuneGeometry::new(ctx, &mesh)?,
             mesh,
-            dust: DustPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &blobs)?,
+            dust: DustPass::new(ctx, ctx.frame_format(), &blobs)?,
             dust_blobs: blobs.len(),
-            sky: SkyPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            sky: SkyPass::new(ctx, ctx.frame_format())?,
             surface,
             _textures: textures,
             grain,
@@ -249,7 +249,7 @@ impl Scene for DunesFrame {
             self.precompute = shadow_map(ctx, &self.shadow, sun)?;
             let textures =
                 DuneTextures::new(ctx, &self.maps, &self.shadow, &self.grain, GRAIN_SIZE)?;
-            self.surface = DuneSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &textures)?;
+            self.surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures)?;
             self._textures = textures;
             self.sun = sun;
         }
@@ -418,6 +418,7 @@ fn desert_lighting(sun: Vec3) -> Lighting {
         sky_color: Vec3::new(0.42, 0.5, 0.68),
         ground_color: Vec3::new(0.45, 0.36, 0.27),
         exposure: 1.0,
+        tonemap: crate::scene::camera::ToneMap::Aces,
     }
 }
 

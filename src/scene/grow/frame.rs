@@ -16,26 +16,28 @@ use std::time::Instant;
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::{GrowthScene, PRESETS, default_camera, lamp_lighting};
+use super::{GrowthScene, Lamp, Look, PRESETS, SpeleothemScene, default_camera, lamp_lighting};
 use crate::error::Result;
 use crate::export::mesh::TriangleSoup;
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
-use crate::gpu::{COLOR_FORMAT, Commands, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::model::mesh::Mesh;
 use crate::model::noise::fbm;
 use crate::model::speleothem::plan::{GrowthParams, ParamChange};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
+use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
 use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
 use crate::render::speleothem_surface::{SpeleothemSurfacePass, speleothem_info};
 use crate::scene::Size;
-use crate::scene::camera::{Camera, Lighting};
+use crate::scene::camera::{Camera, Lighting, ToneMap};
 use crate::view::input::Key;
 
 const ROCK: ObjectPush = ObjectPush {
     model: Mat4::IDENTITY,
-    albedo: Vec4::new(0.16, 0.13, 0.105, 1.0),
+    // Grey limestone: a warm rock would tint the reflections and outshine the minerals.
+    albedo: Vec4::new(0.13, 0.122, 0.112, 1.0),
     material: Vec4::new(12.0, 0.05, 0.0, 0.0),
 };
 const CLEAR: [f32; 4] = [0.004, 0.0035, 0.003, 1.0];
@@ -56,23 +58,79 @@ fn chamber_meshes(scene: &GrowthScene) -> (Mesh, Mesh) {
     (floor, ceiling)
 }
 
-/// The chamber's rock and its pass.
+/// The chamber's rock, its pass and the lamp (an emissive sphere, drawn only into
+/// the environment map).
 struct Chamber {
     rock: LitMeshPass,
     floor: GpuMesh,
     ceiling: GpuMesh,
+    lamp: GpuMesh,
+    /// The lamp sphere's radius.
+    lamp_radius: f32,
 }
 
 impl Chamber {
     fn new(ctx: &Arc<Context>, scene: &GrowthScene) -> Result<Self> {
         let (floor, ceiling) = chamber_meshes(scene);
+        let lamp_radius = 0.04 * (scene.ceiling_y - scene.floor_y);
+        let at = lamp_lighting(scene, &Look::default()).sun_direction;
         Ok(Self {
-            rock: LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            rock: LitMeshPass::new(ctx, ctx.frame_format())?,
             floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
             ceiling: GpuMesh::upload(ctx, "cave ceiling", &ceiling)?,
+            lamp: GpuMesh::upload(ctx, "lamp", &Mesh::sphere(at, lamp_radius, 8))?,
+            lamp_radius,
         })
     }
+
+    /// Renders the chamber — floor, ceiling, the lamp — into `env` from the middle of
+    /// the chamber, lit as the frame is but without tone mapping.
+    fn render_environment(
+        &self,
+        ctx: &Arc<Context>,
+        env: &mut EnvironmentMap,
+        scene: &GrowthScene,
+        lighting: &Lighting,
+    ) -> Result<()> {
+        let centre = Vec3::new(0.0, 0.5 * (scene.floor_y + scene.ceiling_y), 0.0);
+        let linear = Lighting {
+            tonemap: ToneMap::Linear,
+            exposure: 1.0,
+            ..lighting.clone()
+        };
+        // The sphere's radiance gives the irradiance of the point light it stands for:
+        // I / d^2 = L pi r^2 / d^2.
+        let emission = 1.0 / (std::f32::consts::PI * self.lamp_radius * self.lamp_radius);
+        let lamp = ObjectPush {
+            model: Mat4::IDENTITY,
+            albedo: lighting.sun_color.extend(1.0),
+            material: Vec4::new(1.0, 0.0, emission, 0.0),
+        };
+        env.render(
+            ctx,
+            centre,
+            &linear.frame_uniforms(
+                &Camera {
+                    eye: centre,
+                    target: centre + Vec3::Z,
+                    up: Vec3::Y,
+                    fov_y_degrees: 90.0,
+                    near: 0.01,
+                    far: 10.0,
+                },
+                1.0,
+            ),
+            &[
+                (&self.floor, ROCK),
+                (&self.ceiling, ROCK),
+                (&self.lamp, lamp),
+            ],
+        )
+    }
 }
+
+/// Faces of the chamber's environment cube.
+const ENVIRONMENT_SIZE: u32 = 128;
 
 /// The viewer's clock and steering state.
 #[derive(Debug, Default)]
@@ -91,12 +149,15 @@ struct Live {
 pub struct GrowthFrame {
     /// The scene with every change made so far.
     scene: GrowthScene,
+    look: Look,
     plan: GrowthPlan,
     growth: Box<dyn Growth>,
+    // Reads `environment`: declared (and dropped) before it.
     surface: SpeleothemSurfacePass,
-    /// `None` for the bench's bare speleothems.
+    environment: EnvironmentMap,
+    /// `None` for the bench's bare speleothems (under a fixed light).
     chamber: Option<Chamber>,
-    lighting: Lighting,
+    bare_lighting: Option<Lighting>,
     /// Passes grown in the frame being recorded.
     passes_now: u32,
     live: Live,
@@ -108,42 +169,71 @@ pub struct GrowthFrame {
 }
 
 impl GrowthFrame {
-    /// The speleothems of `scene` in their chamber under the lamp, grown on `path`.
+    /// The speleothems of `scene` in their chamber under the lamp, grown on `path`,
+    /// with the default look.
     pub fn new(ctx: &Arc<Context>, scene: GrowthScene, path: GrowthPath) -> Result<Self> {
-        let chamber = Some(Chamber::new(ctx, &scene)?);
-        let lighting = lamp_lighting(&scene);
-        Self::with(ctx, scene, path, chamber, lighting)
+        Self::with_look(
+            ctx,
+            SpeleothemScene {
+                growth: scene,
+                look: Look::default(),
+            },
+            path,
+        )
     }
 
-    /// The speleothems alone (no chamber) under `lighting`.
+    /// The speleothems of `scene` in their chamber, shaded with its look.
+    pub fn with_look(ctx: &Arc<Context>, scene: SpeleothemScene, path: GrowthPath) -> Result<Self> {
+        let chamber = Some(Chamber::new(ctx, &scene.growth)?);
+        Self::with(ctx, scene, path, chamber, None)
+    }
+
+    /// The speleothems alone (no chamber: an empty reflection) under `lighting`.
     pub fn bare(
         ctx: &Arc<Context>,
         scene: GrowthScene,
         path: GrowthPath,
         lighting: Lighting,
     ) -> Result<Self> {
-        Self::with(ctx, scene, path, None, lighting)
+        let look = Look {
+            tonemap: lighting.tonemap,
+            exposure: lighting.exposure,
+            ..Look::default()
+        };
+        Self::with(
+            ctx,
+            SpeleothemScene {
+                growth: scene,
+                look,
+            },
+            path,
+            None,
+            Some(lighting),
+        )
     }
 
     fn with(
         ctx: &Arc<Context>,
-        scene: GrowthScene,
+        scene: SpeleothemScene,
         path: GrowthPath,
         chamber: Option<Chamber>,
-        lighting: Lighting,
+        bare_lighting: Option<Lighting>,
     ) -> Result<Self> {
+        let SpeleothemScene {
+            growth: scene,
+            look,
+        } = scene;
         let plan = scene.plan()?;
-        Ok(Self {
+        let environment = EnvironmentMap::new(ctx, ENVIRONMENT_SIZE)?;
+        let mut surface =
+            SpeleothemSurfacePass::new(ctx, ctx.frame_format(), &plan, scene.seed, &environment)?;
+        surface.set_look(look.bump, look.environment);
+        let mut frame = Self {
             growth: path.start(ctx, &plan)?,
-            surface: SpeleothemSurfacePass::new(
-                ctx,
-                COLOR_FORMAT,
-                DEPTH_FORMAT,
-                &plan,
-                scene.seed,
-            )?,
+            surface,
+            environment,
             chamber,
-            lighting,
+            bare_lighting,
             passes_now: 0,
             live: Live {
                 every: 1,
@@ -153,7 +243,37 @@ impl GrowthFrame {
             cpu_ms: 0.0,
             plan,
             scene,
-        })
+            look,
+        };
+        frame.render_environment(ctx)?;
+        Ok(frame)
+    }
+
+    /// The frame's lighting: the lamp of the look, or the bench's fixed light.
+    fn lighting(&self) -> Lighting {
+        match &self.bare_lighting {
+            Some(l) => l.clone(),
+            None => lamp_lighting(&self.scene, &self.look),
+        }
+    }
+
+    /// Renders the chamber into the environment map again (after it changed).
+    fn render_environment(&mut self, ctx: &Arc<Context>) -> Result<()> {
+        let lighting = self.lighting();
+        if let Some(chamber) = &self.chamber {
+            chamber.render_environment(ctx, &mut self.environment, &self.scene, &lighting)?;
+        }
+        Ok(())
+    }
+
+    /// Draws the caps of open fronts (on by default; off only to compare).
+    pub fn show_caps(&mut self, on: bool) {
+        self.surface.set_caps(on);
+    }
+
+    /// The look now (changed live by the viewer's keys).
+    pub fn look(&self) -> &Look {
+        &self.look
     }
 
     pub fn plan(&self) -> &GrowthPlan {
@@ -247,10 +367,18 @@ impl GrowthFrame {
     /// submission.
     fn rebuild(&mut self, ctx: &Arc<Context>, plan: GrowthPlan, passes: u32) -> Result<()> {
         self.growth = self.growth.path().start(ctx, &plan)?;
-        self.surface =
-            SpeleothemSurfacePass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT, &plan, self.scene.seed)?;
+        self.surface = SpeleothemSurfacePass::new(
+            ctx,
+            ctx.frame_format(),
+            &plan,
+            self.scene.seed,
+            &self.environment,
+        )?;
+        self.surface.set_look(self.look.bump, self.look.environment);
         if self.chamber.is_some() {
+            // The chamber's relief follows the seed: its reflection too.
             self.chamber = Some(Chamber::new(ctx, &self.scene)?);
+            self.render_environment(ctx)?;
         }
         self.plan = plan;
         if passes > 0 {
@@ -265,6 +393,7 @@ impl GrowthFrame {
     pub const CONTROLS: &'static [&'static str] = &[
         "space pause  n one pass  r restart  t reseed  [ ] pass every k frames",
         "p pil  i drip  c co2  left/right wind dir  up/down wind  m mineral  -/= its intensity",
+        "b normal map  g environment map  o tone mapping  , . exposure  l lamp",
     ];
 }
 
@@ -299,7 +428,7 @@ impl Scene for GrowthFrame {
             Time::At(n) => n.min(self.plan.passes).saturating_sub(self.passes_done()),
             Time::Tick => self.due(),
         };
-        let frame = self.lighting.frame_uniforms(camera, aspect);
+        let frame = self.lighting().frame_uniforms(camera, aspect);
         if let Some(c) = &mut self.chamber {
             c.rock.set_frame(&frame)?;
         }
@@ -408,6 +537,14 @@ impl Scene for GrowthFrame {
                 self.scene.seed,
                 self.plan.speleothems.len()
             ),
+            format!(
+                "normal map {}  environment {}  tone mapping {} exposure {:.2}  {} lamp",
+                self.look.bump,
+                self.look.environment,
+                self.look.tonemap,
+                self.look.exposure,
+                self.look.lamp
+            ),
         ]
     }
 
@@ -455,6 +592,32 @@ impl Scene for GrowthFrame {
                 let w = (((p.wind_intensity + step) * 10.0).round() / 10.0).clamp(0.0, 1.0);
                 self.change(ctx, |c| c.wind_intensity = Some(w))?;
             }
+            // The look (Tortelli & Walter: normal, tone and environment mapping set
+            // while growing), and the lamp.
+            Key::Char('b') => {
+                self.look.bump = cycle(&[0.0, 0.5, 1.0, 2.0], self.look.bump);
+                self.surface.set_look(self.look.bump, self.look.environment);
+                self.live.message = format!("normal map strength {}", self.look.bump);
+            }
+            Key::Char('g') => {
+                self.look.environment = cycle(&[0.0, 0.5, 1.0, 2.0], self.look.environment);
+                self.surface.set_look(self.look.bump, self.look.environment);
+                self.live.message = format!("environment reflection {}", self.look.environment);
+            }
+            Key::Char('o') => {
+                self.look.tonemap = cycle(&ToneMap::ALL, self.look.tonemap);
+                self.live.message = format!("tone mapping {}", self.look.tonemap);
+            }
+            Key::Char(',') | Key::Char('.') => {
+                let k = if key == Key::Char('.') { 1.25 } else { 0.8 };
+                self.look.exposure = (self.look.exposure * k).clamp(1.0 / 64.0, 64.0);
+                self.live.message = format!("exposure {:.2}", self.look.exposure);
+            }
+            Key::Char('l') => {
+                self.look.lamp = cycle(&[Lamp::Neutral, Lamp::Warm], self.look.lamp);
+                self.render_environment(ctx)?;
+                self.live.message = format!("{} lamp", self.look.lamp);
+            }
             // The mineral colours the whole speleothem (Table 1); it is a scene
             // parameter, not a per-pass one.
             Key::Char('m') => {
@@ -490,6 +653,8 @@ impl Scene for GrowthFrame {
 #[derive(Clone, Debug, Default)]
 pub struct GrowOutputs {
     pub path: GrowthPath,
+    /// How the speleothems are shaded.
+    pub look: Look,
     /// The camera (default: `default_camera`).
     pub camera: Option<Camera>,
     /// Also render a frame before the first pass and every `k` passes (for a GIF).
@@ -527,7 +692,14 @@ pub fn grow(
         .clone()
         .unwrap_or_else(|| default_camera(scene));
     let mut runner = FrameRunner::new(ctx, size)?;
-    let mut frame = GrowthFrame::new(ctx, scene.clone(), outputs.path)?;
+    let mut frame = GrowthFrame::with_look(
+        ctx,
+        SpeleothemScene {
+            growth: scene.clone(),
+            look: outputs.look.clone(),
+        },
+        outputs.path,
+    )?;
     let passes = frame.plan.passes;
     let step = outputs.frame_every.unwrap_or(passes).max(1);
     // With frames requested, the first renders the base rings before any pass.
@@ -565,25 +737,40 @@ pub fn grow(
 }
 
 /// The grown mesh as an exportable triangle soup: positions, the shading normals and
-/// the mineral colours the surface shader uses (`mix(calcite, mc * ring / rc, i)`).
+/// the mineral colours the surface shader uses, and the caps of open fronts.
 pub fn export_mesh(plan: &GrowthPlan, vertices: &[RingVertex]) -> TriangleSoup {
-    const CALCITE: Vec3 = Vec3::splat(0.8);
     let info = speleothem_info(plan, plan.passes);
-    let mut soup = TriangleSoup::default();
-    for v in vertices {
+    // surface.vert's colour: the mineral's share over white calcite rising from 35 % at
+    // the base to all of it at the tip, times the intensity.
+    let color_of = |v: &RingVertex| {
+        const CALCITE: Vec3 = Vec3::splat(0.8);
         let sp = v.speleothem().min(plan.speleothems.len().saturating_sub(1));
-        let (mineral, misc) = (info[2 * sp], info[2 * sp + 1]);
-        let g = Vec3::new(0.0, misc.x, 0.0);
-        let normal = (v.normal() - g * v.extra[2]).normalize_or(g);
+        let (mineral, misc) = (info[3 * sp], info[3 * sp + 1]);
         let t = if mineral.w > 0.0 {
             (v.extra[3] / mineral.w).clamp(0.0, 1.0)
         } else {
             1.0
         };
-        let color = CALCITE.lerp(mineral.truncate() * t, misc.y);
+        (
+            CALCITE.lerp(mineral.truncate(), misc.y * (0.35 + 0.65 * t)),
+            Vec3::new(0.0, misc.x, 0.0),
+        )
+    };
+    let mut soup = TriangleSoup::default();
+    for v in vertices {
+        let (color, g) = color_of(v);
+        let normal = (v.normal() - g * v.extra[2]).normalize_or(g);
         soup.positions.push(v.position().to_array());
         soup.normals.push(normal.to_array());
         soup.colors.push(color.to_array());
+    }
+    for cap in crate::model::speleothem::caps(vertices, plan, plan.passes) {
+        let (color, _) = color_of(&cap.from);
+        for p in cap.corners {
+            soup.positions.push(p.to_array());
+            soup.normals.push(cap.normal.to_array());
+            soup.colors.push(color.to_array());
+        }
     }
     soup
 }

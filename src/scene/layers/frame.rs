@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::export::mesh::TriangleSoup;
 use crate::export::section::{self, Colouring, SectionStyle};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
-use crate::gpu::{COLOR_FORMAT, Commands, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget, Span};
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
 use crate::scene::Size;
 use crate::scene::camera::{Camera, Lighting};
@@ -43,7 +43,7 @@ impl CutAwayFrame {
         .map(|(m, color, spec)| Ok((GpuMesh::upload(ctx, "stalagmite part", m)?, color, spec)))
         .collect::<Result<_>>()?;
         Ok(Self {
-            pass: LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            pass: LitMeshPass::new(ctx, ctx.frame_format())?,
             parts,
             layers,
         })

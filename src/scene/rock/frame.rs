@@ -9,7 +9,7 @@ use glam::{Mat4, Vec3, Vec4};
 use super::RockScene;
 use crate::error::Result;
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
-use crate::gpu::{COLOR_FORMAT, Commands, Context, DEPTH_FORMAT, GpuTimer, OffscreenTarget};
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
 use crate::model::mesh::Mesh;
 use crate::model::rock::rock_mesh;
 use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
@@ -49,7 +49,7 @@ impl RockFrame {
             .fold(f32::INFINITY, f32::min)
             + 0.08;
         Ok(Self {
-            pass: LitMeshPass::new(ctx, COLOR_FORMAT, DEPTH_FORMAT)?,
+            pass: LitMeshPass::new(ctx, ctx.frame_format())?,
             rock: GpuMesh::upload(ctx, "rock", &rock)?,
             ground: GpuMesh::upload(ctx, "ground", &ground(20.0, floor_y))?,
             albedo: scene.albedo,

@@ -49,7 +49,7 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         return Ok(());
     };
     let scene = &resolved.scene;
-    let camera = resolved.camera.over(grow::default_camera(scene))?;
+    let camera = resolved.camera.over(grow::default_camera(&scene.growth))?;
     if !(1..=512).contains(&a.gif_every) {
         bail!(sediment::Error::invalid(
             "--gif-every",
@@ -71,14 +71,19 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
     }
     let ctx = open_context(cli)?;
     let outputs = grow::GrowOutputs {
+        look: scene.look.clone(),
         camera: Some(camera),
         path: a.growth,
         frame_every: a.gif.as_ref().map(|_| a.gif_every),
         mesh: a.mesh.is_some(),
     };
-    let grown = grow::grow(&ctx, scene, cli.size, &outputs, &mut |done, total| {
-        progress(done as usize, total as usize, "passes")
-    })?;
+    let grown = grow::grow(
+        &ctx,
+        &scene.growth,
+        cli.size,
+        &outputs,
+        &mut |done, total| progress(done as usize, total as usize, "passes"),
+    )?;
     eprintln!();
     fail_on_validation_errors(&ctx)?;
     if let Some(path) = &output {

@@ -196,7 +196,7 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
             let resolved = resolve(&g.scene, g.file.scene.as_deref(), cli.seed)?;
             let camera = resolved
                 .camera
-                .over(grow::default_camera(&resolved.scene))?;
+                .over(grow::default_camera(&resolved.scene.growth))?;
             if !(1..=120).contains(&g.every) {
                 bail!(sediment::Error::invalid("--every", "must be in 1..=120"));
             }
@@ -204,10 +204,10 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
                 check_extension(mesh, "--mesh", &["glb", "obj"])?;
             }
             let options = view_options(cli, &g.view)?;
-            let growing = resolved.scene.passes as usize * g.every as usize;
+            let growing = resolved.scene.growth.passes as usize * g.every as usize;
             let (scene, path, every) = (resolved.scene, g.growth, g.every);
             let build: SceneBuilder = Box::new(move |ctx| {
-                let mut frame = GrowthFrame::new(ctx, scene, path)?;
+                let mut frame = GrowthFrame::with_look(ctx, scene, path)?;
                 frame.set_every(every);
                 Ok(Box::new(frame) as Box<dyn Scene>)
             });
