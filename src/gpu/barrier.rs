@@ -65,6 +65,27 @@ pub struct ImageTransition {
     pub to: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
 }
 
+impl ImageTransition {
+    /// `range` of `image`, whatever it held, becomes the destination of copies or
+    /// blits.
+    pub fn discard_to_transfer_dst(image: vk::Image, range: vk::ImageSubresourceRange) -> Self {
+        Self {
+            image,
+            range,
+            from: (
+                vk::ImageLayout::UNDEFINED,
+                vk::PipelineStageFlags2::TOP_OF_PIPE,
+                vk::AccessFlags2::NONE,
+            ),
+            to: (
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                vk::PipelineStageFlags2::ALL_TRANSFER,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+        }
+    }
+}
+
 /// Records the layout transitions in one barrier.
 pub fn images(ctx: &Context, cmd: vk::CommandBuffer, transitions: &[ImageTransition]) {
     let barriers: Vec<vk::ImageMemoryBarrier2<'_>> = transitions

@@ -259,20 +259,9 @@ impl Image {
             super::barrier::images(
                 ctx,
                 cmd.raw,
-                &[super::barrier::ImageTransition {
-                    image: image.raw,
-                    range,
-                    from: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::TOP_OF_PIPE,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    to: (
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::PipelineStageFlags2::COPY,
-                        vk::AccessFlags2::TRANSFER_WRITE,
-                    ),
-                }],
+                &[super::barrier::ImageTransition::discard_to_transfer_dst(
+                    image.raw, range,
+                )],
             );
             // Writes of earlier submissions to the buffer (compute passes) are visible.
             cmd.full_barrier();
@@ -310,24 +299,14 @@ impl Image {
             super::barrier::images(
                 cmd.ctx,
                 cmd.raw,
-                &[super::barrier::ImageTransition {
-                    image: self.raw,
-                    range: vk::ImageSubresourceRange {
+                &[super::barrier::ImageTransition::discard_to_transfer_dst(
+                    self.raw,
+                    vk::ImageSubresourceRange {
                         base_mip_level: given,
                         level_count: desc.mip_levels - given,
                         ..range
                     },
-                    from: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::TOP_OF_PIPE,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    to: (
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::PipelineStageFlags2::ALL_TRANSFER,
-                        vk::AccessFlags2::TRANSFER_WRITE,
-                    ),
-                }],
+                )],
             );
         }
         for k in given..desc.mip_levels {

@@ -261,20 +261,7 @@ impl OffscreenTarget {
         barrier::images(
             cmd.ctx,
             cmd.raw,
-            &[ImageTransition {
-                image: image.raw(),
-                range,
-                from: (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::TOP_OF_PIPE,
-                    vk::AccessFlags2::NONE,
-                ),
-                to: (
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_WRITE,
-                ),
-            }],
+            &[ImageTransition::discard_to_transfer_dst(image.raw(), range)],
         );
         let layers = |layer| vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::COLOR,

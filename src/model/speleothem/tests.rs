@@ -465,42 +465,30 @@ fn random_with_and_without_dripping(change: u32) -> (GrowthScene, GrowthScene) {
     (hanging, dripping)
 }
 
-/// The bit patterns of every position of speleothem `index`, sorted.
-fn positions_of(mesh: &[RingVertex], index: usize) -> Vec<[u32; 3]> {
-    let mut out: Vec<[u32; 3]> = mesh
-        .iter()
-        .filter(|v| v.speleothem() == index)
-        .map(|v| v.position().to_array().map(f32::to_bits))
-        .collect();
-    out.sort_unstable();
-    out
-}
-
 #[test]
 fn adding_stalagmites_mid_growth_keeps_the_grown_stalactites_identical() {
+    // The steps decide every vertex; tests/ring_growth.rs compares the vertices
+    // themselves, on the GPU and on the CPU reference.
     let (hanging, dripping) = random_with_and_without_dripping(10);
     let (a, b) = (
         hanging.plan().expect("plan"),
         dripping.plan().expect("plan"),
     );
     assert_eq!(b.speleothems.len(), 2 * a.speleothems.len());
-    let (mesh_a, mesh_b) = (grow_reference(&a, 10), grow_reference(&b, 10));
     for (site, s) in a.speleothems.iter().enumerate() {
         let in_b = 2 * site;
         assert_eq!(b.speleothems[in_b].kind, s.kind);
-        let pa = positions_of(&mesh_a, site);
-        assert!(pa.len() > 10 * 16, "site {site} grew");
-        assert_eq!(pa, positions_of(&mesh_b, in_b), "site {site}'s stalactite");
-        // Its steps after the change are its own too, until a stalagmite meets it.
+        assert_eq!(b.speleothems[in_b].site, s.site);
+        // Its steps are its own before the change, and after it too until a
+        // stalagmite meets it.
         let joined = b.speleothems[in_b].stop.map(|(_, r)| r) == Some(StopReason::Column);
-        if !joined {
-            for pass in 0..a.passes {
-                assert_eq!(
-                    a.step(pass, site),
-                    b.step(pass, in_b),
-                    "site {site} pass {pass}"
-                );
-            }
+        let until = if joined { 10 } else { a.passes };
+        for pass in 0..until {
+            assert_eq!(
+                a.step(pass, site),
+                b.step(pass, in_b),
+                "site {site} pass {pass}"
+            );
         }
     }
 }
