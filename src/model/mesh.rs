@@ -112,6 +112,24 @@ impl Mesh {
             .collect();
     }
 
+    /// The same triangles with a vertex of their own each and the face's normal:
+    /// flat shading (the voxel wall's blocks), no longer welded.
+    pub fn flat_shaded(&self) -> Mesh {
+        let mut out = Mesh::default();
+        for [a, b, c] in self.triangles() {
+            let p = [a, b, c].map(|i| self.positions[i as usize]);
+            let n = (p[1] - p[0])
+                .cross(p[2] - p[0])
+                .try_normalize()
+                .unwrap_or(Vec3::Y);
+            let base = out.positions.len() as u32;
+            out.positions.extend(p);
+            out.normals.extend([n; 3]);
+            out.indices.extend([base, base + 1, base + 2]);
+        }
+        out
+    }
+
     /// Every directed edge appears once and its reverse once: the surface is closed,
     /// 2-manifold and consistently oriented. Returns the first offending edge.
     pub fn check_closed_manifold(&self) -> Result<(), String> {
@@ -166,5 +184,36 @@ impl Mesh {
                 0.5 * (pb - pa).cross(pc - pa).length()
             })
             .fold(f32::INFINITY, f32::min)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flat_shading_gives_every_triangle_its_face_normal() {
+        let sphere = Mesh::sphere(Vec3::ZERO, 1.0, 8);
+        let flat = sphere.flat_shaded();
+        assert_eq!(flat.triangle_count(), sphere.triangle_count());
+        assert_eq!(flat.positions.len(), 3 * flat.triangle_count());
+        for [a, b, c] in flat.triangles() {
+            let p = [a, b, c].map(|i| flat.positions[i as usize]);
+            let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            if face == Vec3::ZERO {
+                continue;
+            }
+            for i in [a, b, c] {
+                assert!((flat.normals[i as usize] - face).length() < 1e-5);
+            }
+        }
+        // Smooth shading differs: its normals are the vertices' averages.
+        assert!(
+            sphere
+                .normals
+                .iter()
+                .zip(&sphere.positions)
+                .all(|(n, p)| (*n - *p).length() < 0.2)
+        );
     }
 }

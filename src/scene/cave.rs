@@ -71,6 +71,9 @@ pub struct CaveScene {
     pub wireframe: bool,
     /// Show the smoothed wall (false: the blocky wall before smoothing).
     pub smooth: bool,
+    /// The Short-profile speleothems as voxels of the octree, in the walls and smoothed
+    /// with them (the paper's Figs. 7 and 8a), instead of meshes of their own.
+    pub voxel_speleothems: bool,
     /// Fog density per metre, 0..=1.
     pub fog: f32,
 }
@@ -89,17 +92,31 @@ impl Default for CaveScene {
             grown_passes: 30,
             wireframe: false,
             smooth: true,
+            voxel_speleothems: false,
             fog: 0.04,
         }
     }
 }
 
-/// Presets: the paper's Fig. 5 panels and Fig. 8.
+/// Presets: the paper's Figs. 2, 5, 7 and 8.
 pub const PRESETS: &[(&str, &str)] = &[
+    (
+        "fig2",
+        "naive smoothing without the split: cracks open at T-junctions",
+    ),
     ("fig5a", "wireframe before smoothing"),
     ("fig5b", "solid before smoothing"),
     ("fig5c", "wireframe after smoothing"),
     ("fig5d", "solid after smoothing"),
+    (
+        "fig7a",
+        "stalactites and stalagmites as voxels, before smoothing",
+    ),
+    ("fig7b", "the same voxel speleothems after smoothing"),
+    (
+        "fig8a",
+        "the passage with its speleothems as voxels, before smoothing",
+    ),
     (
         "fig8",
         "a passage with stalactites and stalagmites, smoothed",
@@ -111,7 +128,29 @@ pub fn preset(name: &str) -> Result<CaveScene> {
         speleothems: Speleothems::None,
         ..CaveScene::default()
     };
+    // Fig. 7's close look at voxel speleothems: depth 8, so that slender ones are a few
+    // voxels wide, and more of them. Fig. 8a: Fig. 8's passage, its speleothems voxels.
+    let voxels = |close: bool, smooth| {
+        let d = CaveScene::default();
+        CaveScene {
+            cave: crate::model::cave::CaveParams {
+                depth: if close { 8 } else { d.cave.depth },
+                ..d.cave
+            },
+            speleothem_count: if close { 80 } else { d.speleothem_count },
+            voxel_speleothems: true,
+            smooth,
+            ..d
+        }
+    };
     Ok(match name {
+        "fig2" => CaveScene {
+            cave: crate::model::cave::CaveParams {
+                split: false,
+                ..bare.cave
+            },
+            ..bare
+        },
         "fig5a" => CaveScene {
             wireframe: true,
             smooth: false,
@@ -126,6 +165,9 @@ pub fn preset(name: &str) -> Result<CaveScene> {
             ..bare
         },
         "fig5d" => bare,
+        "fig7a" => voxels(true, false),
+        "fig7b" => voxels(true, true),
+        "fig8a" => voxels(false, false),
         "fig8" => CaveScene::default(),
         other => return Err(Error::unknown_preset(other, PRESETS)),
     })
@@ -155,6 +197,16 @@ impl CaveScene {
             "--grown-passes",
             "1..=512",
         )?;
+        if self.voxel_speleothems && self.speleothems != Speleothems::Short {
+            return Err(Error::invalid(
+                "--voxel-speleothems",
+                format!(
+                    "needs --speleothems short, not {}: grown speleothems are the growth's \
+                     own meshes",
+                    self.speleothems
+                ),
+            ));
+        }
         check((0.0..=1.0).contains(&self.fog), "--fog", "0..=1 per metre")
     }
 }
@@ -164,9 +216,11 @@ impl CaveScene {
 #[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Params {
-    /// A reproduction of one of the paper's figures: fig5a/fig5b (wireframe/solid
-    /// before smoothing), fig5c/fig5d (after), fig8 (a passage with stalactites and
-    /// stalagmites). Default: none (fig8's passage).
+    /// A reproduction of one of the paper's figures: fig2 (smoothing without the
+    /// split: cracks), fig5a/fig5b (wireframe/solid before smoothing), fig5c/fig5d
+    /// (after), fig7a/fig7b (speleothems as voxels before/after smoothing), fig8a (the
+    /// passage as voxels), fig8 (a passage with stalactites and stalagmites). Default:
+    /// none (fig8's passage).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
     /// The seed (scene files; on the command line the global --seed).
@@ -232,6 +286,16 @@ pub struct Params {
     /// `smooth = false` (default: the smoothed wall).
     #[arg(long = "no-smooth", num_args = 0, default_missing_value = "off", value_parser = on_off)]
     pub smooth: Option<bool>,
+    /// Smooth without the crack-free T-junction split, as the paper's Fig. 2 shows
+    /// the naive smoothing: cracks open where a large voxel face meets small ones; a
+    /// scene file's `split = false` (default: the split).
+    #[arg(long = "no-split", num_args = 0, default_missing_value = "off", value_parser = on_off)]
+    pub split: Option<bool>,
+    /// Build the speleothems into the voxel octree, so they are part of the walls and
+    /// smoothed with them (the paper's Figs. 7, 8a): `--voxel-speleothems` (or `on`),
+    /// `off` (default off: meshes of their own). Needs --speleothems short.
+    #[arg(long, value_name = "on|off", num_args = 0..=1, default_missing_value = "on", value_parser = on_off)]
+    pub voxel_speleothems: Option<bool>,
     /// Fog density per metre, 0..=1 (default 0.04).
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub fog: Option<f32>,
@@ -277,6 +341,8 @@ impl SceneParams for Params {
         way.field(&mut self.grown_passes, &mut s.grown_passes);
         way.field(&mut self.wireframe, &mut s.wireframe);
         way.field(&mut self.smooth, &mut s.smooth);
+        way.field(&mut self.split, &mut s.cave.split);
+        way.field(&mut self.voxel_speleothems, &mut s.voxel_speleothems);
         way.field(&mut self.fog, &mut s.fog);
         Ok(())
     }

@@ -14,8 +14,10 @@
 
 pub mod octree;
 pub mod placement;
+pub mod profile;
 pub mod short_profile;
 pub mod smooth;
+pub mod stalagmite_profile;
 pub mod surface;
 pub mod volume;
 
@@ -45,6 +47,9 @@ pub struct CaveParams {
     pub lambda: f32,
     /// Smoothing iterations k, 0..=100.
     pub iterations: u32,
+    /// The crack-free T-junction split before smoothing (section 4.1). Off: the naive
+    /// smoothing of the paper's Fig. 2, whose T-junctions open into cracks.
+    pub split: bool,
 }
 
 impl Default for CaveParams {
@@ -55,6 +60,7 @@ impl Default for CaveParams {
             size_m: 64.0,
             lambda: 0.5,
             iterations: 4,
+            split: true,
         }
     }
 }
@@ -136,12 +142,11 @@ pub enum Phase {
 /// Noise -> octree -> walls -> split -> smoothing.
 pub fn generate(params: &CaveParams, progress: &(dyn Fn(Phase) + Sync)) -> Result<Cave> {
     params.validate()?;
-    let mut timings = Timings::default();
     let t = Instant::now();
-    let mut tree = Octree::build_with_progress(&params.volume, params.depth, &|done, total| {
+    let tree = Octree::build_with_progress(&params.volume, params.depth, &|done, total| {
         progress(Phase::Octree { done, total })
     });
-    timings.build_ms = ms(t);
+    let build_ms = ms(t);
     if !tree.leaves().iter().any(|l| !l.solid) {
         return Err(Error::invalid(
             "--threshold",
@@ -152,13 +157,66 @@ pub fn generate(params: &CaveParams, progress: &(dyn Fn(Phase) + Sync)) -> Resul
             ),
         ));
     }
+    let mut cave = from_tree(params, tree, progress);
+    cave.timings.build_ms = build_ms;
+    Ok(cave)
+}
+
+/// A body of rock to add to a cave (a speleothem), in metres.
+pub trait Solid {
+    /// A box (min, max) around it.
+    fn bounds(&self) -> (Vec3, Vec3);
+    fn contains(&self, p: Vec3) -> bool;
+}
+
+/// The same cave with more rock: every voxel of the finest level whose centre lies in
+/// one of `solids` becomes rock too, and the walls are made again — the speleothems as
+/// voxels of the paper's Figs. 7 and 8a, smoothed with the walls.
+pub fn with_rock(cave: &Cave, solids: &[impl Solid], progress: &(dyn Fn(Phase) + Sync)) -> Cave {
+    let params = &cave.params;
+    let voxel = params.voxel_m();
+    let n = i64::from(cave.tree.resolution());
+    let t = Instant::now();
+    let mut tree = cave.tree.clone();
+    for solid in solids {
+        let (lo, hi) = solid.bounds();
+        let first = (lo / voxel).floor().as_i64vec3().max(glam::I64Vec3::ZERO);
+        let last = (hi / voxel)
+            .floor()
+            .as_i64vec3()
+            .min(glam::I64Vec3::splat(n - 1));
+        for z in first.z..=last.z {
+            for y in first.y..=last.y {
+                for x in first.x..=last.x {
+                    let centre = (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * voxel;
+                    if solid.contains(centre) {
+                        tree.fill([x as u32, y as u32, z as u32]);
+                    }
+                }
+            }
+        }
+    }
+    tree.compact();
+    let build_ms = ms(t);
+    let mut out = from_tree(params, tree, progress);
+    out.timings.build_ms = cave.timings.build_ms + build_ms;
+    out
+}
+
+/// Walls -> split -> smoothing on a built octree.
+fn from_tree(params: &CaveParams, mut tree: Octree, progress: &(dyn Fn(Phase) + Sync)) -> Cave {
+    let mut timings = Timings::default();
     progress(Phase::Walls);
     let t = Instant::now();
     let (carved_voxels, blocky) = carve_ambiguities(&mut tree);
     timings.extract_ms = ms(t);
     progress(Phase::Split);
     let t = Instant::now();
-    let lattice = split_t_junctions(&blocky);
+    let lattice = if params.split {
+        split_t_junctions(&blocky)
+    } else {
+        blocky.clone()
+    };
     timings.split_ms = ms(t);
     progress(Phase::Smooth);
     let t = Instant::now();
@@ -172,7 +230,7 @@ pub fn generate(params: &CaveParams, progress: &(dyn Fn(Phase) + Sync)) -> Resul
     );
     mesh.recompute_normals();
     timings.smooth_ms = ms(t);
-    Ok(Cave {
+    Cave {
         params: params.clone(),
         tree,
         triangles_before_split: blocky.triangles.len(),
@@ -180,7 +238,7 @@ pub fn generate(params: &CaveParams, progress: &(dyn Fn(Phase) + Sync)) -> Resul
         carved_voxels,
         mesh,
         timings,
-    })
+    }
 }
 
 fn lattice_to_mesh(lattice: &LatticeMesh, voxel_m: f32) -> Mesh {

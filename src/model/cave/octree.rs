@@ -181,16 +181,31 @@ impl Octree {
     /// Makes voxel `v` of the finest level empty, splitting a larger rock leaf around
     /// it as needed. Call [`Octree::compact`] after a batch of edits.
     pub fn carve(&mut self, v: [u32; 3]) {
+        self.set(v, false);
+    }
+
+    /// Makes voxel `v` of the finest level rock (the voxel speleothems), splitting a
+    /// larger empty leaf around it as needed. Call [`Octree::compact`] after a batch.
+    pub fn fill(&mut self, v: [u32; 3]) {
+        self.set(v, true);
+    }
+
+    fn set(&mut self, v: [u32; 3], solid: bool) {
+        let (same, other) = if solid {
+            (Node::Solid, Node::Empty)
+        } else {
+            (Node::Empty, Node::Solid)
+        };
         let mut at = 0usize;
         for level in 0..self.depth {
             match self.nodes[at] {
-                Node::Empty => return,
-                Node::Solid => {
+                n if n == same => return,
+                n if n == other => {
                     let first = self.nodes.len();
-                    self.nodes.resize(first + 8, Node::Solid);
+                    self.nodes.resize(first + 8, other);
                     self.nodes[at] = Node::Branch(first as u32);
                 }
-                Node::Branch(_) => {}
+                _ => {}
             }
             let Node::Branch(first) = self.nodes[at] else {
                 unreachable!("just made a branch")
@@ -199,7 +214,7 @@ impl Octree {
             let c = ((v[0] >> shift) & 1) | ((v[1] >> shift) & 1) << 1 | ((v[2] >> shift) & 1) << 2;
             at = (first + c) as usize;
         }
-        self.nodes[at] = Node::Empty;
+        self.nodes[at] = same;
     }
 
     /// Collapses branches whose children became uniform and drops unused nodes.

@@ -1,11 +1,15 @@
 //! Speleothems in the cave (Cui et al. section 4.2): stalactites on downward-facing
 //! ceiling, each stalagmite on the floor straight below its stalactite, grown at the
 //! paper's 1.5x rate, columns where the two meet; bases sunk into the rock so they
-//! join the wall without a gap.
+//! join the wall without a gap. Stalactites take Short et al.'s profile as the paper
+//! does; stalagmites Franke's stationary shape (a rounded top), not an upturned
+//! stalactite.
 
 use glam::Vec3;
 
+use super::profile::Profile;
 use super::short_profile::{self, ShortShape};
+use super::stalagmite_profile;
 use crate::model::mesh::Mesh;
 use crate::model::random::{Rng, mix64};
 
@@ -250,75 +254,148 @@ fn fit(
     let mut up = down * params.growth_ratio;
     let column = down + up >= gap;
     if column {
-        // Meet where their growth rates put the meeting point, tips overlapping by a
-        // drop's radius so the column is one body.
-        let tip = short_profile::rho_min() as f32 * params.unit_m;
-        down = gap / (1.0 + params.growth_ratio) + tip;
-        up = gap - down + 2.0 * tip;
+        // Meet where their growth rates put the meeting point. The stalactite is cut
+        // where it is half the base radius wide and that end sits inside the
+        // stalagmite's top, where the stalagmite is wider still, so the column is one
+        // body and nowhere narrower than half its base radius (no hourglass).
+        down = gap / (1.0 + params.growth_ratio);
+        let hanging = short_profile::profile(shape, params.unit_m, down);
+        let cut = hanging.distance_at_radius(COLUMN_WAIST * radius);
+        let top =
+            stalagmite_profile::profile(radius, gap).distance_at_radius(COLUMN_OVERLAP * radius);
+        up = gap - down + cut + top;
     }
     if down < 2.0 * radius.min(0.05 * gap) && !column {
         return None;
     }
     let ceiling = Vec3::new(point.x, ceiling_y, point.z);
     let floor = Vec3::new(point.x, floor_y, point.z);
-    // Sink both bases until their base rings are in rock.
+    // Sink both bases until their base rings (widened where a sloping flank carries on
+    // into the rock) are in rock.
     let mut sink = radius + 0.05 * gap;
     for _ in 0..4 {
-        let ring_in_rock = |centre: Vec3| {
+        let site = Site {
+            ceiling,
+            floor,
+            shape,
+            stalactite_m: down,
+            stalagmite_m: up,
+            sink_m: sink,
+            column,
+        };
+        let ring_in_rock = |centre: Vec3, radius: f32| {
             (0..SEGMENTS).all(|k| {
                 let a = std::f32::consts::TAU * k as f32 / SEGMENTS as f32;
                 rays.in_rock(centre + Vec3::new(a.cos(), 0.0, a.sin()) * radius)
             })
         };
-        if ring_in_rock(ceiling + Vec3::Y * sink) && ring_in_rock(floor - Vec3::Y * sink) {
-            return Some(Site {
-                ceiling,
-                floor,
-                shape,
-                stalactite_m: down,
-                stalagmite_m: up,
-                sink_m: sink,
-                column,
-            });
+        if base_rings(&site, params.unit_m)
+            .iter()
+            .all(|&(centre, radius)| ring_in_rock(centre, radius))
+        {
+            return Some(site);
         }
         sink *= 2.0;
     }
     None
 }
 
-/// The stalactite and stalagmite meshes of `site` in world space.
-pub fn site_meshes(site: &Site, unit_m: f32) -> [Mesh; 2] {
-    // The mesh takes its length from the site (the shape's s only sets proportions
-    // through it), so both use the site's shape.
-    let mut down = short_profile::mesh(
-        site.shape,
-        unit_m,
-        site.stalactite_m,
-        site.sink_m,
-        Vec3::Y,
-        SEGMENTS,
-    );
-    let tip = site.ceiling - Vec3::Y * site.stalactite_m;
-    down.positions.iter_mut().for_each(|p| *p += tip);
-    let mut up = short_profile::mesh(
-        site.shape,
-        unit_m,
-        site.stalagmite_m,
-        site.sink_m,
-        Vec3::NEG_Y,
-        SEGMENTS,
-    );
-    let tip = site.floor + Vec3::Y * site.stalagmite_m;
-    up.positions.iter_mut().for_each(|p| *p += tip);
-    [down, up]
+/// A column's stalactite ends where it is this fraction of the base radius wide...
+pub const COLUMN_WAIST: f32 = 0.5;
+/// ...inside its stalagmite's top, where that is this fraction wide.
+const COLUMN_OVERLAP: f32 = 0.7;
+
+/// The outlines of a site's stalactite and stalagmite (tip to base ring, in metres;
+/// not yet into the rock): Short et al.'s stalactite — in a column cut where it is
+/// [`COLUMN_WAIST`] of the base radius wide — and Franke's stationary stalagmite of
+/// the base radius.
+pub fn site_profiles(site: &Site, unit_m: f32) -> [Profile; 2] {
+    let radius = site.base_radius_m(unit_m);
+    let mut hanging = short_profile::profile(site.shape, unit_m, site.stalactite_m);
+    if site.column {
+        hanging = hanging.cut_below_radius(COLUMN_WAIST * radius);
+    }
+    [
+        hanging,
+        stalagmite_profile::profile(radius, site.stalagmite_m),
+    ]
 }
 
-/// The base-ring centres and radius of a site's two meshes (top of the stalactite,
-/// bottom of the stalagmite).
-pub fn base_rings(site: &Site, unit_m: f32) -> [(Vec3, f32); 2] {
-    let r = site.base_radius_m(unit_m);
+/// The axis points of a site's two outlines' tips, and the directions from the tip to
+/// the base.
+fn tips_and_ups(site: &Site) -> [(Vec3, Vec3); 2] {
     [
-        (site.ceiling + Vec3::Y * site.sink_m, r),
-        (site.floor - Vec3::Y * site.sink_m, r),
+        (site.ceiling - Vec3::Y * site.stalactite_m, Vec3::Y),
+        (site.floor + Vec3::Y * site.stalagmite_m, Vec3::NEG_Y),
+    ]
+}
+
+/// A site's stalactite and stalagmite as solids, the parts in the rock included
+/// (`--voxel-speleothems` fills their voxels).
+pub struct SiteSolid {
+    /// Per body: outline into the rock, tip, direction from the tip to the base.
+    bodies: [(Profile, Vec3, Vec3); 2],
+}
+
+impl SiteSolid {
+    pub fn new(site: &Site, unit_m: f32) -> Self {
+        let [a, b] = site_profiles(site, unit_m);
+        let [(ta, ua), (tb, ub)] = tips_and_ups(site);
+        Self {
+            bodies: [
+                (a.into_rock(site.sink_m), ta, ua),
+                (b.into_rock(site.sink_m), tb, ub),
+            ],
+        }
+    }
+}
+
+impl super::Solid for SiteSolid {
+    fn bounds(&self) -> (Vec3, Vec3) {
+        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        for (profile, tip, up) in &self.bodies {
+            let widest = profile.points.iter().map(|p| p[0]).fold(0.0, f32::max);
+            for end in [*tip, *tip + *up * profile.length()] {
+                lo = lo.min(end - Vec3::splat(widest));
+                hi = hi.max(end + Vec3::splat(widest));
+            }
+        }
+        (lo, hi)
+    }
+
+    fn contains(&self, p: Vec3) -> bool {
+        self.bodies.iter().any(|(profile, tip, up)| {
+            let h = (p - *tip).dot(*up);
+            let r = (p - *tip - *up * h).length();
+            r <= profile.radius_at(h)
+        })
+    }
+}
+
+/// The stalactite and stalagmite meshes of `site` in world space, closed, their bases
+/// continued into the rock.
+pub fn site_meshes(site: &Site, unit_m: f32) -> [Mesh; 2] {
+    let profiles = site_profiles(site, unit_m);
+    let mut out = [Mesh::default(), Mesh::default()];
+    for ((mesh, profile), (tip, up)) in out.iter_mut().zip(&profiles).zip(tips_and_ups(site)) {
+        *mesh = profile.into_rock(site.sink_m).mesh(up, SEGMENTS);
+        mesh.positions.iter_mut().for_each(|p| *p += tip);
+    }
+    out
+}
+
+/// The base-ring centres and radii of a site's two meshes, in the rock (top of the
+/// stalactite, bottom of the stalagmite).
+pub fn base_rings(site: &Site, unit_m: f32) -> [(Vec3, f32); 2] {
+    let [hanging, standing] = site_profiles(site, unit_m);
+    [
+        (
+            site.ceiling + Vec3::Y * site.sink_m,
+            hanging.into_rock(site.sink_m).base_radius(),
+        ),
+        (
+            site.floor - Vec3::Y * site.sink_m,
+            standing.into_rock(site.sink_m).base_radius(),
+        ),
     ]
 }

@@ -18,6 +18,7 @@
 
 use glam::Vec3;
 
+use super::profile::Profile;
 use crate::model::mesh::Mesh;
 
 /// The smallest slope the law allows (30 degrees) and the radius there.
@@ -91,11 +92,41 @@ impl ShortShape {
     }
 }
 
-/// A closed surface of revolution of `shape`: the tip at the origin, the body rising
-/// along `up` for `length_m` metres (normally the shape's length times `unit_m`;
-/// shorter or longer when it is fitted to meet a partner in a column), radii of
-/// `unit_m` metres per unit, then straight on for `sink_m` metres into the rock,
-/// closed there by a flat disk. `segments` around; rings graded toward the tip.
+/// The outline of `shape`: radii of `unit_m` metres per unit, the body `length_m`
+/// metres from the tip to the base ring (normally the shape's length times `unit_m`;
+/// shorter or longer when it is fitted to meet a partner in a column), rings graded
+/// toward the tip.
+pub fn profile(shape: ShortShape, unit_m: f32, length_m: f32) -> Profile {
+    let full = shape.length().max(1e-6);
+    // Metres per unit of zeta (the shape's s included).
+    let z_scale = shape.s * length_m / full;
+    let mut points = vec![[0.0f32, 0.0f32]];
+    let r0 = rho_min();
+    let cap_rings = 6;
+    for i in 1..=cap_rings {
+        let rho_at = r0 * f64::from(i) / f64::from(cap_rings);
+        points.push([
+            rho_at as f32 * unit_m,
+            height_above_tip(rho_at) as f32 * z_scale,
+        ]);
+    }
+    let r_max = f64::from(shape.r).max(r0 * 1.01);
+    let body_rings = 24;
+    for i in 1..=body_rings {
+        // Geometric in radius: fine near the tip where the profile bends.
+        let t = f64::from(i) / f64::from(body_rings);
+        let rho_at = r0 * (r_max / r0).powf(t);
+        points.push([
+            rho_at as f32 * unit_m,
+            height_above_tip(rho_at) as f32 * z_scale,
+        ]);
+    }
+    Profile { points }
+}
+
+/// A closed surface of revolution of `shape` ([`profile`]): the tip at the origin,
+/// the body along `up`, continued `sink_m` metres into the rock
+/// ([`Profile::into_rock`]), closed there by a flat disk; `segments` around.
 pub fn mesh(
     shape: ShortShape,
     unit_m: f32,
@@ -104,68 +135,7 @@ pub fn mesh(
     up: Vec3,
     segments: u32,
 ) -> Mesh {
-    let up = up.normalize_or(Vec3::Y);
-    let side = up.any_orthonormal_vector();
-    let side2 = up.cross(side);
-    let full = shape.length().max(1e-6);
-    // Metres per unit of s * zeta.
-    let z_scale = length_m / full;
-    let r_scale = unit_m;
-    // Profile samples (radius m, height m above the tip), tip first.
-    let mut profile: Vec<(f32, f32)> = Vec::new();
-    let r0 = rho_min();
-    let cap_rings = 6;
-    for i in 1..=cap_rings {
-        let rho_at = r0 * f64::from(i) / f64::from(cap_rings);
-        profile.push((rho_at as f32, height_above_tip(rho_at) as f32));
-    }
-    let r_max = f64::from(shape.r).max(r0 * 1.01);
-    let body_rings = 24;
-    for i in 1..=body_rings {
-        // Geometric in radius: fine near the tip where the profile bends.
-        let t = f64::from(i) / f64::from(body_rings);
-        let rho_at = r0 * (r_max / r0).powf(t);
-        profile.push((rho_at as f32, height_above_tip(rho_at) as f32));
-    }
-    let mut mesh = Mesh::default();
-    let ring = |radius_m: f32, height_m: f32, mesh: &mut Mesh| {
-        let start = mesh.positions.len() as u32;
-        for k in 0..segments {
-            let a = std::f32::consts::TAU * k as f32 / segments as f32;
-            mesh.positions
-                .push(up * height_m + (side * a.cos() + side2 * a.sin()) * radius_m);
-        }
-        start
-    };
-    mesh.positions.push(Vec3::ZERO); // tip
-    let mut rings = Vec::new();
-    for &(rho_at, h) in &profile {
-        rings.push(ring(rho_at * r_scale, h * shape.s * z_scale, &mut mesh));
-    }
-    let (last_r, last_h) = *profile.last().expect("rings");
-    rings.push(ring(
-        last_r * r_scale,
-        last_h * shape.s * z_scale + sink_m,
-        &mut mesh,
-    ));
-    let top = mesh.positions.len() as u32;
-    mesh.positions
-        .push(up * (last_h * shape.s * z_scale + sink_m));
-    // Outward-facing (counter-clockwise seen from outside): around `up` the ring runs
-    // counter-clockwise seen from +up.
-    let n = segments;
-    for k in 0..n {
-        let k1 = (k + 1) % n;
-        let first = rings[0];
-        mesh.indices.extend([0, first + k1, first + k]);
-        for w in rings.windows(2) {
-            let (a, b) = (w[0], w[1]);
-            mesh.indices
-                .extend([a + k, a + k1, b + k1, a + k, b + k1, b + k]);
-        }
-        let last = *rings.last().expect("rings");
-        mesh.indices.extend([top, last + k, last + k1]);
-    }
-    mesh.recompute_normals();
-    mesh
+    profile(shape, unit_m, length_m)
+        .into_rock(sink_m)
+        .mesh(up, segments)
 }

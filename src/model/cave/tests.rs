@@ -274,15 +274,24 @@ mod short {
                 .filter(|(p, _)| p.x.hypot(p.z) > 1e-3)
                 .all(|(p, n)| Vec3::new(p.x, 0.0, p.z).dot(*n) > 0.0);
             assert!(outward, "r {r} s {s}");
-            // The tip hangs lowest, the base is r units wide.
+            // The tip hangs lowest, the base ring (at the body's length) is r units
+            // wide, and the part in the rock flares by at most half of that.
             let lowest = m.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
             assert!(lowest.abs() < 1e-6, "{lowest}");
-            let widest = m
-                .positions
-                .iter()
-                .map(|p| p.x.hypot(p.z))
-                .fold(0.0, f32::max);
-            assert!((widest - r * 0.02).abs() < 1e-3 * r, "{widest}");
+            let length = shape.length() * 0.02;
+            let widest_below = |y: f32| {
+                m.positions
+                    .iter()
+                    .filter(|p| p.y <= y + 1e-5)
+                    .map(|p| p.x.hypot(p.z))
+                    .fold(0.0, f32::max)
+            };
+            assert!(
+                (widest_below(length) - r * 0.02).abs() < 1e-3 * r,
+                "r {r} s {s}"
+            );
+            let widest = widest_below(f32::MAX);
+            assert!(widest <= 1.5 * r * 0.02 + 1e-5, "r {r} s {s}: {widest}");
         }
         // Slender, medium, stocky: length over base radius falls with the class.
         let ratio = |r: f32, s: f32| ShortShape { r, s }.length() / r;
@@ -295,57 +304,90 @@ fn speleothems_hang_from_the_ceiling_over_their_stalagmites_with_bases_in_rock()
     use placement::*;
     let c = cave(7, 1);
     let rays = VerticalRays::new(&c.mesh, 4.0 * c.params.voxel_m());
-    let params = PlacementParams {
-        seed: 3,
-        count: 16,
-        unit_m: 0.02,
-        growth_ratio: 1.5,
-        clear_path: vec![Vec3::new(0.0, 0.0, 32.0), Vec3::new(64.0, 0.0, 32.0)],
-        clear_radius_m: 1.0,
-    };
-    let sites = place(&c.mesh, &rays, &params);
-    assert!(
-        sites.iter().all(|s| (s.ceiling.z - 32.0).abs() > 1.0),
-        "walkway kept clear"
-    );
-    assert!(sites.len() >= 8, "{} sites", sites.len());
-    assert_eq!(sites, place(&c.mesh, &rays, &params), "deterministic");
-    for (i, s) in sites.iter().enumerate() {
-        assert!(s.ceiling.y > s.floor.y);
-        assert_eq!((s.ceiling.x, s.ceiling.z), (s.floor.x, s.floor.z));
-        if s.column {
-            let reach = s.stalactite_m + s.stalagmite_m;
-            assert!(
-                reach >= s.ceiling.y - s.floor.y,
-                "site {i}: the column meets"
-            );
-        } else {
-            assert!(
-                (s.stalagmite_m / s.stalactite_m - 1.5).abs() < 1e-4,
-                "site {i}"
-            );
-        }
-        for (mesh, (centre, radius)) in site_meshes(s, params.unit_m)
-            .iter()
-            .zip(base_rings(s, params.unit_m))
-        {
-            mesh.check_closed_manifold().expect("closed speleothem");
-            // The base ring as the mesh has it: the vertices at the base height.
-            let ring: Vec<Vec3> = mesh
-                .positions
+    // Larger units make longer speleothems: columns.
+    let mut columns = 0;
+    for unit_m in [0.02, 0.06] {
+        let params = PlacementParams {
+            seed: 3,
+            count: 16,
+            unit_m,
+            growth_ratio: 1.5,
+            clear_path: vec![Vec3::new(0.0, 0.0, 32.0), Vec3::new(64.0, 0.0, 32.0)],
+            clear_radius_m: 1.0,
+        };
+        let sites = place(&c.mesh, &rays, &params);
+        assert!(
+            sites.iter().all(|s| (s.ceiling.z - 32.0).abs() > 1.0),
+            "walkway kept clear"
+        );
+        assert!(sites.len() >= 8, "{} sites", sites.len());
+        columns += sites.iter().filter(|s| s.column).count();
+        assert_eq!(sites, place(&c.mesh, &rays, &params), "deterministic");
+        for (i, s) in sites.iter().enumerate() {
+            assert!(s.ceiling.y > s.floor.y);
+            assert_eq!((s.ceiling.x, s.ceiling.z), (s.floor.x, s.floor.z));
+            if s.column {
+                let reach = s.stalactite_m + s.stalagmite_m;
+                assert!(
+                    reach >= s.ceiling.y - s.floor.y,
+                    "site {i}: the column meets"
+                );
+            } else {
+                assert!(
+                    (s.stalagmite_m / s.stalactite_m - 1.5).abs() < 1e-4,
+                    "site {i}"
+                );
+            }
+            // Stalagmites are blunt (Franke's stationary shape, not an upturned
+            // stalactite): at a tenth of the base radius below the apex a third as wide
+            // as the base. Columns nowhere narrower than half the base radius.
+            let [hanging, standing] = site_profiles(s, params.unit_m);
+            let radius = s.base_radius_m(params.unit_m);
+            if standing.length() > radius {
+                assert!(
+                    standing.radius_at(0.1 * radius) > 0.3 * radius,
+                    "site {i}: a needle"
+                );
+            }
+            if s.column {
+                let (tip_down, tip_up) = (s.ceiling.y - s.stalactite_m, s.floor.y + s.stalagmite_m);
+                // Strictly between floor and ceiling (the ends meet the base rings).
+                let narrowest = (1..400)
+                    .map(|k| s.floor.y + (s.ceiling.y - s.floor.y) * k as f32 / 400.0)
+                    .map(|y| {
+                        hanging
+                            .radius_at(y - tip_down)
+                            .max(standing.radius_at(tip_up - y))
+                    })
+                    .fold(f32::MAX, f32::min);
+                assert!(
+                    narrowest >= 0.5 * radius - 1e-5,
+                    "site {i}: column waist {narrowest} of base radius {radius}"
+                );
+            }
+            for (mesh, (centre, radius)) in site_meshes(s, params.unit_m)
                 .iter()
-                .copied()
-                .filter(|p| {
-                    (p.y - centre.y).abs() < 1e-4
-                        && (p.with_y(0.0) - centre.with_y(0.0)).length() > 0.5 * radius
-                })
-                .collect();
-            assert_eq!(ring.len(), placement::SEGMENTS as usize, "site {i}");
-            for p in ring {
-                assert!(rays.in_rock(p), "site {i}: base vertex {p} is in the cave");
+                .zip(base_rings(s, params.unit_m))
+            {
+                mesh.check_closed_manifold().expect("closed speleothem");
+                // The base ring as the mesh has it: the vertices at the base height.
+                let ring: Vec<Vec3> = mesh
+                    .positions
+                    .iter()
+                    .copied()
+                    .filter(|p| {
+                        (p.y - centre.y).abs() < 1e-4
+                            && (p.with_y(0.0) - centre.with_y(0.0)).length() > 0.5 * radius
+                    })
+                    .collect();
+                assert_eq!(ring.len(), placement::SEGMENTS as usize, "site {i}");
+                for p in ring {
+                    assert!(rays.in_rock(p), "site {i}: base vertex {p} is in the cave");
+                }
             }
         }
     }
+    assert!(columns > 0, "some sites are columns");
 }
 
 #[test]
@@ -363,4 +405,121 @@ fn octree_progress_counts_every_subtree_once() {
     dones.sort_unstable();
     dones.dedup();
     assert_eq!(dones.len(), seen.len(), "{seen:?}");
+}
+
+/// After smoothing, how far (in voxels) each T-junction's vertex E' lies from the edge
+/// A'C' it sat on (the paper's Fig. 2b): the width of the crack there.
+fn crack_widths(c: &Cave) -> Vec<f32> {
+    let lattice = &c.lattice;
+    let index: std::collections::HashMap<[u32; 3], usize> = lattice
+        .vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (*v, i))
+        .collect();
+    let voxel = c.params.voxel_m();
+    let mut widths = Vec::new();
+    for t in &lattice.triangles {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            let (pa, pb) = (lattice.vertices[a as usize], lattice.vertices[b as usize]);
+            let d = [0, 1, 2].map(|i| i64::from(pb[i]) - i64::from(pa[i]));
+            // Voxel-face edges run along one axis: step through the lattice points.
+            let steps = d.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0) as i64;
+            if d.iter().filter(|&&x| x != 0).count() != 1 {
+                continue;
+            }
+            for s in 1..steps {
+                let p = [0, 1, 2].map(|i| (i64::from(pa[i]) + d[i] / steps * s) as u32);
+                if let Some(&e) = index.get(&p) {
+                    let (ma, mb, me) = (
+                        c.mesh.positions[a as usize],
+                        c.mesh.positions[b as usize],
+                        c.mesh.positions[e],
+                    );
+                    let ab = mb - ma;
+                    let u = ((me - ma).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+                    widths.push((ma + ab * u - me).length() / voxel);
+                }
+            }
+        }
+    }
+    widths
+}
+
+#[test]
+fn smoothing_without_the_split_opens_cracks_and_with_it_none() {
+    let naive = generate(
+        &CaveParams {
+            depth: 6,
+            split: false,
+            ..CaveParams::default()
+        },
+        &|_| {},
+    )
+    .expect("cave");
+    let widths = crack_widths(&naive);
+    let open = widths.iter().filter(|&&w| w > 0.05).count();
+    let widest = widths.iter().copied().fold(0.0, f32::max);
+    eprintln!(
+        "{} T-junctions, {open} open, widest {widest:.2} voxels",
+        widths.len()
+    );
+    assert!(open > 100 && widest > 0.2, "{open} cracks, widest {widest}");
+    assert!(
+        naive.mesh.check_closed_manifold().is_err(),
+        "T-junctions are open edges"
+    );
+    // The split leaves no T-junction to open.
+    assert!(crack_widths(&cave(6, 1)).is_empty());
+}
+
+#[test]
+fn voxel_speleothems_join_the_walls_where_the_meshes_were() {
+    use placement::*;
+    let c = cave(7, 1);
+    let rays = VerticalRays::new(&c.mesh, 4.0 * c.params.voxel_m());
+    let params = PlacementParams {
+        seed: 3,
+        count: 30,
+        unit_m: 0.06,
+        growth_ratio: 1.5,
+        clear_path: vec![Vec3::new(0.0, 0.0, 32.0), Vec3::new(64.0, 0.0, 32.0)],
+        clear_radius_m: 1.0,
+    };
+    let sites = place(&c.mesh, &rays, &params);
+    let solids: Vec<SiteSolid> = sites
+        .iter()
+        .map(|s| SiteSolid::new(s, params.unit_m))
+        .collect();
+    let with = with_rock(&c, &solids, &|_| {});
+    with.mesh.check_closed_manifold().expect("closed");
+    assert_eq!(t_junctions(&with.lattice), 0);
+    // On the blocky wall, each wide enough speleothem ends where its outline does: the
+    // wall crosses its axis near the stalactite's tip (where the outline is a voxel
+    // wide) and near the stalagmite's top.
+    let voxel = c.params.voxel_m();
+    let blocky = with.blocky_mesh();
+    let new_rays = VerticalRays::new(&blocky, 4.0 * voxel);
+    let mut checked = 0;
+    for s in sites
+        .iter()
+        .filter(|s| !s.column && s.base_radius_m(params.unit_m) > 2.0 * voxel)
+    {
+        let [hanging, standing] = site_profiles(s, params.unit_m);
+        let crossings = new_rays.crossings(s.ceiling.x + 0.01 * voxel, s.ceiling.z + 0.01 * voxel);
+        let tip = s.ceiling.y - s.stalactite_m;
+        let thick = tip + hanging.distance_at_radius(voxel);
+        let top = s.floor.y + s.stalagmite_m;
+        let near = |lo: f32, hi: f32| crossings.iter().any(|&y| (lo..=hi).contains(&y));
+        assert!(
+            near(tip - voxel, thick + voxel),
+            "stalactite end near {tip}..{thick}: {crossings:?}"
+        );
+        assert!(
+            near(top - 1.5 * standing.length().min(voxel), top + voxel),
+            "stalagmite top {top}: {crossings:?}"
+        );
+        checked += 1;
+    }
+    assert!(checked >= 3, "{checked} speleothems checked");
 }

@@ -30,12 +30,13 @@ pub type Progress<'a> = &'a (dyn Fn(&str, u32, u32) + Sync);
 /// Generates the cave and places its speleothems.
 pub fn build(scene: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
     scene.validate()?;
-    let cave = cave::generate(&scene.cave, &|phase| match phase {
+    let report = |phase| match phase {
         Phase::Octree { done, total } => progress("octree", done, total),
         Phase::Walls => progress("cave walls", 0, 1),
         Phase::Split => progress("crack-free split", 0, 1),
         Phase::Smooth => progress("smoothing", 0, 1),
-    })?;
+    };
+    let mut cave = cave::generate(&scene.cave, &report)?;
     let mut sites = Vec::new();
     let mut short_mesh = Mesh::default();
     let mut growth = None;
@@ -55,6 +56,14 @@ pub fn build(scene: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
             },
         );
         match scene.speleothems {
+            Speleothems::Short if scene.voxel_speleothems => {
+                progress("voxel speleothems", 0, 1);
+                let solids: Vec<_> = sites
+                    .iter()
+                    .map(|s| placement::SiteSolid::new(s, scene.unit_m))
+                    .collect();
+                cave = cave::with_rock(&cave, &solids, &|phase| report(phase));
+            }
             Speleothems::Short => {
                 for site in &sites {
                     for m in placement::site_meshes(site, scene.unit_m) {

@@ -170,7 +170,14 @@ impl CaveFrame {
         let i = usize::from(!self.smooth);
         let wall = || shown_wall(self.smooth, &self.model);
         if self.walls[i].0.is_none() {
-            self.walls[i].0 = Some(GpuMesh::upload(ctx, "cave wall", &wall())?);
+            // The blocky wall is drawn flat-shaded, block faces as the paper's Fig. 5b
+            // shows them; the smoothed wall with its vertex normals.
+            let faces = if self.smooth {
+                wall()
+            } else {
+                std::borrow::Cow::Owned(wall().flat_shaded())
+            };
+            self.walls[i].0 = Some(GpuMesh::upload(ctx, "cave wall", &faces)?);
         }
         if self.wireframe && self.walls[i].1.is_none() {
             self.walls[i].1 = Some(GpuMesh::upload_edges(ctx, "cave wall edges", &wall())?);
