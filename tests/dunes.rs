@@ -217,3 +217,42 @@ fn per_pixel_dune_shadows_agree_with_the_shadow_map() {
         assert!(agreement >= 0.99, "agreement {:.4}", agreement);
     });
 }
+
+#[test]
+fn ripples_cast_the_shadows_of_the_ripples_drawn() {
+    use sediment::model::ripple_maps::{horizon_map, normal_level0};
+    common::with_gpu(|ctx| {
+        let scene = DunesScene {
+            ripple_strength: 1.6,
+            ..small("fig17")
+        };
+        let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
+        let frame = dunes::DunesFrame::new(ctx, scene.clone(), &terrain).expect("frame");
+        let gpu = frame.ripple_maps().horizon_slopes().expect("read back");
+        let drawn = scene.drawn_ripple_height_scale();
+        let steps = scene.ripple_size - 1;
+        let cpu = horizon_map(&terrain.ripples, drawn, steps);
+        assert_eq!(gpu.len(), cpu.len());
+        let worst = gpu
+            .iter()
+            .zip(&cpu)
+            .flat_map(|(g, c)| (0..4).map(move |k| (g[k] - c[k]).abs()))
+            .fold(0.0f32, f32::max);
+        assert!(
+            worst < 1e-4,
+            "GPU horizon vs CPU of the drawn heights: {worst}"
+        );
+        // The drawn heights are those whose slopes the shading shows: the normal map's
+        // slope times the bump strength (surface.frag) equals the central difference of
+        // the heights the horizon map was built from.
+        let field = &terrain.ripples;
+        let normals = normal_level0(field, scene.ripple_height_scale);
+        let n = field.width as isize;
+        for (i, nm) in normals.iter().enumerate() {
+            let (x, y) = (i as isize % n, i as isize / n);
+            let shaded = -nm[0] / nm[2] * scene.ripple_strength;
+            let horizon_heights = (field.at(x + 1, y) - field.at(x - 1, y)) as f32 * 0.5 * drawn;
+            assert!((shaded - horizon_heights).abs() < 1e-4, "texel {x},{y}");
+        }
+    });
+}

@@ -22,7 +22,7 @@ fn normal_chain_and_horizon_match_the_cpu_reference() {
     common::with_gpu(|ctx| {
         let field = ripples(64);
         let scale = 0.4;
-        let maps = RippleMaps::build(ctx, &field, scale, 63).expect("build");
+        let maps = RippleMaps::build(ctx, &field, scale, scale, 63).expect("build");
         let cpu_chain = normal_mip_chain(&normal_level0(&field, scale), 64);
         assert_eq!(maps.level_offsets.len(), cpu_chain.len());
         for (k, cpu) in cpu_chain.iter().enumerate() {

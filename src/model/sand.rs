@@ -118,8 +118,10 @@ pub struct SandParams {
 }
 
 impl SandParams {
-    /// The paper's ripple values (L0 = 7.3, q = 0.6, b = 2.0); D = 0.2 as Nishimori &
-    /// Ouchi's ripple runs (the paper does not print D).
+    /// The paper's ripple values (L0 = 7.3, q = 0.6, b = 2.0). The paper does not print
+    /// D; 0.8 gives coherent crests across the wind (the dominant along-wind band holds
+    /// 0.89 of the tile's spectral power at 256x256 after 1200 steps, against 0.34 at
+    /// Nishimori & Ouchi's 0.2, a maze of short crests: see the sand tests).
     pub fn paper_ripples() -> Self {
         Self {
             saltation: Saltation::Ripple {
@@ -127,7 +129,7 @@ impl SandParams {
                 q: 0.6,
                 b: 2.0,
             },
-            diffusion: 0.2,
+            diffusion: 0.8,
             repose_degrees: None,
             vertical_scale: 0.1,
         }

@@ -80,11 +80,15 @@ pub fn level_offsets(size: u32) -> Vec<u32> {
 }
 
 impl RippleMaps {
-    /// Builds both maps for a square, power-of-two ripple tile.
+    /// Builds both maps for a square, power-of-two ripple tile: the normals of the
+    /// heights times `height_scale`, the horizons of the heights times
+    /// `horizon_height_scale` — the heights the shading shows (the bump strength
+    /// included), so that ripples cast the shadows of the ripples drawn.
     pub fn build(
         ctx: &Arc<Context>,
         field: &Heightfield,
         height_scale: f32,
+        horizon_height_scale: f32,
         horizon_steps: u32,
     ) -> Result<Self> {
         let size = field.width as u32;
@@ -163,7 +167,7 @@ impl RippleMaps {
                 &HorizonPush {
                     size,
                     steps: horizon_steps,
-                    height_scale,
+                    height_scale: horizon_height_scale,
                     unused: 0,
                 },
             )?;

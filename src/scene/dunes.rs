@@ -169,9 +169,9 @@ impl Default for DunesScene {
             // tile over 4 cells of 4 m.
             ripple_tile: 16.0,
             ripple_height_scale: 0.35,
-            // The paper prints no bump contrast. Ripples of this model at full strength
-            // reach ~13 degrees; 0.65 gives ~8.5 degrees. The LOD-vs-level-0 difference
-            // grows with it (measured at 720x480: 0.65 -> ~3.7/255, 1.0 -> ~5.2/255).
+            // The paper prints no bump contrast. The LOD-vs-level-0 difference grows
+            // with it (measured at 720x480 on fig13: 0.3 -> 0.83/255, 0.65 -> 1.81,
+            // 1.0 -> 2.87; the paper's 3.92 is at a contrast it does not print).
             ripple_strength: 0.65,
             wind_degrees: 0.0,
             sun_elevation_degrees: 30.0,
@@ -283,9 +283,13 @@ pub struct Params {
     /// Ripple hop growth with height b, >= 0 (default 2.0, the paper's).
     #[arg(long, value_name = "B", allow_negative_numbers = true)]
     pub ripple_b: Option<f64>,
-    /// Creep diffusion D for both simulations, 0..=1 (default 0.2).
+    /// Creep diffusion D of the ripple simulation, 0..=1 (default 0.8: long straight
+    /// crests across the wind; 0.2 gives a maze of short ones).
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
-    pub diffusion: Option<f64>,
+    pub ripple_diffusion: Option<f64>,
+    /// Creep diffusion D of the dune simulation, 0..=1 (default 0.2).
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub dune_diffusion: Option<f64>,
     /// Angle of repose for dune avalanching in degrees, or "off" (default 33).
     #[arg(long, value_name = "DEG|off")]
     pub repose: Option<Degrees>,
@@ -402,9 +406,8 @@ impl SceneParams for Params {
             way.field(&mut self.shadow_zone, &mut zone);
             *shadow_degrees = zone.0;
         }
-        // One D for both simulations (they are only ever set together).
-        way.field(&mut self.diffusion, &mut s.ripple.diffusion);
-        s.dune.diffusion = s.ripple.diffusion;
+        way.field(&mut self.ripple_diffusion, &mut s.ripple.diffusion);
+        way.field(&mut self.dune_diffusion, &mut s.dune.diffusion);
         let mut repose = Degrees(s.dune.repose_degrees);
         way.field(&mut self.repose, &mut repose);
         s.dune.repose_degrees = repose.0;
@@ -439,6 +442,14 @@ impl SceneParams for Params {
 }
 
 impl DunesScene {
+    /// Surface height per unit of the ripple heightfield, in texels, as the shading
+    /// shows it: the normal map's slopes (of `ripple_height_scale`) are multiplied by
+    /// the bump strength in surface.frag, so the drawn ripples are that much taller —
+    /// and the horizon map is built from these heights.
+    pub fn drawn_ripple_height_scale(&self) -> f32 {
+        self.ripple_height_scale * self.ripple_strength
+    }
+
     pub fn validate(&self) -> Result<()> {
         let check = crate::error::ensure_in_range;
         check(

@@ -149,6 +149,7 @@ impl DunesFrame {
             ctx,
             &terrain.ripples,
             scene.ripple_height_scale,
+            scene.drawn_ripple_height_scale(),
             (scene.ripple_size - 1) as u32,
         )?;
         let mut precompute = maps.spans.clone();
@@ -211,6 +212,11 @@ impl DunesFrame {
     }
 
     /// GPU time of the precomputations (ripple maps, the latest dune shadow map).
+    /// The ripple tile's normal chain and horizon map.
+    pub fn ripple_maps(&self) -> &RippleMaps {
+        &self.maps
+    }
+
     pub fn precompute(&self) -> &[Span] {
         &self.precompute
     }
