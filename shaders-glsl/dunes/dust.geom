@@ -9,7 +9,8 @@ layout(push_constant) uniform Dust {
     mat4 view_proj;
     vec4 right;  // camera right, world space
     vec4 up;     // camera up, world space
-    vec4 color;  // rgb lit dust colour, a peak opacity
+    vec4 color;  // rgb radiance, a peak opacity
+    vec4 tone;   // x exposure, y operator (the fragment shader's)
 } dust;
 
 layout(location = 0) in vec4 in_blob[];

@@ -2,9 +2,10 @@
 // Onoue & Nishita section 3: ripples bump mapped onto every dune quad (normals from our
 // own LOD chain, tilted into the dune surface's frame), sand grain under the bump map,
 // dune shadows from the precomputed shadow map (3.4), ripple shadows from the horizon
-// map (3.5), sun and sky light, ACES tone mapping.
+// map (3.5), sun and sky light from the atmosphere (src/model/atmosphere.rs) and its
+// aerial perspective, tone mapping.
 #extension GL_GOOGLE_include_directive : require
-#include "sky.glsl"
+#include "atmosphere.glsl"
 #include "tonemap.glsl"
 
 layout(set = 0, binding = 0) uniform Frame {
@@ -31,13 +32,15 @@ layout(push_constant) uniform Dune {
                    // w 1: write the dune-shadow mask instead of shading (for tests)
     vec4 shadows;  // x dune shadows on, y ripple shadows on, z softness, w per-pixel march (1) or map (0)
     vec4 albedo;   // rgb sand albedo
+    vec4 air_extinction;  // rgb per metre at the ground, w aerosol g
+    vec4 air_scattering;  // rgb Rayleigh per metre, w aerosol
 } dune;
 
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec3 in_normal;
 layout(location = 0) out vec4 out_color;
 
-const float TAU = 6.28318530717958647692;
+const float TAU = 2.0 * PI;
 const float NEVER = 3.0e38;
 
 // The paper's dune-shadow march (3.4) per pixel, for comparison with the precomputed
@@ -154,10 +157,18 @@ void main() {
     // Sky light: the hemisphere's zenith and ground colours (per frame, not per pixel).
     vec3 ambient = mix(frame.ground_color.rgb, frame.sky_color.rgb, 0.5 + 0.5 * n.y);
     vec3 hdr = albedo * (frame.sun_color.rgb * max(dot(n, l), 0.0) * lit + ambient);
-    // Haze toward the horizon colour of the sky (which the sky shader also shows below
-    // the horizon), so the field fades out with distance instead of ending.
-    float dist = length(in_world - frame.camera_pos.xyz);
-    float haze = 1.0 - exp(-dist / (2.5 * dune.tile.w));
-    hdr = mix(hdr, horizon_haze(l), haze);
+    // Aerial perspective from the sky's own atmosphere: single scattering of sunlight
+    // in the air between the eye and the sand, the air taken as it is at the ground
+    // (over a field's few hundred metres of a 1.2 km aerosol and 8 km air scale height,
+    // the closed form of a homogeneous medium: L T + S / sigma_t (1 - T)).
+    vec3 to_eye = in_world - frame.camera_pos.xyz;
+    float dist = length(to_eye);
+    float nu = dot(to_eye / max(dist, 1e-6), l);
+    vec3 ext = dune.air_extinction.rgb;
+    vec3 scatter = dune.air_scattering.rgb * rayleigh_phase(nu)
+        + vec3(dune.air_scattering.w * mie_phase(nu, dune.air_extinction.w));
+    vec3 transmit = exp(-ext * dist);
+    // The sun's radiance factor (sun_color is sunlight / pi) back to irradiance.
+    hdr = hdr * transmit + PI * frame.sun_color.rgb * scatter / max(ext, vec3(1e-9)) * (1.0 - transmit);
     out_color = vec4(tonemap(hdr, frame.params), 1.0);
 }

@@ -1,6 +1,7 @@
 //! Pure CPU models: deterministic, seeded, unit-tested without a GPU. Models never
 //! touch Vulkan.
 
+pub mod atmosphere;
 pub mod cave;
 pub mod dune_mesh;
 pub mod dune_shadow;

@@ -31,8 +31,13 @@ pub struct DunePush {
     pub shadows: Vec4,
     /// rgb sand albedo.
     pub albedo: Vec4,
+    /// The air at the ground (aerial perspective): rgb extinction per metre, w the
+    /// aerosols' phase asymmetry g.
+    pub air_extinction: Vec4,
+    /// rgb Rayleigh scattering per metre, w aerosol scattering per metre.
+    pub air_scattering: Vec4,
 }
-// SAFETY: repr(C), four Vec4.
+// SAFETY: repr(C), six Vec4.
 unsafe impl Pod for DunePush {}
 
 const FRAME: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);

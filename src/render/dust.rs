@@ -20,10 +20,12 @@ pub struct DustPush {
     pub view_proj: Mat4,
     pub right: Vec4,
     pub up: Vec4,
-    /// rgb lit dust colour, a peak opacity.
+    /// rgb the lit dust's radiance, a peak opacity.
     pub color: Vec4,
+    /// x exposure, y tone-mapping operator (`ToneMap::code`), as the terrain's.
+    pub tone: Vec4,
 }
-// SAFETY: repr(C), Mat4 + three Vec4.
+// SAFETY: repr(C), Mat4 + four Vec4.
 unsafe impl Pod for DustPush {}
 
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
@@ -99,6 +101,7 @@ impl DustPass {
         eye: Vec3,
         target: Vec3,
         color: Vec4,
+        tone: Vec4,
     ) -> Result<()> {
         let Some(blobs) = &self.blobs else {
             return Ok(());
@@ -114,6 +117,7 @@ impl DustPass {
                 right: right.extend(0.0),
                 up: up.extend(0.0),
                 color,
+                tone,
             },
         )?;
         cmd.bind_vertex_buffer(blobs, 0);

@@ -8,21 +8,24 @@ use std::time::Instant;
 
 use glam::Vec3;
 
-use super::{DunesScene, PRESETS, Shadows, default_camera, preset};
+use super::{DunesScene, PRESETS, SAND_ALBEDO, Shadows, default_camera, preset};
 use crate::error::{Error, Result};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
+use crate::model::atmosphere::Atmosphere;
 use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, visible_quads};
 use crate::model::dune_shadow::DuneGrid;
 use crate::model::dust::{DustParams, dust_at};
 use crate::model::mesh::Mesh;
 use crate::model::sand::{Heightfield, SandSim};
 use crate::model::sand_grain::grain_texture;
+use crate::render::atmosphere::{
+    AtmosphereSkyPass, AtmosphereSkyPush, SKY_VIEW_HEIGHT, SKY_VIEW_WIDTH, SkyViewPass,
+};
 use crate::render::dune_shadow::DuneShadowPass;
 use crate::render::dune_surface::{DuneGeometry, DunePush, DuneSurfacePass, DuneTextures};
 use crate::render::dust::DustPass;
 use crate::render::ripple_maps::RippleMaps;
-use crate::render::sky::SkyPass;
 use crate::scene::Size;
 use crate::scene::camera::{Camera, Lighting};
 use crate::view::input::Key;
@@ -113,7 +116,12 @@ pub struct DunesFrame {
     // Sampled by `surface`, rebuilt with it when the sun moves.
     _textures: DuneTextures,
     surface: DuneSurfacePass,
-    sky: SkyPass,
+    /// The air, its sky-view table (again whenever the sun moves) and the sky from it.
+    atmosphere: Atmosphere,
+    sky_view: SkyViewPass,
+    sky: AtmosphereSkyPass,
+    /// The sun, sky and exposure the table gave, and the sun they are for.
+    light: Option<(Vec3, DesertLight)>,
     dust: DustPass,
     dust_blobs: usize,
     geometry: DuneGeometry,
@@ -135,7 +143,12 @@ struct DunesView {
     eye: Vec3,
     target: Vec3,
     push: DunePush,
+    sky: AtmosphereSkyPush,
     dust: bool,
+    /// The dust's radiance (sand lit by the sun and the sky) and peak opacity; the
+    /// frame's exposure and tone-mapping operator.
+    dust_color: glam::Vec4,
+    tone: glam::Vec4,
 }
 
 const GRAIN_SIZE: u32 = 128;
@@ -183,12 +196,20 @@ impl DunesFrame {
             None => Vec::new(),
         };
         let mesh = dune_mesh_tiled(n, scene.cell, &terrain.dune_heights, 3);
+        let atmosphere = scene.atmosphere();
+        let multiple = scene
+            .multiple_scattering
+            .then(|| atmosphere.multiple_scattering());
+        let sky_view = SkyViewPass::new(ctx, multiple.as_ref())?;
         Ok(Self {
             geometry: DuneGeometry::new(ctx, &mesh)?,
             mesh,
             dust: DustPass::new(ctx, ctx.frame_format(), &blobs)?,
             dust_blobs: blobs.len(),
-            sky: SkyPass::new(ctx, ctx.frame_format())?,
+            sky: AtmosphereSkyPass::new(ctx, ctx.frame_format(), &sky_view)?,
+            sky_view,
+            atmosphere,
+            light: None,
             surface,
             _textures: textures,
             grain,
@@ -259,7 +280,22 @@ impl Scene for DunesFrame {
             self._textures = textures;
             self.sun = sun;
         }
-        let frame = desert_lighting(sun).frame_uniforms(camera, aspect);
+        if self
+            .light
+            .is_none_or(|(lit_for, _)| (sun - lit_for).length() > 1e-6)
+        {
+            let (light, span) = desert_light(ctx, &self.atmosphere, &self.sky_view, camera, sun)?;
+            self.precompute.retain(|p| p.name != span.name);
+            self.precompute.push(span);
+            self.light = Some((sun, light));
+        }
+        let light = self
+            .light
+            .map(|(_, l)| l)
+            .ok_or_else(|| Error::internal("dunes", "no light"))?;
+        let frame = light
+            .lighting(sun, scene.exposure)
+            .frame_uniforms(camera, aspect);
         self.surface.set_frame(&frame)?;
         self.geometry.set_visible(&visible_quads(
             &self.mesh,
@@ -292,14 +328,38 @@ impl Scene for DunesFrame {
                 0.04,
                 flag(scene.dune_shadows_per_pixel),
             ),
-            albedo: glam::Vec4::new(0.72, 0.5, 0.3, 1.0),
+            albedo: SAND_ALBEDO.extend(1.0),
+            air_extinction: self
+                .atmosphere
+                .extinction(0.0)
+                .extend(self.atmosphere.mie_g),
+            air_scattering: self
+                .atmosphere
+                .rayleigh
+                .extend(self.atmosphere.mie_scattering),
+        };
+        let sky = AtmosphereSkyPush {
+            inverse_view_proj: frame.view_proj.inverse(),
+            sun: sun.extend(scene.sun_azimuth_degrees.to_radians()),
+            camera: camera.eye.extend(frame.params.x),
+            disk: light.disk.extend(SUN_RADIUS_RADIANS.cos()),
+            params: glam::Vec4::new(
+                frame.params.y,
+                SKY_VIEW_WIDTH as f32,
+                SKY_VIEW_HEIGHT as f32,
+                0.0,
+            ),
         };
         self.view = Some(DunesView {
             view_proj: frame.view_proj,
             eye: camera.eye,
             target: camera.target,
             push,
+            sky,
             dust: scene.dust.is_some(),
+            // Grains lit from all round: half the sun's light on average, all the sky's.
+            dust_color: (SAND_ALBEDO * (0.5 * light.sun + light.sky)).extend(0.5),
+            tone: glam::Vec4::new(frame.params.x, frame.params.y, 0.0, 0.0),
         });
         Ok(())
     }
@@ -320,17 +380,10 @@ impl Scene for DunesFrame {
         // Dunes first, then the sky where no dune covers (the depth test keeps it
         // there), then the dust, translucent over both.
         self.surface.draw(cmd, &self.geometry, &v.push)?;
-        self.sky.draw(
-            cmd,
-            v.view_proj,
-            v.eye,
-            self.sun,
-            desert_lighting(self.sun).exposure,
-        )?;
+        self.sky.draw(cmd, &v.sky)?;
         if v.dust {
-            let dust_color = glam::Vec4::new(0.86, 0.72, 0.55, 0.5);
             self.dust
-                .draw(cmd, v.view_proj, v.eye, v.target, dust_color)?;
+                .draw(cmd, v.view_proj, v.eye, v.target, v.dust_color, v.tone)?;
         }
         target.end(cmd);
         timer.end(cmd, span);
@@ -379,8 +432,8 @@ impl Scene for DunesFrame {
         match key {
             Key::Left => s.sun_azimuth_degrees = (s.sun_azimuth_degrees - 10.0).rem_euclid(360.0),
             Key::Right => s.sun_azimuth_degrees = (s.sun_azimuth_degrees + 10.0).rem_euclid(360.0),
-            Key::Up => s.sun_elevation_degrees = (s.sun_elevation_degrees + 5.0).min(85.0),
-            Key::Down => s.sun_elevation_degrees = (s.sun_elevation_degrees - 5.0).max(5.0),
+            Key::Up => s.sun_elevation_degrees = (s.sun_elevation_degrees + 2.0).min(90.0),
+            Key::Down => s.sun_elevation_degrees = (s.sun_elevation_degrees - 2.0).max(-2.0),
             Key::Char('l') => s.lod = !s.lod,
             Key::Char('k') => s.cull = !s.cull,
             Key::Char('j') => s.ripples = !s.ripples,
@@ -416,16 +469,99 @@ impl Scene for DunesFrame {
     }
 }
 
-fn desert_lighting(sun: Vec3) -> Lighting {
-    Lighting {
-        sun_direction: sun,
-        point: false,
-        sun_color: Vec3::new(3.0, 2.75, 2.4),
-        sky_color: Vec3::new(0.42, 0.5, 0.68),
-        ground_color: Vec3::new(0.45, 0.36, 0.27),
-        exposure: 1.0,
-        tonemap: crate::scene::camera::ToneMap::Aces,
+/// The sun's angular radius (0.267 degrees).
+const SUN_RADIUS_RADIANS: f32 = 0.004_66;
+
+/// What the atmosphere gives the terrain for one sun, in the shading's units
+/// (`surface.frag` shades albedo x (sun cos + ambient), so irradiances enter over pi).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DesertLight {
+    /// Sunlight at the ground over pi: a white Lambertian surface facing the sun
+    /// shows this radiance.
+    pub sun: Vec3,
+    /// The sky's irradiance on a horizontal surface over pi.
+    pub sky: Vec3,
+    /// The sand's radiance from below (sunlit and skylit ground).
+    pub ground: Vec3,
+    /// Radiance of the sun's disk.
+    pub disk: Vec3,
+    /// Luminance of a horizontal white surface (sun plus sky), what exposure adapts to.
+    pub adapt: f32,
+}
+
+impl DesertLight {
+    /// The frame's lighting: the exposure adapts to the light (a camera's automatic
+    /// exposure) times `exposure`.
+    pub fn lighting(&self, sun: Vec3, exposure: f32) -> Lighting {
+        Lighting {
+            sun_direction: sun,
+            point: false,
+            sun_color: self.sun,
+            sky_color: self.sky,
+            ground_color: self.ground,
+            exposure: exposure * auto_exposure(self.adapt),
+            tonemap: crate::scene::camera::ToneMap::Aces,
+        }
     }
+}
+
+/// Exposure for a scene whose horizontal white surface shows luminance `adapt` (a
+/// camera's automatic exposure, metering the light rather than the picture). Only
+/// partial: the exponent below 1 keeps dusk darker than noon and the sky around a low
+/// sun from washing out, as in a photograph.
+fn auto_exposure(adapt: f32) -> f32 {
+    adapt.max(1e-6).powf(-0.6)
+}
+
+/// Integrates the sky-view table on the GPU for `sun` seen from `camera`'s height and
+/// derives the terrain's light from it; the light and the table's span.
+fn desert_light(
+    ctx: &Arc<Context>,
+    air: &Atmosphere,
+    pass: &SkyViewPass,
+    camera: &Camera,
+    sun: Vec3,
+) -> Result<(DesertLight, Span)> {
+    let elevation = sun.y.clamp(-1.0, 1.0).asin();
+    // Twice: the sky's irradiance (from the upper half of the first table, which the
+    // ground does not change) lights the ground the second shows below the horizon.
+    let mut ground_sky = Vec3::ZERO;
+    let mut spans = Vec::new();
+    for _ in 0..2 {
+        let mut timer = GpuTimer::new(ctx, "sky view timer", 2)?;
+        ctx.submit_and_wait("sky view table", |cmd| {
+            timer.reset(cmd);
+            let span = timer.begin(cmd, "sky view")?;
+            pass.record(cmd, air, camera.eye.y, elevation, ground_sky)?;
+            timer.end(cmd, span);
+            Ok(())
+        })?;
+        spans.extend(timer.read()?);
+        let table = pass.read()?;
+        ground_sky = Atmosphere::sky_irradiance(&table, SKY_VIEW_WIDTH, SKY_VIEW_HEIGHT)
+            / air.sun_irradiance;
+    }
+    let span = Span {
+        name: "sky view".into(),
+        milliseconds: spans.iter().map(|s| s.milliseconds).sum(),
+    };
+    let pi = std::f32::consts::PI;
+    let sky = ground_sky * air.sun_irradiance / pi;
+    let sunlight = air.sunlight(camera.eye.y.max(0.0), sun);
+    let sun_over_pi = sunlight / pi;
+    let solid_angle = 2.0 * pi * (1.0 - SUN_RADIUS_RADIANS.cos());
+    let horizontal = sun_over_pi * sun.y.max(0.0) + sky;
+    let luminance = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+    Ok((
+        DesertLight {
+            sun: sun_over_pi,
+            sky,
+            ground: SAND_ALBEDO * horizontal,
+            disk: sunlight / solid_angle,
+            adapt: luminance(horizontal),
+        },
+        span,
+    ))
 }
 
 /// Marches the dune shadow map for `sun` on the GPU; its span.
