@@ -330,3 +330,128 @@ fn sand_reads_as_sand_in_figures_12_to_17() {
         }
     });
 }
+
+/// Frames of `scene` at each of `times` from one `DunesFrame` (the viewer's path).
+fn frames_at(
+    ctx: &std::sync::Arc<sediment::gpu::Context>,
+    scene: &DunesScene,
+    terrain: &Terrain,
+    size: Size,
+    times: &[u32],
+) -> Vec<image::RgbaImage> {
+    let camera = dunes::default_camera(scene, terrain);
+    dunes::render_times(ctx, scene, terrain, size, &camera, times, &mut |_, _| {}).expect("render")
+}
+
+/// Pixels where the dust's contribution (|with - without|, summed over RGB) drops
+/// from at least 12 to at most 2 from one row to the next one down: a billboard cut
+/// off by the sand ends like that along the cut, a blob fading into it does not.
+fn dust_cut_pixels(with: &image::RgbaImage, without: &image::RgbaImage) -> usize {
+    let (w, h) = with.dimensions();
+    let contribution = |x: u32, y: u32| -> i32 {
+        let (a, b) = (with.get_pixel(x, y), without.get_pixel(x, y));
+        (0..3)
+            .map(|c| (i32::from(a[c]) - i32::from(b[c])).abs())
+            .sum()
+    };
+    (0..w)
+        .flat_map(|x| (0..h - 1).map(move |y| (x, y)))
+        .filter(|&(x, y)| contribution(x, y) >= 12 && contribution(x, y + 1) <= 2)
+        .count()
+}
+
+#[test]
+fn dust_is_soft_where_it_meets_the_sand_and_blows_over_time() {
+    common::with_gpu(|ctx| {
+        use sediment::model::dust::DustParams;
+        use sediment::model::sand::Heightfield;
+        // Flat sand without ripples, so the dust's own edges are what changes from
+        // pixel to pixel; every blob 3 m in radius (ripple height 1 everywhere) floats
+        // 1.5 m up, so the sand cuts the lower half of each billboard. Seen toward a
+        // low sun the grains scatter forward and glow over the sand.
+        let n = 32;
+        let flat = Heightfield {
+            width: n,
+            height: n,
+            data: vec![0.0; n * n],
+        };
+        let terrain = Terrain {
+            dune_heights: vec![0.0; n * n],
+            ripples: Heightfield {
+                width: 16,
+                height: 16,
+                data: vec![1.0; 256],
+            },
+            dune_field: flat,
+        };
+        let params = DustParams {
+            count: 150,
+            ..DustParams::default()
+        };
+        let scene = DunesScene {
+            ripple_size: 16,
+            dune_size: n,
+            ripples: false,
+            shadows: dunes::Shadows::None,
+            dust: Some(params.clone()),
+            sun_elevation_degrees: 10.0,
+            sun_azimuth_degrees: 270.0,
+            ..DunesScene::default()
+        };
+        let size = Size::new(240, 160);
+        let render = |s: &DunesScene| {
+            dunes::render(ctx, s, &terrain, size, None, 0)
+                .expect("render")
+                .image
+        };
+        let without = render(&DunesScene {
+            dust: None,
+            ..scene.clone()
+        });
+        let soft = render(&scene);
+        let hard = render(&DunesScene {
+            dust: Some(DustParams {
+                fade: 1e-4,
+                ..params
+            }),
+            ..scene.clone()
+        });
+        let (s, h) = (
+            dust_cut_pixels(&soft, &without),
+            dust_cut_pixels(&hard, &without),
+        );
+        eprintln!("pixels where the dust ends in a cut: soft {s}, billboards cut by the sand {h}");
+        assert!(mean_abs_diff(&soft, &without) > 0.5, "the dust shows");
+        assert!(
+            h >= 50,
+            "the hard-cut reference shows its cuts ({h} pixels)"
+        );
+        // Far away the fade's 1.5 m is under a pixel: a few cut pixels remain there.
+        assert!(
+            s * 5 <= h,
+            "the dust meets the sand in {s} cut pixels (billboards cut by the sand: {h})"
+        );
+
+        // The viewer's clock: the dust moves frame to frame, the dunes do not, and
+        // going back in time lands where it was.
+        let frames = frames_at(ctx, &scene, &terrain, size, &[0, 5, 0]);
+        let moved = mean_abs_diff(&frames[0], &frames[1]);
+        assert!(moved > 0.2, "the dust did not move in 5 steps ({moved:.3})");
+        assert_eq!(frames[0].as_raw(), frames[2].as_raw(), "back to step 0");
+        let still = frames_at(
+            ctx,
+            &DunesScene {
+                dust: None,
+                ..scene.clone()
+            },
+            &terrain,
+            size,
+            &[0, 5],
+        );
+        assert_eq!(
+            still[0].as_raw(),
+            still[1].as_raw(),
+            "without dust nothing moves"
+        );
+    });
+}

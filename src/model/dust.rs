@@ -2,8 +2,10 @@
 //! dune surface by eq. (7),
 //! `x_t = x_{t-1} + dx + ax`, `y_t = y_{t-1} + ay`, `z_t = H_dune(x_t, y_t) + dz + az`
 //! (the paper's z is up; here y is up and the lateral axis is z), with `a*` random,
-//! released from dune positions on the ripple grid and sized by the ripple height
-//! there. Deterministic per seed and time step.
+//! released from points of the dune field and sized in proportion to the ripple
+//! height there, as the paper says. Deterministic per seed and time step; a
+//! [`DustCloud`] advances step by step (the viewer's animation), [`dust_at`] jumps to
+//! one step.
 
 use glam::Vec3;
 
@@ -13,7 +15,7 @@ use super::sand::Heightfield;
 /// Dust parameters in world units (metres) per time step.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DustParams {
-    /// Blobs released, one per sampled ripple-grid position.
+    /// Blobs released.
     pub count: usize,
     /// Mean downwind drift per step (`dx`).
     pub drift: f32,
@@ -21,10 +23,11 @@ pub struct DustParams {
     pub lift: f32,
     /// Amplitude of the random terms `ax, ay, az`.
     pub jitter: f32,
-    /// Blob radius per unit of ripple height above the tile's mean.
+    /// Blob radius per unit of the ripple heightfield's height at the release point
+    /// (the paper: "proportional to the height of the ripple heightfield there").
     pub size_per_height: f32,
-    /// Smallest blob radius.
-    pub min_size: f32,
+    /// Height over which a blob fades out where it meets the sand (soft particles).
+    pub fade: f32,
 }
 
 impl Default for DustParams {
@@ -35,7 +38,7 @@ impl Default for DustParams {
             lift: 1.5,
             jitter: 0.35,
             size_per_height: 3.0,
-            min_size: 2.5,
+            fade: 1.5,
         }
     }
 }
@@ -47,46 +50,111 @@ pub struct DustBlob {
     pub radius: f32,
 }
 
-/// The blobs after `steps` time steps over a dune field of period `period` metres
-/// whose height at (x, z) is `dune_height(x, z)`; release points are spread over the
-/// field from the ripple tile's grid (`ripples`), the wind blows along +x.
+/// Where the dust blows: the ripple tile as the shading lays it over the dune field
+/// (`tile` metres a side, turned by `wind_radians`), and the field's period.
+#[derive(Clone, Copy)]
+pub struct DustGround<'a> {
+    pub ripples: &'a Heightfield,
+    pub tile: f32,
+    pub wind_radians: f32,
+    pub period: f32,
+    /// The dune surface's height at world (x, z).
+    pub dune_height: &'a dyn Fn(f32, f32) -> f32,
+}
+
+impl DustGround<'_> {
+    /// The ripple heightfield's height under world (x, z): the texel `surface.frag`
+    /// maps there.
+    pub fn ripple_height(&self, x: f32, z: f32) -> f64 {
+        let (s, c) = self.wind_radians.sin_cos();
+        let (u, v) = ((c * x + s * z) / self.tile, (-s * x + c * z) / self.tile);
+        let r = self.ripples;
+        let i = ((u.rem_euclid(1.0) * r.width as f32) as usize).min(r.width - 1);
+        let j = ((v.rem_euclid(1.0) * r.height as f32) as usize).min(r.height - 1);
+        r.data[j * r.width + i]
+    }
+}
+
+/// The blobs and each one's own random stream, `steps` time steps after release.
+#[derive(Clone, Debug)]
+pub struct DustCloud {
+    params: DustParams,
+    period: f32,
+    blobs: Vec<DustBlob>,
+    walks: Vec<Rng>,
+    steps: u32,
+}
+
+impl DustCloud {
+    /// `params.count` blobs released at random points of the field.
+    pub fn release(params: &DustParams, ground: &DustGround<'_>, seed: u64) -> Self {
+        let mut rng = Rng::new(mix64(seed ^ 0xD057));
+        let mut blobs = Vec::with_capacity(params.count);
+        let mut walks = Vec::with_capacity(params.count);
+        for i in 0..params.count {
+            let x = ground.period * rng.next_f32();
+            let z = ground.period * rng.next_f32();
+            let h = ground.ripple_height(x, z).max(0.0) as f32;
+            blobs.push(DustBlob {
+                position: Vec3::new(x, (ground.dune_height)(x, z) + params.lift, z),
+                radius: params.size_per_height * h,
+            });
+            walks.push(Rng::new(mix64(seed ^ mix64(i as u64))));
+        }
+        Self {
+            params: params.clone(),
+            period: ground.period,
+            blobs,
+            walks,
+            steps: 0,
+        }
+    }
+
+    /// Eq. (7), `steps` more time steps.
+    pub fn advance(&mut self, steps: u32, dune_height: &dyn Fn(f32, f32) -> f32) {
+        let p = &self.params;
+        for (blob, walk) in self.blobs.iter_mut().zip(&mut self.walks) {
+            let Vec3 {
+                mut x,
+                mut y,
+                mut z,
+                ..
+            } = blob.position;
+            for _ in 0..steps {
+                let (ax, ay, az) = (
+                    walk.range_f32(-1.0, 1.0) * p.jitter,
+                    walk.range_f32(-1.0, 1.0) * p.jitter,
+                    walk.range_f32(-1.0, 1.0) * p.jitter,
+                );
+                x = (x + p.drift + ax).rem_euclid(self.period);
+                z = (z + ay).rem_euclid(self.period);
+                y = dune_height(x, z) + p.lift + az;
+            }
+            blob.position = Vec3::new(x, y, z);
+        }
+        self.steps += steps;
+    }
+
+    pub fn blobs(&self) -> &[DustBlob] {
+        &self.blobs
+    }
+
+    /// Time steps since release.
+    pub fn steps(&self) -> u32 {
+        self.steps
+    }
+}
+
+/// The blobs after `steps` time steps over `ground`.
 pub fn dust_at(
     params: &DustParams,
-    ripples: &Heightfield,
-    period: f32,
-    dune_height: &dyn Fn(f32, f32) -> f32,
+    ground: &DustGround<'_>,
     seed: u64,
     steps: u32,
 ) -> Vec<DustBlob> {
-    let mean = ripples.mass() / ripples.data.len().max(1) as f64;
-    let mut rng = Rng::new(mix64(seed ^ 0xD057));
-    (0..params.count)
-        .map(|i| {
-            // A release point: a ripple grid point, placed on the dune field.
-            let gx = (rng.next_u64() % ripples.width as u64) as usize;
-            let gy = (rng.next_u64() % ripples.height as u64) as usize;
-            let ripple_h = ripples.data[gy * ripples.width + gx] - mean;
-            let mut x = period * (gx as f32 + rng.next_f32()) / ripples.width as f32;
-            let mut z = period * (gy as f32 + rng.next_f32()) / ripples.height as f32;
-            let mut y = dune_height(x, z) + params.lift;
-            // Eq. (7), one step at a time; each blob has its own random stream.
-            let mut walk = Rng::new(mix64(seed ^ mix64(i as u64)));
-            for _ in 0..steps {
-                let (ax, ay, az) = (
-                    walk.range_f32(-1.0, 1.0) * params.jitter,
-                    walk.range_f32(-1.0, 1.0) * params.jitter,
-                    walk.range_f32(-1.0, 1.0) * params.jitter,
-                );
-                x = (x + params.drift + ax).rem_euclid(period);
-                z = (z + ay).rem_euclid(period);
-                y = dune_height(x, z) + params.lift + az;
-            }
-            DustBlob {
-                position: Vec3::new(x, y, z),
-                radius: params.min_size + params.size_per_height * ripple_h.max(0.0) as f32,
-            }
-        })
-        .collect()
+    let mut cloud = DustCloud::release(params, ground, seed);
+    cloud.advance(steps, ground.dune_height);
+    cloud.blobs
 }
 
 #[cfg(test)]
@@ -97,6 +165,16 @@ mod tests {
         Heightfield::random(16, 16, 0.0, 1.0, 2)
     }
 
+    fn ground<'a>(ripples: &'a Heightfield, flat: &'a dyn Fn(f32, f32) -> f32) -> DustGround<'a> {
+        DustGround {
+            ripples,
+            tile: 16.0,
+            wind_radians: 0.0,
+            period: 1000.0,
+            dune_height: flat,
+        }
+    }
+
     #[test]
     fn dust_drifts_downwind_hugging_the_surface_and_is_deterministic() {
         let params = DustParams {
@@ -104,9 +182,18 @@ mod tests {
             ..DustParams::default()
         };
         let flat = |_: f32, _: f32| 5.0;
-        let still = dust_at(&params, &ripples(), 1000.0, &flat, 3, 0);
-        let moved = dust_at(&params, &ripples(), 1000.0, &flat, 3, 10);
-        assert_eq!(moved, dust_at(&params, &ripples(), 1000.0, &flat, 3, 10));
+        let r = ripples();
+        let g = ground(&r, &flat);
+        let still = dust_at(&params, &g, 3, 0);
+        let moved = dust_at(&params, &g, 3, 10);
+        assert_eq!(moved, dust_at(&params, &g, 3, 10));
+        // Step by step is the same as at once.
+        let mut cloud = DustCloud::release(&params, &g, 3);
+        for _ in 0..10 {
+            cloud.advance(1, &flat);
+        }
+        assert_eq!(cloud.blobs(), &moved[..]);
+        assert_eq!(cloud.steps(), 10);
         let mean_dx: f32 = still
             .iter()
             .zip(&moved)
@@ -122,9 +209,26 @@ mod tests {
                 (above - params.lift).abs() <= params.jitter + 1e-5,
                 "height above surface {above}"
             );
-            assert!(b.radius >= params.min_size);
         }
-        // Bigger blobs where the ripples are higher.
-        assert!(moved.iter().any(|b| b.radius > params.min_size));
+    }
+
+    #[test]
+    fn blobs_are_sized_in_proportion_to_the_ripple_height_under_them() {
+        let params = DustParams::default();
+        let flat = |_: f32, _: f32| 0.0;
+        let r = ripples();
+        let g = ground(&r, &flat);
+        let blobs = dust_at(&params, &g, 5, 0);
+        for b in &blobs {
+            let h = g.ripple_height(b.position.x, b.position.z) as f32;
+            assert!(
+                (b.radius - params.size_per_height * h).abs() < 1e-4,
+                "radius {} over ripple height {h}",
+                b.radius
+            );
+        }
+        // Released over the whole field, not only over one ripple tile.
+        let far = blobs.iter().filter(|b| b.position.x > 500.0).count();
+        assert!((400..=500).contains(&far), "{far} of 900 in the far half");
     }
 }

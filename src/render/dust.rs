@@ -1,5 +1,6 @@
 //! Sand dust billboards (Onoue & Nishita 3.7): points expanded into camera-facing
-//! quads in a geometry shader, alpha blended (`shaders-glsl/dunes/dust.*`).
+//! quads in a geometry shader, alpha blended, lit by the sun (forward scattering) and
+//! the sky, and faded where they meet the sand (`shaders-glsl/dunes/dust.*`).
 
 use std::sync::Arc;
 
@@ -7,26 +8,46 @@ use glam::{Mat4, Vec3, Vec4};
 
 use crate::error::Result;
 use crate::gpu::{
-    Buffer, Commands, Context, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pod, TargetFormat,
-    VertexLayout, vk,
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
+    Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, VertexLayout, vk,
 };
 use crate::model::dust::DustBlob;
-use crate::shaders::{ShaderInterface, compiled};
+use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
-/// Push constants of the dust geometry and fragment shaders.
+/// Push constants of the dust geometry shader.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct DustPush {
     pub view_proj: Mat4,
     pub right: Vec4,
     pub up: Vec4,
-    /// rgb the lit dust's radiance, a peak opacity.
-    pub color: Vec4,
-    /// x exposure, y tone-mapping operator (`ToneMap::code`), as the terrain's.
+}
+// SAFETY: repr(C), Mat4 + two Vec4.
+unsafe impl Pod for DustPush {}
+
+/// `Light` uniform block of `dust.frag`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DustLight {
+    /// xyz unit direction toward the sun.
+    pub sun_dir: Vec4,
+    /// rgb the sun's irradiance at the ground, w the grains' phase asymmetry g.
+    pub sun: Vec4,
+    /// rgb the sky's radiance averaged over the sphere, w peak opacity.
+    pub sky: Vec4,
+    /// rgb the grains' single-scattering albedo, w the fade height (m).
+    pub albedo: Vec4,
+    /// xyz the eye, w the dune cell size (m).
+    pub eye: Vec4,
+    /// x exposure, y tone-mapping operator (`ToneMap::code`), z dune grid side.
     pub tone: Vec4,
 }
-// SAFETY: repr(C), Mat4 + four Vec4.
-unsafe impl Pod for DustPush {}
+// SAFETY: repr(C), six Vec4.
+unsafe impl Pod for DustLight {}
+
+const LIGHT: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
+const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 1, DescriptorKind::SampledImage);
+const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 2, DescriptorKind::Sampler);
 
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUST_VERT,
@@ -43,19 +64,32 @@ pub static GEOMETRY_INTERFACE: ShaderInterface = ShaderInterface {
 
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUST_FRAG,
-    bindings: &[],
-    push_constant_bytes: size_of::<DustPush>() as u32,
+    bindings: &[LIGHT, HEIGHTS, REPEAT],
+    push_constant_bytes: 0,
 };
 
 pub struct DustPass {
+    /// The blobs' centres and radii, rewritten when the dust moves.
     blobs: Option<Buffer>,
     count: u32,
+    light: Buffer,
+    set: DescriptorSet,
+    _heights: Image,
+    _sampler: Sampler,
     pipeline: Pipeline,
     layout: PipelineLayout,
 }
 
 impl DustPass {
-    pub fn new(ctx: &Arc<Context>, target: TargetFormat, blobs: &[DustBlob]) -> Result<Self> {
+    /// For `blobs` over the dune field whose heights (cell units, `n` x `n`, one
+    /// period) are in `heights`, a buffer with TRANSFER_SRC usage.
+    pub fn new(
+        ctx: &Arc<Context>,
+        target: TargetFormat,
+        blobs: &[DustBlob],
+        heights: &Buffer,
+        n: u32,
+    ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "dust layout",
@@ -85,39 +119,76 @@ impl DustPass {
                 &points,
             )?)
         };
+        let light = Buffer::new(
+            ctx,
+            "dust light",
+            BufferDesc::upload(
+                size_of::<DustLight>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+        )?;
+        let image = Image::sampled_from_buffer(
+            ctx,
+            "dust's dune heights",
+            ImageDesc::new_2d(n, n, vk::Format::R32_SFLOAT, vk::ImageUsageFlags::SAMPLED),
+            heights,
+            &[0],
+        )?;
+        let sampler = Sampler::linear_repeat(ctx, "dust heights sampler")?;
+        let set = layout.allocate_set("dust set", 0)?;
+        set.write_buffer(LIGHT.binding, &light)?;
+        set.write_image(
+            HEIGHTS.binding,
+            image.view(),
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        set.write_sampler(REPEAT.binding, &sampler)?;
         Ok(Self {
             blobs: buffer,
             count: points.len() as u32,
+            light,
+            set,
+            _heights: image,
+            _sampler: sampler,
             pipeline: desc.build(ctx, &layout)?,
             layout,
         })
     }
 
+    /// Moves the blobs (as many as at creation). Call between frames, not while one
+    /// that draws them is in flight.
+    pub fn set_blobs(&mut self, blobs: &[DustBlob]) -> Result<()> {
+        if let Some(buffer) = &mut self.blobs {
+            let points: Vec<Vec4> = blobs
+                .iter()
+                .take(self.count as usize)
+                .map(|b| b.position.extend(b.radius))
+                .collect();
+            buffer.write(0, &points)?;
+        }
+        Ok(())
+    }
+
+    /// The light for the next frame.
+    pub fn set_light(&mut self, light: &DustLight) -> Result<()> {
+        self.light.write(0, std::slice::from_ref(light))
+    }
+
     /// Draws the blobs inside an open rendering scope, after the opaque surfaces.
-    pub fn draw(
-        &self,
-        cmd: &Commands<'_>,
-        view_proj: Mat4,
-        eye: Vec3,
-        target: Vec3,
-        color: Vec4,
-        tone: Vec4,
-    ) -> Result<()> {
+    pub fn draw(&self, cmd: &Commands<'_>, view_proj: Mat4, eye: Vec3, target: Vec3) -> Result<()> {
         let Some(blobs) = &self.blobs else {
             return Ok(());
         };
         let forward = (target - eye).normalize_or(Vec3::NEG_Z);
         let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
         let up = right.cross(forward);
-        cmd.bind_pipeline(&self.pipeline, &self.layout, &[]);
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
         cmd.push_constants(
             &self.layout,
             &DustPush {
                 view_proj,
                 right: right.extend(0.0),
                 up: up.extend(0.0),
-                color,
-                tone,
             },
         )?;
         cmd.bind_vertex_buffer(blobs, 0);

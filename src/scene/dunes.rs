@@ -15,7 +15,9 @@ use crate::error::{Error, Result};
 use crate::model::atmosphere::Atmosphere;
 use crate::model::dust::DustParams;
 use crate::model::sand::{Saltation, SandParams};
-pub use frame::{DunesFrame, DunesRender, Terrain, render, simulate, simulate_frames};
+pub use frame::{
+    DunesFrame, DunesRender, Terrain, render, render_times, simulate, simulate_frames,
+};
 
 /// Which shadows are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -198,7 +200,7 @@ impl Default for DunesScene {
 }
 
 /// The sand's albedo (linear RGB): a quartz sand with iron-oxide coating, about the
-/// colour of the Sahara's erg sand (sRGB about (220, 186, 140)).
+/// colour of the Sahara's erg sand (sRGB about (221, 188, 149)).
 pub const SAND_ALBEDO: Vec3 = Vec3::new(0.72, 0.5, 0.3);
 
 /// Figures 12–17 of the paper: the dune field without and with ripples, without and

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::frame::{DunesFrame, Terrain, simulate};
+use super::frame::{DunesFrame, Terrain, desert_light, simulate};
 use super::{DunesScene, Shadows, default_camera, preset};
 use crate::bench::report::{PaperRatio, Report};
 use crate::error::{Error, Result};
@@ -95,7 +95,7 @@ impl BenchScene for DunesBench {
     /// ratios from the series' medians.
     fn finish(
         &mut self,
-        _ctx: &Arc<Context>,
+        ctx: &Arc<Context>,
         report: &mut Report,
         progress: &mut dyn FnMut(&str),
     ) -> Result<()> {
@@ -107,7 +107,8 @@ impl BenchScene for DunesBench {
             .collect();
         if medians.contains_key("dune-ripple-shadows") {
             progress("dunes precompute and simulation");
-            let metrics = self.cpu_metrics()?;
+            let mut metrics = self.cpu_metrics()?;
+            metrics.extend(self.sky_metrics(ctx)?);
             if let Some(s) = report
                 .series
                 .iter_mut()
@@ -167,6 +168,40 @@ impl BenchScene for DunesBench {
 }
 
 impl DunesBench {
+    /// What moving the sun costs the sky: the sky-view table recomputed (both
+    /// dispatches, the read-back and the irradiance) for 12 sun elevations after a
+    /// warm-up, GPU and wall-clock medians; and the multiple-scattering table, made
+    /// once per atmosphere on the CPU.
+    fn sky_metrics(&mut self, ctx: &Arc<Context>) -> Result<BTreeMap<String, f64>> {
+        let (base, terrain) = self.base()?;
+        let air = base.atmosphere();
+        let t = Instant::now();
+        let multiple = air.multiple_scattering();
+        let multiple_ms = t.elapsed().as_secs_f64() * 1e3;
+        let pass = crate::render::atmosphere::SkyViewPass::new(ctx, Some(&multiple))?;
+        let camera = default_camera(base, terrain);
+        let (mut gpu, mut wall) = (Vec::new(), Vec::new());
+        for k in 0..13 {
+            let e = (-2.0 + 7.5 * k as f32).to_radians();
+            let sun = glam::Vec3::new(0.0, e.sin(), e.cos());
+            let t = Instant::now();
+            let (_, span) = desert_light(ctx, &air, &pass, &camera, sun)?;
+            if k > 0 {
+                wall.push(t.elapsed().as_secs_f64() * 1e3);
+                gpu.push(span.milliseconds);
+            }
+        }
+        let median = |v: &mut Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let mut m = BTreeMap::new();
+        m.insert("sky_view_recompute_gpu_ms".to_owned(), median(&mut gpu));
+        m.insert("sky_view_recompute_wall_ms".to_owned(), median(&mut wall));
+        m.insert("multiple_scattering_table_cpu_ms".to_owned(), multiple_ms);
+        Ok(m)
+    }
+
     fn cpu_metrics(&mut self) -> Result<BTreeMap<String, f64>> {
         let (base, terrain) = self.base()?;
         let t = Instant::now();

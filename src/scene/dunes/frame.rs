@@ -15,7 +15,7 @@ use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::model::atmosphere::Atmosphere;
 use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, visible_quads};
 use crate::model::dune_shadow::DuneGrid;
-use crate::model::dust::{DustParams, dust_at};
+use crate::model::dust::{DustCloud, DustGround, DustParams};
 use crate::model::mesh::Mesh;
 use crate::model::sand::{Heightfield, SandSim};
 use crate::model::sand_grain::grain_texture;
@@ -24,7 +24,7 @@ use crate::render::atmosphere::{
 };
 use crate::render::dune_shadow::DuneShadowPass;
 use crate::render::dune_surface::{DuneGeometry, DunePush, DuneSurfacePass, DuneTextures};
-use crate::render::dust::DustPass;
+use crate::render::dust::{DustLight, DustPass};
 use crate::render::ripple_maps::RippleMaps;
 use crate::scene::Size;
 use crate::scene::camera::{Camera, Lighting};
@@ -124,6 +124,10 @@ pub struct DunesFrame {
     light: Option<(Vec3, DesertLight)>,
     dust: DustPass,
     dust_blobs: usize,
+    /// The dust as released and as it drifts (the viewer advances it a step a frame).
+    dust_cloud: Option<(DustCloud, DustCloud)>,
+    /// One period of dune heights (metres), which the dust hugs.
+    dune_heights: Vec<f32>,
     geometry: DuneGeometry,
     /// Three periods each way: the field reaches toward the horizon without a seam.
     mesh: Mesh,
@@ -145,10 +149,6 @@ struct DunesView {
     push: DunePush,
     sky: AtmosphereSkyPush,
     dust: bool,
-    /// The dust's radiance (sand lit by the sun and the sky) and peak opacity; the
-    /// frame's exposure and tone-mapping operator.
-    dust_color: glam::Vec4,
-    tone: glam::Vec4,
 }
 
 const GRAIN_SIZE: u32 = 128;
@@ -177,24 +177,22 @@ impl DunesFrame {
         let grain = grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize);
         let textures = DuneTextures::new(ctx, &maps, &shadow, &grain, GRAIN_SIZE)?;
         let surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures)?;
-        let blobs = match &scene.dust {
-            Some(params) => {
-                let grid = DuneGrid {
-                    n,
-                    heights: &terrain.dune_heights,
-                };
-                let cell = scene.cell;
-                dust_at(
-                    params,
-                    &terrain.ripples,
-                    scene.field_size(),
-                    &|x, z| grid.sample(x / cell, z / cell),
-                    scene.seed,
-                    scene.dust_step,
-                )
-            }
-            None => Vec::new(),
-        };
+        // The dust: released whether or not it is shown (the viewer's `u` shows it).
+        let cloud = scene.dust.as_ref().map(|params| {
+            let height = dune_height(n, scene.cell, &terrain.dune_heights);
+            let ground = DustGround {
+                ripples: &terrain.ripples,
+                tile: scene.ripple_tile,
+                wind_radians: scene.wind_degrees.to_radians(),
+                period: scene.field_size(),
+                dune_height: &height,
+            };
+            let released = DustCloud::release(params, &ground, scene.seed);
+            let mut cloud = released.clone();
+            cloud.advance(scene.dust_step, &height);
+            (released, cloud)
+        });
+        let blobs = cloud.as_ref().map_or(&[][..], |(_, c)| c.blobs());
         let mesh = dune_mesh_tiled(n, scene.cell, &terrain.dune_heights, 3);
         let atmosphere = scene.atmosphere();
         let multiple = scene
@@ -204,8 +202,10 @@ impl DunesFrame {
         Ok(Self {
             geometry: DuneGeometry::new(ctx, &mesh)?,
             mesh,
-            dust: DustPass::new(ctx, ctx.frame_format(), &blobs)?,
+            dust: DustPass::new(ctx, ctx.frame_format(), blobs, &shadow.heights, n as u32)?,
             dust_blobs: blobs.len(),
+            dust_cloud: cloud,
+            dune_heights: terrain.dune_heights.clone(),
             sky: AtmosphereSkyPass::new(ctx, ctx.frame_format(), &sky_view)?,
             sky_view,
             atmosphere,
@@ -249,6 +249,30 @@ impl DunesFrame {
         self.shadow_mask = on;
     }
 
+    /// Moves the dust to `time`: step `dust_step + n` for `Time::At(n)`, one step on
+    /// for each `Time::Tick` (the viewer blows it along).
+    fn advance_dust(&mut self, time: Time) -> Result<()> {
+        let (Some((released, cloud)), Some(_)) = (&mut self.dust_cloud, &self.scene.dust) else {
+            return Ok(());
+        };
+        let scene = &self.scene;
+        let height = dune_height(scene.dune_size, scene.cell, &self.dune_heights);
+        let target = match time {
+            Time::At(n) => scene.dust_step.saturating_add(n),
+            Time::Tick => cloud.steps().saturating_add(1),
+        };
+        if target < cloud.steps() {
+            // Back in time: released again (each blob's stream is its own, so this
+            // lands on the same positions).
+            *cloud = released.clone();
+        }
+        if target > cloud.steps() {
+            cloud.advance(target - cloud.steps(), &height);
+            self.dust.set_blobs(cloud.blobs())?;
+        }
+        Ok(())
+    }
+
     /// The viewer's keys.
     pub const CONTROLS: &'static [&'static str] = &[
         "left/right sun azimuth  up/down sun elevation  l lod  k culling",
@@ -268,8 +292,9 @@ impl Scene for DunesFrame {
         ctx: &Arc<Context>,
         camera: &Camera,
         aspect: f32,
-        _time: Time,
+        time: Time,
     ) -> Result<()> {
+        self.advance_dust(time)?;
         let scene = &self.scene;
         let sun = scene.sun_direction();
         if (sun - self.sun).length() > 1e-6 {
@@ -357,10 +382,17 @@ impl Scene for DunesFrame {
             push,
             sky,
             dust: scene.dust.is_some(),
-            // Grains lit from all round: half the sun's light on average, all the sky's.
-            dust_color: (SAND_ALBEDO * (0.5 * light.sun + light.sky)).extend(0.5),
-            tone: glam::Vec4::new(frame.params.x, frame.params.y, 0.0, 0.0),
         });
+        let pi = std::f32::consts::PI;
+        self.dust.set_light(&DustLight {
+            sun_dir: sun.extend(0.0),
+            sun: (pi * light.sun).extend(DUST_PHASE_G),
+            // The mean radiance all round: the sky above, the sand below.
+            sky: (0.5 * (light.sky + light.ground)).extend(DUST_OPACITY),
+            albedo: DUST_ALBEDO.extend(scene.dust.as_ref().map_or(1.0, |d| d.fade)),
+            eye: camera.eye.extend(scene.cell),
+            tone: glam::Vec4::new(frame.params.x, frame.params.y, scene.dune_size as f32, 0.0),
+        })?;
         Ok(())
     }
 
@@ -382,8 +414,7 @@ impl Scene for DunesFrame {
         self.surface.draw(cmd, &self.geometry, &v.push)?;
         self.sky.draw(cmd, &v.sky)?;
         if v.dust {
-            self.dust
-                .draw(cmd, v.view_proj, v.eye, v.target, v.dust_color, v.tone)?;
+            self.dust.draw(cmd, v.view_proj, v.eye, v.target)?;
         }
         target.end(cmd);
         timer.end(cmd, span);
@@ -469,6 +500,20 @@ impl Scene for DunesFrame {
     }
 }
 
+/// Mineral dust's single-scattering albedo (Saharan dust measures about 0.97 at 670
+/// nm, 0.93 at 550 and 0.85 at 440: iron oxides absorb the blue) and its phase
+/// function's asymmetry g (about 0.7: grains scatter mostly forward).
+const DUST_ALBEDO: Vec3 = Vec3::new(0.97, 0.93, 0.85);
+const DUST_PHASE_G: f32 = 0.7;
+/// Opacity at a blob's centre.
+const DUST_OPACITY: f32 = 0.4;
+
+/// The dune surface's height (metres) at world (x, z), the field periodic with `n`
+/// vertices of `cell` metres a side.
+fn dune_height(n: usize, cell: f32, heights: &[f32]) -> impl Fn(f32, f32) -> f32 + '_ {
+    move |x, z| DuneGrid { n, heights }.sample(x / cell, z / cell)
+}
+
 /// The sun's angular radius (0.267 degrees).
 const SUN_RADIUS_RADIANS: f32 = 0.004_66;
 
@@ -515,7 +560,7 @@ fn auto_exposure(adapt: f32) -> f32 {
 
 /// Integrates the sky-view table on the GPU for `sun` seen from `camera`'s height and
 /// derives the terrain's light from it; the light and the table's span.
-fn desert_light(
+pub(super) fn desert_light(
     ctx: &Arc<Context>,
     air: &Atmosphere,
     pass: &SkyViewPass,
@@ -628,6 +673,29 @@ pub fn render(
         total_triangles,
         mesh: dune_mesh(scene.dune_size, scene.cell, &terrain.dune_heights),
     })
+}
+
+/// Frames of `scene` at each of `times` (`Time::At`: the dust `dust_step + t` steps
+/// on) from one frame set-up, as the viewer draws them: the dust blowing over the
+/// terrain; `progress(done, total)` per frame.
+pub fn render_times(
+    ctx: &Arc<Context>,
+    scene: &DunesScene,
+    terrain: &Terrain,
+    size: Size,
+    camera: &Camera,
+    times: &[u32],
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<image::RgbaImage>> {
+    let mut frame = DunesFrame::new(ctx, scene.clone(), terrain)?;
+    let mut runner = FrameRunner::new(ctx, size)?;
+    let mut out = Vec::with_capacity(times.len());
+    for (i, &t) in times.iter().enumerate() {
+        progress(i, times.len());
+        out.push(runner.render(&mut frame, camera, Time::At(t))?.0);
+    }
+    progress(times.len(), times.len());
+    Ok(out)
 }
 
 /// The dune figures in the registry.

@@ -19,8 +19,9 @@ pub struct DunesArgs {
     /// The frame as PNG (default dunes.png).
     #[arg(short = 'o', long = "output", value_name = "FILE.png")]
     output: Option<PathBuf>,
-    /// The ripples and dunes forming over time as an animated GIF (each frame
-    /// renders the simulation part of the way through).
+    /// An animated GIF: with --dust the dust blowing over the dunes (two time steps a
+    /// frame), else the ripples and dunes forming over time (each frame renders the
+    /// simulation part of the way through).
     #[arg(long, value_name = "FILE.gif")]
     gif: Option<PathBuf>,
     /// GIF frames, 2..=120 (default 12).
@@ -97,7 +98,20 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         a.timing_frames,
     )?;
     let mut gif_frames = Vec::new();
-    if a.gif.is_some() {
+    if a.gif.is_some() && scene.dust.is_some() {
+        // The dust blowing over the final terrain, two time steps a frame.
+        let times: Vec<u32> = (0..a.gif_frames).map(|i| 2 * i).collect();
+        gif_frames = dunes::render_times(
+            &ctx,
+            scene,
+            &terrain,
+            cli.size,
+            &camera,
+            &times,
+            &mut |d, t| progress(d, t, "animation frames"),
+        )?;
+        eprintln!();
+    } else if a.gif.is_some() {
         // The simulation again in chunks, one frame after each (the same seed gives
         // the same final terrain).
         let snapshots = dunes::simulate_frames(scene, a.gif_frames, &mut |d, t| {
@@ -106,14 +120,7 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         eprintln!();
         for (i, terrain) in snapshots.iter().enumerate() {
             progress(i, snapshots.len(), "animation frames");
-            // Dust drifts on between frames.
-            let frame_scene = dunes::DunesScene {
-                dust_step: scene.dust_step + 4 * i as u32,
-                ..scene.clone()
-            };
-            gif_frames.push(
-                dunes::render(&ctx, &frame_scene, terrain, cli.size, Some(&camera), 0)?.image,
-            );
+            gif_frames.push(dunes::render(&ctx, scene, terrain, cli.size, Some(&camera), 0)?.image);
         }
         eprintln!();
     }
@@ -139,7 +146,10 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         say!("wrote {} and {}", path.display(), ripples.display());
     }
     if let Some(path) = &a.mesh {
-        let soup = sediment::export::mesh::TriangleSoup::from_indexed(&out.mesh, [0.72, 0.5, 0.3]);
+        let soup = sediment::export::mesh::TriangleSoup::from_indexed(
+            &out.mesh,
+            dunes::SAND_ALBEDO.to_array(),
+        );
         sediment::export::mesh::write_mesh(path, &soup)?;
         say!("wrote {}", path.display());
     }
