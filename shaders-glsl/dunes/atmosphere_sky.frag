@@ -5,44 +5,27 @@
 #include "atmosphere.glsl"
 #include "tonemap.glsl"
 
-layout(set = 0, binding = 0, std430) readonly buffer Table {
-    vec4 radiance[];
-} table;
+layout(set = 0, binding = 0) uniform texture2D table;  // sky_view.comp's, rows from the nadir up
+layout(set = 0, binding = 1) uniform sampler clamp_sampler;
 
 layout(push_constant) uniform Sky {
     mat4 inverse_view_proj;
     vec4 sun;      // xyz unit direction toward the sun, w its azimuth (radians)
     vec4 camera;   // xyz eye, w exposure
     vec4 disk;     // rgb the sun disk's radiance, w cos of its angular radius
-    vec4 params;   // x tone-mapping operator, y table width, z height
+    vec4 params;   // x tone-mapping operator
 } sky;
 
 layout(location = 0) in vec2 in_ndc;
 layout(location = 0) out vec4 out_color;
 
-vec3 texel(int x, int y, int w) {
-    return table.radiance[y * w + x].rgb;
-}
-
-// Bilinear between texel centres, clamped at the edges (u runs 0..pi from the sun's
-// azimuth and is mirrored beyond, so clamping is the sky's own symmetry).
-vec3 lookup(vec2 uv) {
-    int w = int(sky.params.y);
-    int h = int(sky.params.z);
-    vec2 p = clamp(uv * vec2(w, h) - 0.5, vec2(0.0), vec2(w - 1, h - 1));
-    ivec2 i = ivec2(floor(p));
-    ivec2 j = min(i + 1, ivec2(w - 1, h - 1));
-    vec2 f = p - vec2(i);
-    vec3 a = mix(texel(i.x, i.y, w), texel(j.x, i.y, w), f.x);
-    vec3 b = mix(texel(i.x, j.y, w), texel(j.x, j.y, w), f.x);
-    return mix(a, b, f.y);
-}
-
 void main() {
     vec4 far = sky.inverse_view_proj * vec4(in_ndc, 1.0, 1.0);
     vec3 dir = normalize(far.xyz / far.w - sky.camera.xyz);
     vec3 sun = normalize(sky.sun.xyz);
-    vec3 hdr = lookup(sky_view_uv(dir, sky.sun.w));
+    // Bilinear between texel centres, clamped at the edges (u runs 0..pi from the
+    // sun's azimuth and is mirrored beyond: clamping is the sky's own symmetry).
+    vec3 hdr = texture(sampler2D(table, clamp_sampler), sky_view_uv(dir, sky.sun.w)).rgb;
     // The disk, its edge smoothed over about a pixel's worth of angle.
     float c = dot(dir, sun);
     float edge = max(fwidth(c), 1e-6);

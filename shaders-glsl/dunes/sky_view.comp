@@ -19,6 +19,9 @@ layout(set = 0, binding = 1, std430) readonly buffer Multiple {
     vec4 psi[];
 } multiple;
 
+// The same table for the sky to sample (bilinear, half floats).
+layout(set = 0, binding = 2, rgba16f) uniform writeonly image2D table_image;
+
 layout(push_constant) uniform Params {
     Air air;
     vec4 view;     // x viewer radius, y sin and z cos of the sun's elevation
@@ -87,5 +90,7 @@ void main() {
         vec3 lit = transmittance_to_space(a, rg, mu_g) * max(mu_g, 0.0) + pc.ambient.rgb;
         sum += exp(-depth) * lit * a.ground.rgb / PI;
     }
-    table.radiance[id.y * pc.size.x + id.x] = vec4(sum * a.sun.rgb, 1.0);
+    vec4 radiance = vec4(sum * a.sun.rgb, 1.0);
+    table.radiance[id.y * pc.size.x + id.x] = radiance;
+    imageStore(table_image, ivec2(id), radiance);
 }

@@ -38,6 +38,8 @@ layout(push_constant) uniform Dune {
 
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec3 in_transmit;
+layout(location = 3) in vec3 in_inscatter;
 layout(location = 0) out vec4 out_color;
 
 const float TAU = 2.0 * PI;
@@ -157,18 +159,7 @@ void main() {
     // Sky light: the hemisphere's zenith and ground colours (per frame, not per pixel).
     vec3 ambient = mix(frame.ground_color.rgb, frame.sky_color.rgb, 0.5 + 0.5 * n.y);
     vec3 hdr = albedo * (frame.sun_color.rgb * max(dot(n, l), 0.0) * lit + ambient);
-    // Aerial perspective from the sky's own atmosphere: single scattering of sunlight
-    // in the air between the eye and the sand, the air taken as it is at the ground
-    // (over a field's few hundred metres of a 1.2 km aerosol and 8 km air scale height,
-    // the closed form of a homogeneous medium: L T + S / sigma_t (1 - T)).
-    vec3 to_eye = in_world - frame.camera_pos.xyz;
-    float dist = length(to_eye);
-    float nu = dot(to_eye / max(dist, 1e-6), l);
-    vec3 ext = dune.air_extinction.rgb;
-    vec3 scatter = dune.air_scattering.rgb * rayleigh_phase(nu)
-        + vec3(dune.air_scattering.w * mie_phase(nu, dune.air_extinction.w));
-    vec3 transmit = exp(-ext * dist);
-    // The sun's radiance factor (sun_color is sunlight / pi) back to irradiance.
-    hdr = hdr * transmit + PI * frame.sun_color.rgb * scatter / max(ext, vec3(1e-9)) * (1.0 - transmit);
+    // Aerial perspective (surface.vert).
+    hdr = hdr * in_transmit + in_inscatter;
     out_color = vec4(tonemap(hdr, frame.params), 1.0);
 }

@@ -154,6 +154,11 @@ impl Commands<'_> {
         };
     }
 
+    /// Image layout transitions with their scopes, in one barrier.
+    pub fn transition_images(&self, transitions: &[super::ImageTransition]) {
+        super::barrier::images(self.ctx, self.raw, transitions);
+    }
+
     /// A full memory barrier (see `barrier::full`).
     pub fn full_barrier(&self) {
         super::barrier::full(self.ctx, self.raw);

@@ -21,6 +21,7 @@ mod xfb;
 pub use ash::vk;
 
 pub use crate::pod::{Pod, as_bytes, from_bytes};
+pub use barrier::ImageTransition;
 pub use buffer::{Buffer, BufferDesc};
 pub use commands::Commands;
 pub use context::{Context, ContextOptions, DeviceInfo, probe_devices};

@@ -9,8 +9,8 @@ use glam::{Mat4, Vec3, Vec4};
 
 use crate::error::Result;
 use crate::gpu::{
-    Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Pipeline,
-    PipelineLayout, Pod, TargetFormat, vk,
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
+    ImageTransition, Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, vk,
 };
 use crate::model::atmosphere::{Atmosphere, MS_SIZE, MultipleScattering};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
@@ -63,15 +63,19 @@ pub static SKY_VIEW_INTERFACE: ShaderInterface = ShaderInterface {
     bindings: &[
         DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer),
         DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer),
+        DescriptorBinding::new(0, 2, DescriptorKind::StorageImage),
     ],
     push_constant_bytes: size_of::<SkyViewPush>() as u32,
 };
 
-/// The sky-view compute pass and its table (RGBA f32 texels, rows from the nadir up;
-/// host-readable: the frame integrates the ambient light from it).
+/// The sky-view compute pass and its table, written twice: RGBA f32 texels in a
+/// host-readable buffer (rows from the nadir up; the frame integrates the ambient
+/// light from it, the tests compare it with the CPU's) and a half-float image, kept in
+/// the GENERAL layout, that the sky samples with bilinear filtering.
 pub struct SkyViewPass {
     set: DescriptorSet,
     pub table: Buffer,
+    pub image: Image,
     /// Hillaire's Psi_ms table (zeros when multiple scattering is off).
     _multiple: Buffer,
     multiple_on: bool,
@@ -102,12 +106,24 @@ impl SkyViewPass {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             &psi,
         )?;
+        let image = Image::new(
+            ctx,
+            "sky view image",
+            ImageDesc::new_2d(
+                SKY_VIEW_WIDTH,
+                SKY_VIEW_HEIGHT,
+                vk::Format::R16G16B16A16_SFLOAT,
+                vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED,
+            ),
+        )?;
         let set = layout.allocate_set("sky view set", 0)?;
         set.write_buffer(0, &table)?;
         set.write_buffer(1, &multiple_buffer)?;
+        set.write_image(2, image.view(), vk::ImageLayout::GENERAL)?;
         Ok(Self {
             set,
             table,
+            image,
             _multiple: multiple_buffer,
             multiple_on: multiple.is_some(),
             pipeline,
@@ -117,8 +133,8 @@ impl SkyViewPass {
 
     /// Records the table for `air` seen from altitude `h` (m) with the sun at
     /// `elevation` radians, the ground below the horizon lit by the sun and
-    /// `ground_sky` (the sky's irradiance there, in units of the sun's). Readers of
-    /// the table (the sky pass, the host) need a barrier after it.
+    /// `ground_sky` (the sky's irradiance there, in units of the sun's), with the
+    /// barriers that make it visible to the sky's fragment shader and the host.
     pub fn record(
         &self,
         cmd: &Commands<'_>,
@@ -127,6 +143,21 @@ impl SkyViewPass {
         elevation: f32,
         ground_sky: Vec3,
     ) -> Result<()> {
+        let general = |stage, access| (vk::ImageLayout::GENERAL, stage, access);
+        // Rewritten whole: what it held (read by earlier frames' skies) is discarded.
+        cmd.transition_images(&[ImageTransition {
+            image: self.image.raw(),
+            range: self.image.full_range(),
+            from: (
+                vk::ImageLayout::UNDEFINED,
+                vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                vk::AccessFlags2::NONE,
+            ),
+            to: general(
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+        }]);
         cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
         cmd.push_constants(
             &self.layout,
@@ -148,6 +179,19 @@ impl SkyViewPass {
             },
         )?;
         cmd.dispatch(SKY_VIEW_WIDTH.div_ceil(8), SKY_VIEW_HEIGHT.div_ceil(8), 1);
+        cmd.transition_images(&[ImageTransition {
+            image: self.image.raw(),
+            range: self.image.full_range(),
+            from: general(
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+            to: general(
+                vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                vk::AccessFlags2::SHADER_SAMPLED_READ,
+            ),
+        }]);
+        cmd.shader_to_host_barrier();
         Ok(())
     }
 
@@ -169,7 +213,7 @@ pub struct AtmosphereSkyPush {
     pub camera: Vec4,
     /// rgb the sun disk's radiance, w the cosine of its angular radius.
     pub disk: Vec4,
-    /// x tone-mapping operator (`ToneMap::code`), y table width, z height.
+    /// x tone-mapping operator (`ToneMap::code`).
     pub params: Vec4,
 }
 // SAFETY: repr(C), Mat4 + four Vec4.
@@ -177,13 +221,17 @@ unsafe impl Pod for AtmosphereSkyPush {}
 
 pub static SKY_FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_ATMOSPHERE_SKY_FRAG,
-    bindings: &[DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer)],
+    bindings: &[
+        DescriptorBinding::new(0, 0, DescriptorKind::SampledImage),
+        DescriptorBinding::new(0, 1, DescriptorKind::Sampler),
+    ],
     push_constant_bytes: size_of::<AtmosphereSkyPush>() as u32,
 };
 
 /// The full-screen sky from the sky-view table.
 pub struct AtmosphereSkyPass {
     set: DescriptorSet,
+    _sampler: Sampler,
     pipeline: Pipeline,
     layout: PipelineLayout,
 }
@@ -204,10 +252,13 @@ impl AtmosphereSkyPass {
         // pixels no surface covered.
         desc.depth_test = true;
         desc.depth_write = false;
+        let sampler = Sampler::linear_clamp(ctx, "sky view sampler")?;
         let set = layout.allocate_set("atmosphere sky set", 0)?;
-        set.write_buffer(0, &table.table)?;
+        set.write_image(0, table.image.view(), vk::ImageLayout::GENERAL)?;
+        set.write_sampler(1, &sampler)?;
         Ok(Self {
             set,
+            _sampler: sampler,
             pipeline: desc.build(ctx, &layout)?,
             layout,
         })

@@ -52,7 +52,7 @@ const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_VERT,
     bindings: &[FRAME],
-    push_constant_bytes: 0,
+    push_constant_bytes: size_of::<DunePush>() as u32,
 };
 
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {

@@ -25,7 +25,7 @@ pub struct DustPush {
 // SAFETY: repr(C), Mat4 + two Vec4.
 unsafe impl Pod for DustPush {}
 
-/// `Light` uniform block of `dust.frag`.
+/// `Light` uniform block of `dust.geom` and `dust.frag`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DustLight {
@@ -58,7 +58,7 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
 /// Declared by hand (naga has no geometry stage); drawn in `tests/dunes.rs`.
 pub static GEOMETRY_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUST_GEOM,
-    bindings: &[],
+    bindings: &[LIGHT],
     push_constant_bytes: size_of::<DustPush>() as u32,
 };
 

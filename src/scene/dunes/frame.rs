@@ -368,12 +368,7 @@ impl Scene for DunesFrame {
             sun: sun.extend(scene.sun_azimuth_degrees.to_radians()),
             camera: camera.eye.extend(frame.params.x),
             disk: light.disk.extend(SUN_RADIUS_RADIANS.cos()),
-            params: glam::Vec4::new(
-                frame.params.y,
-                SKY_VIEW_WIDTH as f32,
-                SKY_VIEW_HEIGHT as f32,
-                0.0,
-            ),
+            params: glam::Vec4::new(frame.params.y, 0.0, 0.0, 0.0),
         };
         self.view = Some(DunesView {
             view_proj: frame.view_proj,
