@@ -455,3 +455,62 @@ fn dust_is_soft_where_it_meets_the_sand_and_blows_over_time() {
         );
     });
 }
+
+#[test]
+fn footprints_change_fig18_only_near_the_walk() {
+    common::with_gpu(|ctx| {
+        use sediment::model::footprints::{FootprintParams, print_positions};
+        let scene = small("fig18");
+        let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
+        let size = Size::new(240, 160);
+        // The same camera for both: the walker's-eye view of the walk.
+        let camera = dunes::default_camera(&scene, &terrain);
+        let render = |s: &DunesScene| {
+            dunes::render(ctx, s, &terrain, size, Some(&camera), 0)
+                .expect("render")
+                .image
+        };
+        let with = render(&scene);
+        let without = render(&DunesScene {
+            footprints: None,
+            ..scene.clone()
+        });
+        // Where each print lands in the image.
+        let path = scene.footprints.clone().expect("fig18 walks");
+        let vp = camera.view_proj(size.width as f32 / size.height as f32);
+        let grid = sediment::model::dune_shadow::DuneGrid {
+            n: scene.dune_size,
+            heights: &terrain.dune_heights,
+        };
+        let prints: Vec<(f32, f32)> = print_positions(&FootprintParams::walk(path))
+            .iter()
+            .filter_map(|(c, _)| {
+                let y = grid.sample(c[0] / scene.cell, c[1] / scene.cell);
+                let clip = vp * glam::Vec4::new(c[0], y, c[1], 1.0);
+                (clip.w > 0.0).then(|| {
+                    (
+                        (clip.x / clip.w + 1.0) * 0.5 * size.width as f32,
+                        (clip.y / clip.w + 1.0) * 0.5 * size.height as f32,
+                    )
+                })
+            })
+            .collect();
+        let (mut changed, mut far) = (0, 0);
+        for (x, y, p) in with.enumerate_pixels() {
+            let q = without.get_pixel(x, y);
+            if (0..3).any(|c| p[c].abs_diff(q[c]) > 2) {
+                changed += 1;
+                // Within 12 pixels of a print (a near print spans about 10).
+                let near = prints
+                    .iter()
+                    .any(|&(px, py)| (px - x as f32).powi(2) + (py - y as f32).powi(2) < 144.0);
+                if !near {
+                    far += 1;
+                }
+            }
+        }
+        eprintln!("footprints changed {changed} pixels, {far} of them away from the prints");
+        assert!(changed > 100, "the prints show ({changed} pixels changed)");
+        assert_eq!(far, 0, "{far} pixels changed away from the walk");
+    });
+}

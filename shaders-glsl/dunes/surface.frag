@@ -25,6 +25,7 @@ layout(set = 0, binding = 4) uniform texture2D dune_shadow;     // 1 lit, 0 shad
 layout(set = 0, binding = 5) uniform texture2D sand_grain;
 layout(set = 0, binding = 6) uniform sampler repeat_sampler;
 layout(set = 0, binding = 7) uniform texture2D dune_heights;    // one period, cell units
+layout(set = 0, binding = 8) uniform texture2D detail_map;      // footprints: slopes, trodden, lit
 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
@@ -34,6 +35,8 @@ layout(push_constant) uniform Dune {
     vec4 albedo;   // rgb sand albedo
     vec4 air_extinction;  // rgb per metre at the ground, w aerosol g
     vec4 air_scattering;  // rgb Rayleigh per metre, w aerosol
+    vec4 detail_rect;     // footprints' detail field: world x, z of its corner, its size
+    vec4 detail;          // x footprints on, y slope range of the encoding
 } dune;
 
 layout(location = 0) in vec3 in_world;
@@ -108,10 +111,28 @@ void main() {
     vec3 r = (dune.wind.z > 0.5
         ? texture(sampler2D(ripple_normals, repeat_sampler), uv).xyz
         : textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0).xyz) * 2.0 - 1.0;
-    r = normalize(vec3(r.xy * dune.tile.y, max(r.z, 1e-3)));
+    // Footprints (Sumner et al. 1998) in their detail field: the soles trod the ripples
+    // flat, the prints' and rims' slopes tilt the normal, and their own shadow for
+    // this sun darkens the hollows.
+    vec2 prints = vec2(0.0);   // d height / dx, dz
+    float trodden = 0.0;
+    float print_lit = 1.0;
+    if (dune.detail.x > 0.5) {
+        vec2 duv = (in_world.xz - dune.detail_rect.xy) / dune.detail_rect.zw;
+        if (all(greaterThanEqual(duv, vec2(0.0))) && all(lessThanEqual(duv, vec2(1.0)))) {
+            vec4 d = texture(sampler2D(detail_map, repeat_sampler), duv);
+            // 128 is flat: (b - 128) / 127 of the slope range.
+            prints = (d.xy * 255.0 - 128.0) / 127.0 * dune.detail.y;
+            trodden = d.z;
+            print_lit = d.w;
+        }
+    }
+    r = normalize(vec3(r.xy * dune.tile.y * (1.0 - trodden), max(r.z, 1e-3)));
     // Back from tile to world orientation, then into the dune frame (tilted normal).
     vec2 rxy = vec2(c.x * r.x - c.y * r.y, c.y * r.x + c.x * r.y);
     vec3 n = normalize(t * rxy.x + b * rxy.y + nd * r.z);
+    // The prints' slopes in world x, z, tilted into the dune's frame like the ripples.
+    n = normalize(n - t * prints.x - b * prints.y);
 
     vec3 l = normalize(frame.sun_dir.xyz);
     float lit = 1.0;
@@ -154,6 +175,7 @@ void main() {
         lit *= smoothstep(horizon - soft, horizon + soft, elevation);
     }
 
+    lit *= print_lit;
     float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z).r;
     vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain);
     // Sky light: the hemisphere's zenith and ground colours (per frame, not per pixel).

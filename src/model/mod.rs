@@ -6,6 +6,7 @@ pub mod cave;
 pub mod dune_mesh;
 pub mod dune_shadow;
 pub mod dust;
+pub mod footprints;
 pub mod layers;
 pub mod mesh;
 pub mod noise;

@@ -36,8 +36,12 @@ pub struct DunePush {
     pub air_extinction: Vec4,
     /// rgb Rayleigh scattering per metre, w aerosol scattering per metre.
     pub air_scattering: Vec4,
+    /// The footprints' detail field: world x, z of its corner and its size (m).
+    pub detail_rect: Vec4,
+    /// x footprints on (1), y the slope range of the detail texture's encoding.
+    pub detail: Vec4,
 }
-// SAFETY: repr(C), six Vec4.
+// SAFETY: repr(C), eight Vec4 (128 bytes, the guaranteed push-constant size).
 unsafe impl Pod for DunePush {}
 
 const FRAME: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
@@ -48,6 +52,7 @@ const SHADOW: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKind::S
 const GRAIN: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::SampledImage);
 const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::Sampler);
 const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::SampledImage);
+const DETAIL: DescriptorBinding = DescriptorBinding::new(0, 8, DescriptorKind::SampledImage);
 
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_VERT,
@@ -58,7 +63,7 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_FRAG,
     bindings: &[
-        FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT, HEIGHTS,
+        FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT, HEIGHTS, DETAIL,
     ],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
@@ -72,6 +77,16 @@ pub struct DuneTextures {
     pub grain: Image,
     /// One period of dune heights in cell units (the per-pixel shadow march reads it).
     pub heights: Image,
+    /// The footprints' detail texture (`model::footprints::detail_texture`; 1x1 flat
+    /// when there are none).
+    pub detail: Image,
+}
+
+/// The footprints' detail texture: RGBA8 texels, width, height.
+pub struct DetailTexels<'a> {
+    pub rgba: &'a [u8],
+    pub width: u32,
+    pub height: u32,
 }
 
 impl DuneTextures {
@@ -82,6 +97,7 @@ impl DuneTextures {
         shadow: &DuneShadowPass,
         grain_rgba: &[u8],
         grain_size: u32,
+        detail: Option<DetailTexels<'_>>,
     ) -> Result<Self> {
         let float4 = |w, h| {
             ImageDesc::new_2d(
@@ -174,6 +190,15 @@ impl DuneTextures {
                 &shadow.heights,
                 &[0],
             )?,
+            detail: match detail {
+                Some(d) => {
+                    Image::upload_rgba8(ctx, "footprint detail", d.width, d.height, d.rgba, true)?
+                }
+                // Flat, untrodden, lit.
+                None => {
+                    Image::upload_rgba8(ctx, "no footprints", 1, 1, &[128, 128, 0, 255], false)?
+                }
+            },
         })
     }
 }
@@ -265,6 +290,7 @@ impl DuneSurfacePass {
         set.write_image(GRAIN.binding, textures.grain.view(), ro)?;
         set.write_sampler(REPEAT.binding, &repeat)?;
         set.write_image(HEIGHTS.binding, textures.heights.view(), ro)?;
+        set.write_image(DETAIL.binding, textures.detail.view(), ro)?;
         Ok(Self {
             set,
             _sampler: repeat,

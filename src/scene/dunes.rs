@@ -14,6 +14,7 @@ use super::params::{SceneParams, Way, on_off};
 use crate::error::{Error, Result};
 use crate::model::atmosphere::Atmosphere;
 use crate::model::dust::DustParams;
+use crate::model::footprints::{Walk, fig18_walk};
 use crate::model::sand::{Saltation, SandParams};
 pub use frame::{
     DunesFrame, DunesRender, Terrain, render, render_times, simulate, simulate_frames,
@@ -157,6 +158,9 @@ pub struct DunesScene {
     /// Dune shadows marched per pixel instead of read from the precomputed map (for
     /// the comparison the issue asks for; the map is faster, see `render`).
     pub dune_shadows_per_pixel: bool,
+    /// A walk whose footprints (Sumner et al. 1998) mark the sand: its path, world
+    /// (x, z) metres.
+    pub footprints: Option<Vec<[f32; 2]>>,
     /// Sand dust blobs, and the time step they are shown at.
     pub dust: Option<DustParams>,
     pub dust_step: u32,
@@ -193,6 +197,7 @@ impl Default for DunesScene {
             shadows: Shadows::DuneAndRipple,
             ripples: true,
             dune_shadows_per_pixel: false,
+            footprints: None,
             dust: None,
             dust_step: 40,
         }
@@ -214,7 +219,7 @@ pub const PRESETS: &[(&str, &str)] = &[
     ("fig17", "dune shadows and ripple shadows"),
     (
         "fig18",
-        "dune and ripple shadows with sand dust (no footprints)",
+        "dune and ripple shadows with sand dust and footprints",
     ),
 ];
 
@@ -261,6 +266,7 @@ pub fn preset(name: &str) -> Result<DunesScene> {
         "fig18" => DunesScene {
             shadows: Shadows::DuneAndRipple,
             dust: Some(DustParams::default()),
+            footprints: Some(fig18_walk(base.field_size())),
             ..base
         },
         other => return Err(Error::unknown_preset(other, PRESETS)),
@@ -275,7 +281,7 @@ pub fn preset(name: &str) -> Result<DunesScene> {
 pub struct Params {
     /// A reproduction of one of the paper's figures: fig12 (no ripples), fig13
     /// (ripples), fig14/fig15 (low sun without/with dune shadows), fig16/fig17 (dune
-    /// shadows without/with ripple shadows), fig18 (with sand dust; no footprints).
+    /// shadows without/with ripple shadows), fig18 (with sand dust and footprints).
     /// Default: none (fig17's shadows with the sun at 30 degrees).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
@@ -369,6 +375,13 @@ pub struct Params {
     /// adds them, `--dust off` removes a preset's (default off; fig18 on).
     #[arg(long, value_name = "on|off", num_args = 0..=1, default_missing_value = "on", value_parser = on_off)]
     pub dust: Option<bool>,
+    /// Footprints of a walk (Sumner, O'Brien & Hodgins 1998) pressed into the sand
+    /// along a path of world (x, z) metres, "x,z;x,z;..." (at least two points), or
+    /// "off" (default off; fig18 a walk across the field); at most 100 m a side and
+    /// 1000 m long. With footprints the default camera stands behind the first print,
+    /// looking along the walk.
+    #[arg(long, value_name = "PATH|off")]
+    pub footprints: Option<Walk>,
     /// Time step at which the dust is shown, 0..=100000 (default 40).
     #[arg(long, value_name = "N")]
     pub dust_step: Option<u32>,
@@ -472,6 +485,9 @@ impl SceneParams for Params {
             s.dust = dust.then(DustParams::default);
         }
         way.field(&mut self.dust_step, &mut s.dust_step);
+        let mut walk = Walk(s.footprints.clone());
+        way.field(&mut self.footprints, &mut walk);
+        s.footprints = walk.0;
         Ok(())
     }
 
@@ -543,6 +559,10 @@ impl DunesScene {
             "--wind-direction",
             "finite degrees",
         )?;
+        if let Some(path) = &self.footprints {
+            crate::model::footprints::check_walk(path)
+                .map_err(|m| Error::invalid("--footprints", m))?;
+        }
         self.ripple.validate()?;
         self.dune.validate()
     }
@@ -571,10 +591,29 @@ impl DunesScene {
     }
 }
 
-/// The default camera: low over one edge of the field, looking across it.
+/// The default camera: low over one edge of the field, looking across it; with
+/// footprints, a walker's-eye view from behind the walk's first print along it.
 pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
     let s = scene.field_size();
     let top = terrain.dune_heights.iter().copied().fold(0.0, f32::max);
+    if let Some([a, b, ..]) = scene.footprints.as_deref() {
+        let grid = crate::model::dune_shadow::DuneGrid {
+            n: scene.dune_size,
+            heights: &terrain.dune_heights,
+        };
+        let ground = |x: f32, z: f32| grid.sample(x / scene.cell, z / scene.cell);
+        let d = glam::Vec2::new(b[0] - a[0], b[1] - a[1]).normalize_or(glam::Vec2::X);
+        let (ex, ez) = (a[0] - 5.0 * d.x, a[1] - 5.0 * d.y);
+        let (tx, tz) = (a[0] + 9.0 * d.x, a[1] + 9.0 * d.y);
+        return Camera {
+            eye: Vec3::new(ex, ground(ex, ez) + 2.2, ez),
+            target: Vec3::new(tx, ground(tx, tz), tz),
+            up: Vec3::Y,
+            fov_y_degrees: 50.0,
+            near: 0.1,
+            far: 4.0 * s,
+        };
+    }
     Camera {
         eye: Vec3::new(0.5 * s, top + 0.05 * s, 1.0 * s),
         target: Vec3::new(0.5 * s, 0.3 * top, 0.3 * s),

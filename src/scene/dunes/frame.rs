@@ -16,6 +16,7 @@ use crate::model::atmosphere::Atmosphere;
 use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, visible_quads};
 use crate::model::dune_shadow::DuneGrid;
 use crate::model::dust::{DustCloud, DustGround, DustParams};
+use crate::model::footprints::{self, DetailField, FootprintParams};
 use crate::model::mesh::Mesh;
 use crate::model::sand::{Heightfield, SandSim};
 use crate::model::sand_grain::grain_texture;
@@ -23,7 +24,9 @@ use crate::render::atmosphere::{
     AtmosphereSkyPass, AtmosphereSkyPush, SKY_VIEW_HEIGHT, SKY_VIEW_WIDTH, SkyViewPass,
 };
 use crate::render::dune_shadow::DuneShadowPass;
-use crate::render::dune_surface::{DuneGeometry, DunePush, DuneSurfacePass, DuneTextures};
+use crate::render::dune_surface::{
+    DetailTexels, DuneGeometry, DunePush, DuneSurfacePass, DuneTextures,
+};
 use crate::render::dust::{DustLight, DustPass};
 use crate::render::ripple_maps::RippleMaps;
 use crate::scene::Size;
@@ -128,6 +131,8 @@ pub struct DunesFrame {
     dust_cloud: Option<(DustCloud, DustCloud)>,
     /// One period of dune heights (metres), which the dust hugs.
     dune_heights: Vec<f32>,
+    /// The walk's footprints, if any: their detail field over the dunes.
+    prints: Option<DetailField>,
     geometry: DuneGeometry,
     /// Three periods each way: the field reaches toward the horizon without a seam.
     mesh: Mesh,
@@ -175,7 +180,18 @@ impl DunesFrame {
         let sun = scene.sun_direction();
         precompute.extend(shadow_map(ctx, &shadow, sun)?);
         let grain = grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize);
-        let textures = DuneTextures::new(ctx, &maps, &shadow, &grain, GRAIN_SIZE)?;
+        let prints = scene
+            .footprints
+            .as_ref()
+            .map(|path| footprints::walk(&FootprintParams::walk(path.clone())));
+        let textures = DuneTextures::new(
+            ctx,
+            &maps,
+            &shadow,
+            &grain,
+            GRAIN_SIZE,
+            detail_texels(prints.as_ref(), sun).as_ref().map(Into::into),
+        )?;
         let surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures)?;
         // The dust: released whether or not it is shown (the viewer's `u` shows it).
         let cloud = scene.dust.as_ref().map(|params| {
@@ -205,6 +221,7 @@ impl DunesFrame {
             dust: DustPass::new(ctx, ctx.frame_format(), blobs, &shadow.heights, n as u32)?,
             dust_blobs: blobs.len(),
             dust_cloud: cloud,
+            prints,
             dune_heights: terrain.dune_heights.clone(),
             sky: AtmosphereSkyPass::new(ctx, ctx.frame_format(), &sky_view)?,
             sky_view,
@@ -299,8 +316,16 @@ impl Scene for DunesFrame {
         let sun = scene.sun_direction();
         if (sun - self.sun).length() > 1e-6 {
             self.precompute = shadow_map(ctx, &self.shadow, sun)?;
-            let textures =
-                DuneTextures::new(ctx, &self.maps, &self.shadow, &self.grain, GRAIN_SIZE)?;
+            let textures = DuneTextures::new(
+                ctx,
+                &self.maps,
+                &self.shadow,
+                &self.grain,
+                GRAIN_SIZE,
+                detail_texels(self.prints.as_ref(), sun)
+                    .as_ref()
+                    .map(Into::into),
+            )?;
             self.surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures)?;
             self._textures = textures;
             self.sun = sun;
@@ -362,6 +387,20 @@ impl Scene for DunesFrame {
                 .atmosphere
                 .rayleigh
                 .extend(self.atmosphere.mie_scattering),
+            detail_rect: self.prints.as_ref().map_or(glam::Vec4::ZERO, |d| {
+                glam::Vec4::new(
+                    d.origin[0],
+                    d.origin[1],
+                    d.width as f32 * d.cell,
+                    d.height as f32 * d.cell,
+                )
+            }),
+            detail: glam::Vec4::new(
+                flag(self.prints.is_some()),
+                footprints::SLOPE_RANGE,
+                0.0,
+                0.0,
+            ),
         };
         let sky = AtmosphereSkyPush {
             inverse_view_proj: frame.view_proj.inverse(),
@@ -502,6 +541,31 @@ const DUST_ALBEDO: Vec3 = Vec3::new(0.97, 0.93, 0.85);
 const DUST_PHASE_G: f32 = 0.7;
 /// Opacity at a blob's centre.
 const DUST_OPACITY: f32 = 0.4;
+
+/// The footprints' detail texture for `sun`.
+struct OwnedDetail {
+    rgba: Vec<u8>,
+    width: u32,
+    height: u32,
+}
+
+impl<'a> From<&'a OwnedDetail> for DetailTexels<'a> {
+    fn from(d: &'a OwnedDetail) -> Self {
+        DetailTexels {
+            rgba: &d.rgba,
+            width: d.width,
+            height: d.height,
+        }
+    }
+}
+
+fn detail_texels(prints: Option<&DetailField>, sun: Vec3) -> Option<OwnedDetail> {
+    prints.map(|d| OwnedDetail {
+        rgba: footprints::detail_texture(d, sun.to_array()),
+        width: d.width as u32,
+        height: d.height as u32,
+    })
+}
 
 /// The dune surface's height (metres) at world (x, z), the field periodic with `n`
 /// vertices of `cell` metres a side.
@@ -705,17 +769,18 @@ impl SceneKind for Kind {
         PRESETS
     }
 
-    /// Four of the seven dune figures keep the gallery quick: each simulates anew.
+    /// Five of the seven dune figures keep the gallery quick: each simulates anew.
     fn gallery(&self) -> Vec<GalleryEntry> {
         PRESETS
             .iter()
-            .filter(|(name, _)| matches!(*name, "fig12" | "fig13" | "fig15" | "fig17"))
+            .filter(|(name, _)| matches!(*name, "fig12" | "fig13" | "fig15" | "fig17" | "fig18"))
             .map(|&(name, description)| GalleryEntry {
                 name: match name {
                     "fig12" => "dunes-fig12",
                     "fig13" => "dunes-fig13",
                     "fig15" => "dunes-fig15",
-                    _ => "dunes-fig17",
+                    "fig17" => "dunes-fig17",
+                    _ => "dunes-fig18",
                 },
                 description,
                 render: Box::new(move |ctx, size, seed| {
