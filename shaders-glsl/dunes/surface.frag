@@ -26,6 +26,11 @@ layout(set = 0, binding = 5) uniform texture2D sand_grain;
 layout(set = 0, binding = 6) uniform sampler repeat_sampler;
 layout(set = 0, binding = 7) uniform texture2D dune_heights;    // one period, cell units
 layout(set = 0, binding = 8) uniform texture2D detail_map;      // footprints: slopes, trodden, lit
+// The paper's LOD: one ripple level per quad of the 3x3-tiled field (row-major from
+// its corner at -period, -period), from the quad's projected area.
+layout(set = 0, binding = 9, std430) readonly buffer Levels {
+    float level[];
+} quads;
 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
@@ -36,7 +41,8 @@ layout(push_constant) uniform Dune {
     vec4 air_extinction;  // rgb per metre at the ground, w aerosol g
     vec4 air_scattering;  // rgb Rayleigh per metre, w aerosol
     vec4 detail_rect;     // footprints' detail field: world x, z of its corner, its size
-    vec4 detail;          // x footprints on, y slope range of the encoding
+    vec4 detail;          // x footprints on, y slope range of the encoding, z LOD per
+                          // quad, w dune grid side
 } dune;
 
 layout(location = 0) in vec3 in_world;
@@ -105,12 +111,21 @@ void main() {
     vec2 c = dune.wind.xy;
     vec2 xz = in_world.xz / dune.tile.x;
     vec2 uv = vec2(c.x * xz.x + c.y * xz.y, -c.y * xz.x + c.x * xz.y);
-    // LOD: the sampler's derivative-based level selection over our own chain (the
-    // GPU equivalent of choosing a level from each quad's projected area); off: level 0.
+    // LOD: the sampler's derivative-based level selection over our own chain, or the
+    // paper's level per quad from its projected area (--lod-choice quad); off: level 0.
     // (Stored as 8-bit unorm, n * 0.5 + 0.5: see DuneTextures::new.)
-    vec3 r = (dune.wind.z > 0.5
-        ? texture(sampler2D(ripple_normals, repeat_sampler), uv).xyz
-        : textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0).xyz) * 2.0 - 1.0;
+    vec3 r;
+    if (dune.wind.z > 0.5 && dune.detail.z > 0.5) {
+        int side = 3 * int(dune.detail.w);
+        ivec2 q = clamp(ivec2(floor((in_world.xz + dune.tile.w) / (dune.tile.w / dune.detail.w))),
+                        ivec2(0), ivec2(side - 1));
+        r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, quads.level[q.y * side + q.x]).xyz;
+    } else if (dune.wind.z > 0.5) {
+        r = texture(sampler2D(ripple_normals, repeat_sampler), uv).xyz;
+    } else {
+        r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0).xyz;
+    }
+    r = r * 2.0 - 1.0;
     // Footprints (Sumner et al. 1998) in their detail field: the soles trod the ripples
     // flat, the prints' and rims' slopes tilt the normal, and their own shadow for
     // this sun darkens the hollows.

@@ -76,6 +76,51 @@ pub fn visible_quads(mesh: &Mesh, eye: Vec3, view_proj: Mat4, cull: bool) -> Vec
     out
 }
 
+/// The paper's level of detail (3.3.2), one level per quad of a `side` x `side` grid
+/// laid out as `dune_mesh_tiled` lays it (row-major, x fastest): the ripple map level
+/// whose texels best match the quad's projected area — `0.5 log2(texels / pixels)`,
+/// rounded, clamped to the four levels (0..=3) — where `texels_per_side` ripple
+/// texels span a quad's side and `size` is the image in pixels. Quads reaching
+/// behind the eye take level 0.
+pub fn quad_levels(
+    mesh: &Mesh,
+    side: usize,
+    view_proj: Mat4,
+    size: (u32, u32),
+    texels_per_side: f32,
+) -> Vec<f32> {
+    let (w, h) = (size.0 as f32, size.1 as f32);
+    let texels = texels_per_side * texels_per_side;
+    let mut out = Vec::with_capacity(side * side);
+    for j in 0..side {
+        for i in 0..side {
+            let corner = |a: usize, b: usize| {
+                let c = view_proj * mesh.positions[(j + b) * (side + 1) + i + a].extend(1.0);
+                (c.w > 1e-6).then(|| {
+                    glam::Vec2::new((c.x / c.w + 1.0) * 0.5 * w, (c.y / c.w + 1.0) * 0.5 * h)
+                })
+            };
+            let level = match (corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)) {
+                (Some(a), Some(b), Some(c), Some(d)) => {
+                    // The shoelace area of the projected quad.
+                    let area = 0.5
+                        * ((a.x * b.y - b.x * a.y)
+                            + (b.x * c.y - c.x * b.y)
+                            + (c.x * d.y - d.x * c.y)
+                            + (d.x * a.y - a.x * d.y))
+                            .abs();
+                    (0.5 * (texels / area.max(1e-6)).log2())
+                        .round()
+                        .clamp(0.0, 3.0)
+                }
+                _ => 0.0,
+            };
+            out.push(level);
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -83,6 +128,37 @@ mod tests {
     fn camera(eye: Vec3, target: Vec3) -> Mat4 {
         glam::camera::rh::proj::vulkan::perspective(1.0, 1.5, 0.1, 500.0)
             * glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y)
+    }
+
+    #[test]
+    fn quads_take_coarser_levels_the_smaller_they_look() {
+        // A flat 3x3-tiled field of 8 quads a period, seen low over one edge.
+        let n = 8;
+        let mesh = dune_mesh_tiled(n, 4.0, &vec![0.0; n * n], 3);
+        let side = 3 * n;
+        let vp = camera(Vec3::new(16.0, 3.0, 60.0), Vec3::new(16.0, 0.0, 0.0));
+        let levels = quad_levels(&mesh, side, vp, (720, 480), 64.0);
+        assert_eq!(levels.len(), side * side);
+        assert!(
+            levels
+                .iter()
+                .all(|&l| (0.0..=3.0).contains(&l) && l.fract() == 0.0)
+        );
+        // Along the view (z falling from the eye at 60), levels never get finer with
+        // distance, and they span the chain.
+        let column = |z: usize| levels[z * side + 10];
+        let near = column(side - 2);
+        let far = column(1);
+        assert!(near < far, "near {near}, far {far}");
+        for z in 1..side - 1 {
+            assert!(
+                column(z) >= column(z + 1),
+                "{z}: {} < {}",
+                column(z),
+                column(z + 1)
+            );
+        }
+        assert_eq!(far, 3.0);
     }
 
     #[test]

@@ -38,7 +38,8 @@ pub struct DunePush {
     pub air_scattering: Vec4,
     /// The footprints' detail field: world x, z of its corner and its size (m).
     pub detail_rect: Vec4,
-    /// x footprints on (1), y the slope range of the detail texture's encoding.
+    /// x footprints on (1), y the slope range of the detail texture's encoding, z LOD
+    /// chosen per quad (1), w the dune grid's side.
     pub detail: Vec4,
 }
 // SAFETY: repr(C), eight Vec4 (128 bytes, the guaranteed push-constant size).
@@ -53,6 +54,7 @@ const GRAIN: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::Sa
 const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::Sampler);
 const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::SampledImage);
 const DETAIL: DescriptorBinding = DescriptorBinding::new(0, 8, DescriptorKind::SampledImage);
+const LEVELS: DescriptorBinding = DescriptorBinding::new(0, 9, DescriptorKind::StorageBuffer);
 
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_VERT,
@@ -63,7 +65,7 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_FRAG,
     bindings: &[
-        FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT, HEIGHTS, DETAIL,
+        FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT, HEIGHTS, DETAIL, LEVELS,
     ],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
@@ -250,12 +252,21 @@ pub struct DuneSurfacePass {
     set: DescriptorSet,
     _sampler: Sampler,
     frame: Buffer,
+    /// The paper's per-quad ripple levels (`model::dune_mesh::quad_levels`), when LOD
+    /// is chosen per quad.
+    levels: Buffer,
     pipeline: Pipeline,
     layout: PipelineLayout,
 }
 
 impl DuneSurfacePass {
-    pub fn new(ctx: &Arc<Context>, target: TargetFormat, textures: &DuneTextures) -> Result<Self> {
+    /// For `quads` dune quads (the tiled field's).
+    pub fn new(
+        ctx: &Arc<Context>,
+        target: TargetFormat,
+        textures: &DuneTextures,
+        quads: usize,
+    ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "dune surface layout",
@@ -291,10 +302,20 @@ impl DuneSurfacePass {
         set.write_sampler(REPEAT.binding, &repeat)?;
         set.write_image(HEIGHTS.binding, textures.heights.view(), ro)?;
         set.write_image(DETAIL.binding, textures.detail.view(), ro)?;
+        let levels = Buffer::new(
+            ctx,
+            "dune quad levels",
+            BufferDesc::upload(
+                (quads.max(1) * 4) as u64,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+            ),
+        )?;
+        set.write_buffer(LEVELS.binding, &levels)?;
         Ok(Self {
             set,
             _sampler: repeat,
             frame,
+            levels,
             pipeline,
             layout,
         })
@@ -302,6 +323,11 @@ impl DuneSurfacePass {
 
     pub fn set_frame(&mut self, frame: &FrameUniforms) -> Result<()> {
         self.frame.write(0, std::slice::from_ref(frame))
+    }
+
+    /// The per-quad levels for the next frame (call between frames).
+    pub fn set_levels(&mut self, levels: &[f32]) -> Result<()> {
+        self.levels.write(0, levels)
     }
 
     /// Draws the visible dune quads inside an open rendering scope.

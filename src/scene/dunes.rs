@@ -72,6 +72,40 @@ impl std::fmt::Display for DuneShadowMethod {
     }
 }
 
+/// How the ripple map's level is chosen with LOD on (`--lod-choice`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LodChoice {
+    /// Per pixel, by the sampler from the texture coordinates' derivatives.
+    Pixel,
+    /// Per quad, from its projected area, as the paper does (3.3.2).
+    Quad,
+}
+
+impl std::str::FromStr for LodChoice {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "pixel" => Ok(Self::Pixel),
+            "quad" => Ok(Self::Quad),
+            other => Err(Error::invalid(
+                "--lod-choice",
+                format!("\"{other}\" is not pixel or quad"),
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for LodChoice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Pixel => "pixel",
+            Self::Quad => "quad",
+        })
+    }
+}
+
+crate::serde_as_text!(LodChoice);
+
 /// An angle in degrees, or off (`--repose`, `--shadow-zone`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Degrees(pub Option<f64>);
@@ -151,6 +185,9 @@ pub struct DunesScene {
     /// Exposure relative to the automatic one (which adapts to the sun and sky).
     pub exposure: f32,
     pub lod: bool,
+    /// With LOD: the level per quad from its projected area (the paper's) instead of
+    /// per pixel from the sampler's derivatives.
+    pub lod_per_quad: bool,
     pub cull: bool,
     pub shadows: Shadows,
     /// Bump mapping of ripples at all (the paper's Fig. 12 has none).
@@ -193,6 +230,7 @@ impl Default for DunesScene {
             multiple_scattering: true,
             exposure: 1.0,
             lod: true,
+            lod_per_quad: false,
             cull: true,
             shadows: Shadows::DuneAndRipple,
             ripples: true,
@@ -360,6 +398,11 @@ pub struct Params {
     /// (default on).
     #[arg(long, value_name = "on|off", value_parser = on_off)]
     pub lod: Option<bool>,
+    /// How LOD picks the ripple level: pixel (the sampler's per-pixel choice from the
+    /// texture coordinates' derivatives) or quad (the paper's: one of its four levels
+    /// per dune quad, from the quad's projected area) (default pixel).
+    #[arg(long, value_name = "pixel|quad")]
+    pub lod_choice: Option<LodChoice>,
     /// Back-face and frustum culling of dune quads: on or off (default on).
     #[arg(long, value_name = "on|off", value_parser = on_off)]
     pub cull: Option<bool>,
@@ -470,6 +513,13 @@ impl SceneParams for Params {
         way.field(&mut self.multiple_scattering, &mut s.multiple_scattering);
         way.field(&mut self.exposure, &mut s.exposure);
         way.field(&mut self.lod, &mut s.lod);
+        let mut choice = if s.lod_per_quad {
+            LodChoice::Quad
+        } else {
+            LodChoice::Pixel
+        };
+        way.field(&mut self.lod_choice, &mut choice);
+        s.lod_per_quad = choice == LodChoice::Quad;
         way.field(&mut self.cull, &mut s.cull);
         way.field(&mut self.shadows, &mut s.shadows);
         let mut method = if s.dune_shadows_per_pixel {

@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::model::atmosphere::Atmosphere;
-use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, visible_quads};
+use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, quad_levels, visible_quads};
 use crate::model::dune_shadow::DuneGrid;
 use crate::model::dust::{DustCloud, DustGround, DustParams};
 use crate::model::footprints::{self, DetailField, FootprintParams};
@@ -192,7 +192,7 @@ impl DunesFrame {
             GRAIN_SIZE,
             detail_texels(prints.as_ref(), sun).as_ref().map(Into::into),
         )?;
-        let surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures)?;
+        let surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures, 9 * n * n)?;
         // The dust: released whether or not it is shown (the viewer's `u` shows it).
         let cloud = scene.dust.as_ref().map(|params| {
             let height = dune_height(n, scene.cell, &terrain.dune_heights);
@@ -326,7 +326,12 @@ impl Scene for DunesFrame {
                     .as_ref()
                     .map(Into::into),
             )?;
-            self.surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures)?;
+            self.surface = DuneSurfacePass::new(
+                ctx,
+                ctx.frame_format(),
+                &textures,
+                9 * self.scene.dune_size * self.scene.dune_size,
+            )?;
             self._textures = textures;
             self.sun = sun;
         }
@@ -398,8 +403,8 @@ impl Scene for DunesFrame {
             detail: glam::Vec4::new(
                 flag(self.prints.is_some()),
                 footprints::SLOPE_RANGE,
-                0.0,
-                0.0,
+                flag(scene.lod && scene.lod_per_quad),
+                scene.dune_size as f32,
             ),
         };
         let sky = AtmosphereSkyPush {
@@ -441,6 +446,18 @@ impl Scene for DunesFrame {
             .view
             .as_ref()
             .ok_or_else(|| Error::internal("dunes", "set_frame must come before record"))?;
+        if self.scene.lod && self.scene.lod_per_quad {
+            // Texels of the ripple tile across one dune quad (the paper: 64).
+            let texels = self.scene.cell / self.scene.ripple_tile * self.scene.ripple_size as f32;
+            let levels = quad_levels(
+                &self.mesh,
+                3 * self.scene.dune_size,
+                v.view_proj,
+                (target.width(), target.height()),
+                texels,
+            );
+            self.surface.set_levels(&levels)?;
+        }
         let span = timer.begin(cmd, "dunes")?;
         target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
         // Dunes first, then the sky where no dune covers (the depth test keeps it

@@ -21,8 +21,9 @@ pub struct BenchArgs {
     #[arg(long, value_name = "N", default_value_t = 3)]
     warmup: u32,
     /// Only these variants, comma-separated (default all): grow: xfb-restream,
-    /// xfb-append, compute-restream, cpu-upload; dunes: cull-off-lod-off, cull-on-lod-off, cull-on-lod-on,
-    /// dune-shadows, dune-ripple-shadows, all-with-dust; cave: depth-5 .. depth-9.
+    /// xfb-append, compute-restream, cpu-upload; dunes: cull-off-lod-off,
+    /// cull-on-lod-off, cull-on-lod-on, cull-on-lod-quad, dune-shadows,
+    /// dune-ripple-shadows, all-with-dust; cave: depth-5 .. depth-9.
     #[arg(long, value_name = "V,V,...", value_delimiter = ',')]
     variants: Vec<String>,
     /// The report as JSON (for --compare).
