@@ -4,7 +4,8 @@
 // air between the eye and the sand, from the sky's own atmosphere
 // (src/model/atmosphere.rs) taken as it is at the ground: over a field's few hundred
 // metres of a 1.2 km aerosol and 8 km air scale height, the closed form of a
-// homogeneous medium, L T + S / sigma_t (1 - T) — is computed here per vertex: it
+// homogeneous medium, L T + S / sigma_t (1 - T), of the sun and of the sky's and sand's
+// light — is computed here per vertex: it
 // changes little across a 4 m quad, and per pixel it cost 10 % of the frame on
 // lavapipe.
 #extension GL_GOOGLE_include_directive : require
@@ -51,7 +52,13 @@ void main() {
     vec3 scatter = dune.air_scattering.rgb * rayleigh_phase(nu)
         + vec3(dune.air_scattering.w * mie_phase(nu, dune.air_extinction.w));
     out_transmit = exp(-ext * dist);
-    // sun_color is the sunlight over pi: back to irradiance.
-    out_inscatter = PI * frame.sun_color.rgb * scatter / max(ext, vec3(1e-9)) * (1.0 - out_transmit);
+    vec3 haze = (1.0 - out_transmit) / max(ext, vec3(1e-9));
+    // The sun's light scattered toward the eye (sun_color is the sunlight over pi:
+    // back to irradiance), and the sky's and the sand's light scattered all round (their
+    // mean radiance, scattered isotropically: the air's own glow, which in thick haze is
+    // most of what is seen; the sky-view table has it through multiple scattering).
+    vec3 total = dune.air_scattering.rgb + vec3(dune.air_scattering.w);
+    vec3 ambient = 0.5 * (frame.sky_color.rgb + frame.ground_color.rgb);
+    out_inscatter = (PI * frame.sun_color.rgb * scatter + total * ambient) * haze;
     gl_Position = frame.view_proj * vec4(in_position, 1.0);
 }
