@@ -493,5 +493,86 @@ fn saltate_row(src: &[f64], out: &mut [f64], shadow: &mut [f64], law: &RowLaw) {
     }
 }
 
+/// How much a dune field reads as ridges across the wind (+x): crest cells are local
+/// maxima along the wind with a slip face behind them (the surface `vertical_scale * H`
+/// falling at least 15 degrees over the next two cells); crest lines are their
+/// 8-connected groups (periodic). `crest_length` is the lines' mean extent across the
+/// wind, weighted by length (cells); `spacing` the mean distance between crests along
+/// the wind (cells); their ratio is about 1 for isolated mounds and grows with ridges
+/// (straight transverse dunes across a field: its side over the dune spacing).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CrestLines {
+    pub crest_length: f64,
+    pub spacing: f64,
+    pub lines: usize,
+}
+
+impl CrestLines {
+    pub fn ratio(&self) -> f64 {
+        self.crest_length / self.spacing.max(1e-9)
+    }
+}
+
+pub fn crest_lines(field: &Heightfield, vertical_scale: f64) -> CrestLines {
+    let (w, h) = (field.width, field.height);
+    let drop = 2.0 * 15f64.to_radians().tan() / vertical_scale.max(1e-9);
+    let crest: Vec<bool> = (0..w * h)
+        .map(|k| {
+            let (x, y) = ((k % w) as isize, (k / w) as isize);
+            let c = field.at(x, y);
+            c >= field.at(x - 1, y) && c > field.at(x + 1, y) && c - field.at(x + 2, y) > drop
+        })
+        .collect();
+    let mut seen = vec![false; w * h];
+    let (mut weighted, mut total, mut lines) = (0.0, 0.0, 0usize);
+    for start in 0..w * h {
+        if !crest[start] || seen[start] {
+            continue;
+        }
+        // One crest line: flood fill, noting the rows (across the wind) it covers.
+        let mut rows = vec![false; h];
+        let mut stack = vec![start];
+        seen[start] = true;
+        while let Some(k) = stack.pop() {
+            let (x, y) = ((k % w) as isize, (k / w) as isize);
+            rows[y as usize] = true;
+            for (dx, dy) in [
+                (-1, -1),
+                (0, -1),
+                (1, -1),
+                (-1, 0),
+                (1, 0),
+                (-1, 1),
+                (0, 1),
+                (1, 1),
+            ] {
+                let (nx, ny) = (
+                    (x + dx).rem_euclid(w as isize),
+                    (y + dy).rem_euclid(h as isize),
+                );
+                let n = ny as usize * w + nx as usize;
+                if crest[n] && !seen[n] {
+                    seen[n] = true;
+                    stack.push(n);
+                }
+            }
+        }
+        let length = rows.iter().filter(|&&r| r).count() as f64;
+        weighted += length * length;
+        total += length;
+        lines += 1;
+    }
+    let crests_per_row = crest.iter().filter(|&&c| c).count() as f64 / h as f64;
+    CrestLines {
+        crest_length: if total > 0.0 { weighted / total } else { 0.0 },
+        spacing: if crests_per_row > 0.0 {
+            w as f64 / crests_per_row
+        } else {
+            w as f64
+        },
+        lines,
+    }
+}
+
 #[cfg(test)]
 mod tests;

@@ -309,3 +309,61 @@ fn the_default_ripples_are_coherent_crests_across_the_wind() {
     assert!(default >= 0.4, "default ripples: {default:.3}");
     assert!(maze < 0.4, "the measure tells a maze apart: {maze:.3}");
 }
+
+#[test]
+fn crest_lines_tell_ridges_from_mounds_and_measure_the_dunes() {
+    let n = 64;
+    // Transverse ridges 16 cells apart: a gentle windward ramp and a slip face.
+    let ridges = Heightfield {
+        width: n,
+        height: n,
+        data: (0..n * n)
+            .map(|k| {
+                let x = (k % n) % 16;
+                if x <= 12 {
+                    x as f64 * 0.25
+                } else {
+                    3.0 - (x - 12) as f64
+                }
+            })
+            .collect(),
+    };
+    let r = crest_lines(&ridges, 1.0);
+    assert_eq!(r.lines, 4);
+    assert!(
+        (r.crest_length - 64.0).abs() < 1e-9 && (r.spacing - 16.0).abs() < 1e-9,
+        "{r:?}"
+    );
+    assert!((r.ratio() - 4.0).abs() < 1e-9);
+    // Round mounds 16 cells apart: crests a few cells long.
+    let mounds = Heightfield {
+        width: n,
+        height: n,
+        data: (0..n * n)
+            .map(|k| {
+                let (x, y) = ((k % n) % 16, (k / n) % 16);
+                let d = (((x as f64 - 8.0).powi(2) + (y as f64 - 8.0).powi(2)).sqrt()) * 0.6;
+                (4.0 - d).max(0.0)
+            })
+            .collect(),
+    };
+    let m = crest_lines(&mounds, 1.0);
+    assert!(m.ratio() < 1.0, "{m:?}");
+    // sediment's dunes today (seed 1, 64x64, 1500 steps): printed, not a target.
+    let params = SandParams::paper_dunes();
+    let vs = params.vertical_scale;
+    let dunes = run(
+        Heightfield::random(64, 64, 8.0, 1.0, 1 ^ 0xD0E5),
+        params,
+        1500,
+    );
+    let d = crest_lines(&dunes, vs);
+    eprintln!(
+        "dunes: {} crest lines, mean length {:.1} cells, spacing {:.1}, ratio {:.2}",
+        d.lines,
+        d.crest_length,
+        d.spacing,
+        d.ratio()
+    );
+    assert!(d.lines > 0);
+}
