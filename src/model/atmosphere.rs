@@ -7,7 +7,9 @@
 //! (same sample counts, same order of operations); `tests/atmosphere.rs` compares them.
 //!
 //! Units: metres; radiance relative to a sun of irradiance `sun_irradiance` (the
-//! renderer's scale). Ozone absorption and multiple scattering are not modelled.
+//! renderer's scale). Multiple scattering, beyond the paper, is Hillaire's (2020)
+//! approximation ([`Atmosphere::multiple_scattering`]); ozone absorption is not
+//! modelled (it would deepen the twilight sky's blue).
 
 use glam::Vec3;
 
