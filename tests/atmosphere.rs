@@ -54,21 +54,8 @@ fn the_gpu_sky_view_table_matches_the_cpu_reference() {
     });
 }
 
-fn hue(c: [f32; 3]) -> f32 {
-    let max = c[0].max(c[1]).max(c[2]);
-    let min = c[0].min(c[1]).min(c[2]);
-    let d = max - min;
-    if d <= 0.0 {
-        return 0.0;
-    }
-    let h = if max == c[0] {
-        ((c[1] - c[2]) / d).rem_euclid(6.0)
-    } else if max == c[1] {
-        (c[2] - c[0]) / d + 2.0
-    } else {
-        (c[0] - c[1]) / d + 4.0
-    };
-    60.0 * h
+fn hue(c: [f32; 3]) -> f64 {
+    common::picture::hue_saturation_of(c).0
 }
 
 /// Mean colour (0..1, as displayed) of the 5x5 pixels around where `dir` from the

@@ -85,8 +85,8 @@ pub struct DuneTextures {
 }
 
 /// The footprints' detail texture: RGBA8 texels, width, height.
-pub struct DetailTexels<'a> {
-    pub rgba: &'a [u8],
+pub struct DetailTexels {
+    pub rgba: Vec<u8>,
     pub width: u32,
     pub height: u32,
 }
@@ -99,7 +99,7 @@ impl DuneTextures {
         shadow: &DuneShadowPass,
         grain_rgba: &[u8],
         grain_size: u32,
-        detail: Option<DetailTexels<'_>>,
+        detail: Option<&DetailTexels>,
     ) -> Result<Self> {
         let float4 = |w, h| {
             ImageDesc::new_2d(
@@ -194,7 +194,7 @@ impl DuneTextures {
             )?,
             detail: match detail {
                 Some(d) => {
-                    Image::upload_rgba8(ctx, "footprint detail", d.width, d.height, d.rgba, true)?
+                    Image::upload_rgba8(ctx, "footprint detail", d.width, d.height, &d.rgba, true)?
                 }
                 // Flat, untrodden, lit.
                 None => {

@@ -190,7 +190,7 @@ impl DunesFrame {
             &shadow,
             &grain,
             GRAIN_SIZE,
-            detail_texels(prints.as_ref(), sun).as_ref().map(Into::into),
+            detail_texels(prints.as_ref(), sun).as_ref(),
         )?;
         let surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures, 9 * n * n)?;
         // The dust: released whether or not it is shown (the viewer's `u` shows it).
@@ -322,9 +322,7 @@ impl Scene for DunesFrame {
                 &self.shadow,
                 &self.grain,
                 GRAIN_SIZE,
-                detail_texels(self.prints.as_ref(), sun)
-                    .as_ref()
-                    .map(Into::into),
+                detail_texels(self.prints.as_ref(), sun).as_ref(),
             )?;
             self.surface = DuneSurfacePass::new(
                 ctx,
@@ -560,24 +558,8 @@ const DUST_PHASE_G: f32 = 0.7;
 const DUST_OPACITY: f32 = 0.4;
 
 /// The footprints' detail texture for `sun`.
-struct OwnedDetail {
-    rgba: Vec<u8>,
-    width: u32,
-    height: u32,
-}
-
-impl<'a> From<&'a OwnedDetail> for DetailTexels<'a> {
-    fn from(d: &'a OwnedDetail) -> Self {
-        DetailTexels {
-            rgba: &d.rgba,
-            width: d.width,
-            height: d.height,
-        }
-    }
-}
-
-fn detail_texels(prints: Option<&DetailField>, sun: Vec3) -> Option<OwnedDetail> {
-    prints.map(|d| OwnedDetail {
+fn detail_texels(prints: Option<&DetailField>, sun: Vec3) -> Option<DetailTexels> {
+    prints.map(|d| DetailTexels {
         rgba: footprints::detail_texture(d, sun.to_array()),
         width: d.width as u32,
         height: d.height as u32,
