@@ -29,6 +29,16 @@ pub fn write_atomically(
     result
 }
 
+/// Writes `bytes` to `path` atomically.
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomically(path, |w| {
+        w.write_all(bytes).map_err(|source| Error::Write {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
 fn temporary_name(path: &Path) -> PathBuf {
     let name = path
         .file_name()

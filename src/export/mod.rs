@@ -1,10 +1,14 @@
 //! Output files. Everything is written to a temporary name beside the target and
 //! renamed into place, so a failed run never leaves a half-written file.
 
+pub mod asset;
 pub mod atomic;
 pub mod draw;
 pub mod gif;
+pub mod gltf;
+pub mod heightmap;
 pub mod mesh;
+pub mod obj;
 pub mod png;
 pub mod section;
 

@@ -4,6 +4,7 @@
 //! `frame`.
 
 pub mod bench;
+pub mod export;
 pub mod frame;
 
 use glam::Vec3;

@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 pub use crate::model::speleothem::plan::GrowthScene;
 use crate::model::speleothem::plan::{GrowthParams, ParamChange, StepMode};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
-pub use frame::{GrowOutputs, Grown, GrowthFrame, export_mesh, grow};
+pub use frame::{GrowOutputs, Grown, GrowthFrame, export_asset, export_parts, grow};
 
 /// Names of the Figure 9 presets, with what each shows.
 pub const PRESETS: &[(&str, &str)] = &[

@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 pub use crate::model::layers::cut_away::{CutAway, WEDGE, cut_away};
 use crate::model::layers::physical::{self, Conditions, TimelineRow};
 use crate::model::layers::{Base, Decay, Stalagmite, Supply};
-pub use frame::{CutAwayFrame, export, render};
+pub use frame::{CutAwayFrame, FRANKE_UNIT_M, export, metres_per_unit, render};
 
 /// Real units for Franke's model (the Dreybrodt/Kaufmann growth law).
 #[derive(Clone, Debug, PartialEq)]

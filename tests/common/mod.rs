@@ -8,6 +8,7 @@
 
 pub mod cli;
 pub mod display;
+pub mod glb;
 pub mod growth;
 pub mod picture;
 

@@ -12,9 +12,11 @@ use glam::{Mat4, Vec3, Vec4};
 use super::build::{CaveModel, build, shown_wall};
 use super::{CaveScene, PRESETS, Speleothems, default_camera, flythrough, preset};
 use crate::error::{Error, Result};
-use crate::export::mesh::TriangleSoup;
+use crate::export::asset::{Asset, Material, PartMesh, floor_centre};
 use crate::frame::{BenchScene, FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
+use crate::model::cave::placement::site_meshes;
+use crate::model::mesh::Mesh;
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::cave_wall::{CaveFrame as WallUniforms, CaveWallPass, Style};
 use crate::render::environment::EnvironmentMap;
@@ -376,22 +378,45 @@ pub fn render(
     })
 }
 
-/// The cave (and its speleothems) as one exportable mesh.
+/// The cave as a file's asset: the walls, and the stalactites, stalagmites and
+/// columns (Short-profile or grown), in metres with the origin at the centre of the
+/// cave's floor (x, z the walls' bounding-box centre, y their lowest point).
 pub fn export(
     scene: &CaveScene,
     model: &CaveModel,
     grown: Option<&(GrowthPlan, Vec<RingVertex>)>,
-) -> TriangleSoup {
+    title: &str,
+) -> Asset {
+    let mut asset = Asset::new(title);
     let wall = shown_wall(scene.smooth, model);
-    let mut soup = TriangleSoup::from_indexed(&wall, ROCK.to_array());
-    soup.append(TriangleSoup::from_indexed(
-        &model.short_mesh,
-        CALCITE.to_array(),
-    ));
-    if let Some((plan, vertices)) = grown {
-        soup.append(crate::scene::grow::export_mesh(plan, vertices));
+    asset.push(
+        "cave walls",
+        PartMesh::from_mesh(&wall),
+        Material::plain("rock", ROCK, 0.9),
+    );
+    if !model.short_mesh.indices.is_empty() {
+        // 0 stalactites, 1 stalagmites, 2 columns.
+        let mut parts: [Mesh; 3] = Default::default();
+        for site in &model.sites {
+            let [hanging, standing] = site_meshes(site, scene.unit_m);
+            let (a, b) = if site.column { (2, 2) } else { (0, 1) };
+            parts[a].append(&hanging);
+            parts[b].append(&standing);
+        }
+        for (mesh, name) in parts.iter().zip(["stalactites", "stalagmites", "columns"]) {
+            asset.push(
+                name,
+                PartMesh::from_mesh(mesh),
+                Material::plain("calcite", CALCITE, 0.35),
+            );
+        }
     }
-    soup
+    if let Some((plan, vertices)) = grown {
+        crate::scene::grow::export_parts(plan, vertices, &mut asset);
+    }
+    let floor = floor_centre(PartMesh::from_mesh(&wall).bounds());
+    asset.to_metres(1.0, floor);
+    asset
 }
 
 /// Frames of the cave fly-through GIF in the gallery.

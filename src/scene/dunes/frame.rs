@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::model::atmosphere::Atmosphere;
-use crate::model::dune_mesh::{dune_mesh, dune_mesh_tiled, quad_levels, visible_quads};
+use crate::model::dune_mesh::{dune_mesh_tiled, quad_levels, visible_quads};
 use crate::model::dune_shadow::DuneGrid;
 use crate::model::dust::{DustCloud, DustGround, DustParams};
 use crate::model::footprints::{self, DetailField, FootprintParams};
@@ -156,7 +156,14 @@ struct DunesView {
     dust: bool,
 }
 
-const GRAIN_SIZE: u32 = 128;
+/// The sand grain texture: its side in texels and the metres one tile covers.
+pub(super) const GRAIN_SIZE: u32 = 128;
+pub(super) const GRAIN_TILE_M: f32 = 0.35;
+
+/// The grain texture of a scene (RGBA8, grey).
+pub(super) fn sand_grain(scene: &DunesScene) -> Vec<u8> {
+    grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize)
+}
 const SHADOW_RES: u32 = 256;
 
 impl DunesFrame {
@@ -179,7 +186,7 @@ impl DunesFrame {
         let shadow = DuneShadowPass::new(ctx, n as u32, &heights_cells, SHADOW_RES)?;
         let sun = scene.sun_direction();
         precompute.extend(shadow_map(ctx, &shadow, sun)?);
-        let grain = grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize);
+        let grain = sand_grain(&scene);
         let prints = scene
             .footprints
             .as_ref()
@@ -366,7 +373,7 @@ impl Scene for DunesFrame {
                 } else {
                     0.0
                 },
-                0.35,
+                GRAIN_TILE_M,
                 scene.field_size(),
             ),
             wind: glam::Vec4::new(
@@ -697,7 +704,8 @@ pub struct DunesRender {
     pub precompute: Vec<Span>,
     pub visible_triangles: u32,
     pub total_triangles: u32,
-    /// One period of the dune field (for export).
+    /// One period of the dune field with its wrap edge, so copies tile seamlessly (for
+    /// export).
     pub mesh: Mesh,
 }
 
@@ -729,7 +737,7 @@ pub fn render(
         precompute: frame.precompute.clone(),
         visible_triangles,
         total_triangles,
-        mesh: dune_mesh(scene.dune_size, scene.cell, &terrain.dune_heights),
+        mesh: dune_mesh_tiled(scene.dune_size, scene.cell, &terrain.dune_heights, 1),
     })
 }
 

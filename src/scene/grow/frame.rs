@@ -18,12 +18,14 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::{GrowthScene, Lamp, Look, PRESETS, SpeleothemScene, default_camera, lamp_lighting};
 use crate::error::Result;
-use crate::export::mesh::TriangleSoup;
+use crate::export::asset::{Asset, Material, PartMesh};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::model::mesh::Mesh;
 use crate::model::noise::fbm;
-use crate::model::speleothem::plan::{GrowthParams, ParamChange};
+use crate::model::speleothem::plan::{
+    GrowthParams, Kind as SpeleothemKind, ParamChange, StopReason,
+};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::environment::EnvironmentMap;
@@ -736,9 +738,12 @@ pub fn grow(
     }
 }
 
-/// The grown mesh as an exportable triangle soup: positions, the shading normals and
-/// the mineral colours the surface shader uses, and the caps of open fronts.
-pub fn export_mesh(plan: &GrowthPlan, vertices: &[RingVertex]) -> TriangleSoup {
+/// The parts a grown scene exports: stalactites, stalagmites and columns (both halves
+/// of a site that joined), each welded from the transform-feedback triangles and the
+/// caps of open fronts, with the mineral colours the surface shader uses as COLOR_0.
+/// Positions stay in the plan's scene units; the caller places them
+/// ([`Asset::to_metres`]).
+pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asset) {
     let info = speleothem_info(plan, plan.passes);
     // surface.vert's colour: the mineral's share over white calcite rising from 35 % at
     // the base to all of it at the tip, times the intensity.
@@ -756,23 +761,68 @@ pub fn export_mesh(plan: &GrowthPlan, vertices: &[RingVertex]) -> TriangleSoup {
             Vec3::new(0.0, misc.x, 0.0),
         )
     };
-    let mut soup = TriangleSoup::default();
-    for v in vertices {
-        let (color, g) = color_of(v);
-        let normal = (v.normal() - g * v.extra[2]).normalize_or(g);
-        soup.positions.push(v.position().to_array());
-        soup.normals.push(normal.to_array());
-        soup.colors.push(color.to_array());
+    // 0 stalactites, 1 stalagmites, 2 columns.
+    let joined: std::collections::HashSet<u32> = plan
+        .speleothems
+        .iter()
+        .filter(|s| matches!(s.stop, Some((_, StopReason::Column))))
+        .map(|s| s.site)
+        .collect();
+    let part_of = |sp: usize| {
+        plan.speleothems.get(sp).map_or(0, |s| {
+            if joined.contains(&s.site) {
+                2
+            } else if s.kind == SpeleothemKind::Stalagmite {
+                1
+            } else {
+                0
+            }
+        })
+    };
+    let mut soups: [(Vec<Vec3>, Vec<Vec3>, Vec<Vec3>); 3] = Default::default();
+    for tri in vertices.chunks_exact(3) {
+        let soup = &mut soups[part_of(tri[0].speleothem())];
+        for v in tri {
+            let (color, g) = color_of(v);
+            soup.0.push(v.position());
+            soup.1.push((v.normal() - g * v.extra[2]).normalize_or(g));
+            soup.2.push(color);
+        }
     }
     for cap in crate::model::speleothem::caps(vertices, plan, plan.passes) {
         let (color, _) = color_of(&cap.from);
+        let soup = &mut soups[part_of(cap.from.speleothem())];
         for p in cap.corners {
-            soup.positions.push(p.to_array());
-            soup.normals.push(cap.normal.to_array());
-            soup.colors.push(color.to_array());
+            soup.0.push(p);
+            soup.1.push(cap.normal);
+            soup.2.push(color);
         }
     }
-    soup
+    for ((positions, normals, colors), name) in
+        soups.iter().zip(["stalactites", "stalagmites", "columns"])
+    {
+        asset.push(
+            name,
+            PartMesh::weld(positions, normals, Some(colors)),
+            // Wet calcite: a smooth dielectric; the colour is the vertices'.
+            Material::plain("calcite", Vec3::ONE, 0.35),
+        );
+    }
+}
+
+/// The grown speleothems as a file's asset: in metres (`metres_per_unit` per scene
+/// unit) with the chamber's floor centre at the origin.
+pub fn export_asset(
+    plan: &GrowthPlan,
+    vertices: &[RingVertex],
+    title: &str,
+    metres_per_unit: f32,
+    floor_y: f32,
+) -> Asset {
+    let mut asset = Asset::new(title);
+    export_parts(plan, vertices, &mut asset);
+    asset.to_metres(metres_per_unit, Vec3::new(0.0, floor_y, 0.0));
+    asset
 }
 
 /// The speleothem scene in the registry.

@@ -8,7 +8,7 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::{CutAway, PRESETS, cut_away, default_camera, preset};
 use crate::error::Result;
-use crate::export::mesh::TriangleSoup;
+use crate::export::asset::{Asset, Material, PartMesh, floor_centre};
 use crate::export::section::{self, Colouring, SectionStyle};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
@@ -127,13 +127,47 @@ pub fn render(
     })
 }
 
-/// The cut-away as one coloured mesh for export.
-pub fn export(c: &CutAway) -> TriangleSoup {
-    let mut soup = TriangleSoup::from_indexed(&c.surface, CALCITE.to_array());
-    soup.append(TriangleSoup::from_indexed(&c.light, BAND_LIGHT.to_array()));
-    soup.append(TriangleSoup::from_indexed(&c.dark, BAND_DARK.to_array()));
-    soup.append(TriangleSoup::from_indexed(&c.floor, FLOOR.to_array()));
-    soup
+/// Metres per coordinate unit of a stalagmite grown in Franke's dimensionless units:
+/// his decay length r = 1 read as Kaufmann's `2 R0 / sqrt(pi)` for the equilibrium
+/// radius R0 = 50.47 mm at 10 C, 100 s drips, 1 mol/m^3 excess calcium and a 0.1 mm
+/// film (`model::layers::physical`), so the default candlestick is stalagmite-sized.
+pub const FRANKE_UNIT_M: f32 = 0.05695;
+
+/// Metres per coordinate unit: real units are millimetres, else Franke's.
+pub fn metres_per_unit(unit: Option<&str>) -> f32 {
+    match unit {
+        Some("mm") => 1e-3,
+        _ => FRANKE_UNIT_M,
+    }
+}
+
+/// The cut-away as a file's asset: its outer surface, the light and dark growth
+/// bands of the cut faces and the floor, in metres with the floor's centre (on the
+/// axis) at the origin.
+pub fn export(c: &CutAway, title: &str, metres_per_unit: f32) -> Asset {
+    let mut asset = Asset::new(title);
+    for (mesh, name, material, colour) in [
+        (&c.surface, "outer surface", "calcite", CALCITE),
+        (
+            &c.light,
+            "light growth bands",
+            "light calcite band",
+            BAND_LIGHT,
+        ),
+        (&c.dark, "dark growth bands", "dark calcite band", BAND_DARK),
+        (&c.floor, "floor", "rock", FLOOR),
+    ] {
+        asset.push(
+            name,
+            PartMesh::from_mesh(mesh),
+            Material::plain(material, colour, 0.5),
+        );
+    }
+    asset.to_metres(
+        metres_per_unit,
+        floor_centre(PartMesh::from_mesh(&c.floor).bounds()),
+    );
+    asset
 }
 
 /// The layered stalagmites in the registry.

@@ -25,7 +25,9 @@ pub struct CaveArgs {
     /// The frame as PNG (default cave.png).
     #[arg(short = 'o', long = "output", value_name = "FILE.png")]
     output: Option<PathBuf>,
-    /// The cave and its speleothems as .glb (glTF 2.0 binary) or .obj (with normals).
+    /// The cave and its speleothems as .glb (glTF 2.0 binary: the walls, stalactites,
+    /// stalagmites and columns as named parts with materials) or .obj (with its .mtl).
+    /// Metres, y up, the origin at the centre of the cave's floor.
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
     /// A fly-through along the passage as an animated GIF.
@@ -72,7 +74,7 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         check_extension(o, "-o", &["png"])?;
     }
     if let Some(m) = &a.mesh {
-        check_extension(m, "--mesh", &["glb", "obj"])?;
+        sediment::export::mesh::check_mesh_path(m, "--mesh")?;
     }
     if let Some(g) = &a.flythrough {
         check_extension(g, "--flythrough", &["gif"])?;
@@ -127,9 +129,12 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         say!("wrote {} ({} frames)", path.display(), frames.len());
     }
     if let Some(path) = &a.mesh {
-        let soup = cave::export(scene, &model, rendered.grown.as_ref());
-        sediment::export::mesh::write_mesh(path, &soup)?;
-        say!("wrote {}", path.display());
+        let title = format!("cave {}", a.scene.preset.as_deref().unwrap_or("scene"));
+        let asset = cave::export(scene, &model, rendered.grown.as_ref(), &title);
+        say!(
+            "{}",
+            sediment::export::mesh::write_mesh(path, &asset)?.line()
+        );
     }
     say!(
         "GPU frame: {}; wall {:.1} ms",

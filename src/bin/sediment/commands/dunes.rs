@@ -27,11 +27,15 @@ pub struct DunesArgs {
     /// GIF frames, 2..=120 (default 12).
     #[arg(long, value_name = "N", default_value_t = 12)]
     gif_frames: u32,
-    /// The dune field as a 16-bit greyscale PNG; the ripple tile goes beside it as
-    /// FILE-ripples.png.
-    #[arg(long, value_name = "FILE.png")]
+    /// The dune field's heights: .png (16-bit greyscale, the metres at 0 and 65535 and
+    /// the cell size in its tEXt chunks) or .exr (float metres); the range also goes
+    /// to FILE.json, and the ripple tile beside it as FILE-ripples.png/.exr (+ .json).
+    #[arg(long, value_name = "FILE.png|FILE.exr")]
     heightmap: Option<PathBuf>,
-    /// The dune mesh as .glb or .obj.
+    /// The dune field as .glb (one period, tiling seamlessly, with UVs, the ripples as
+    /// an embedded normal map and the sand's grain as a base colour map) or .obj (with
+    /// its .mtl and the normal map beside it). Metres, y up, the field's centre at the
+    /// origin and its lowest sand at y = 0.
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
     /// Render the frame this many more times, 0..=1000, and print the median, minimum
@@ -62,13 +66,18 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
             ));
         }
     }
-    for (path, what) in [(&a.heightmap, "--heightmap"), (&a.output, "-o")] {
-        if let Some(p) = path {
-            check_extension(p, what, &["png"])?;
-        }
+    if let Some(o) = &a.output {
+        check_extension(o, "-o", &["png"])?;
+    }
+    if let Some(h) = &a.heightmap {
+        check_extension(
+            h,
+            "--heightmap",
+            sediment::export::heightmap::HEIGHTMAP_FORMATS,
+        )?;
     }
     if let Some(m) = &a.mesh {
-        check_extension(m, "--mesh", &["glb", "obj"])?;
+        sediment::export::mesh::check_mesh_path(m, "--mesh")?;
     }
     let ctx = open_context(cli)?;
     let sim_start = std::time::Instant::now();
@@ -136,22 +145,32 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         say!("wrote {} ({} frames)", path.display(), gif_frames.len());
     }
     if let Some(path) = &a.heightmap {
-        sediment::export::png::write_heightmap16(path, &terrain.dune_field)?;
-        let stem = path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let ripples = path.with_file_name(format!("{stem}-ripples.png"));
-        sediment::export::png::write_heightmap16(&ripples, &terrain.ripples)?;
-        say!("wrote {} and {}", path.display(), ripples.display());
+        use sediment::export::heightmap::write_heightmap;
+        let ripples = ripple_tile_path(path);
+        for (target, map, what) in [
+            (
+                path.clone(),
+                dunes::export::dune_heightmap(scene, &terrain),
+                "dune field",
+            ),
+            (
+                ripples,
+                dunes::export::ripple_heightmap(scene, &terrain),
+                "ripple tile",
+            ),
+        ] {
+            let (range, files) = write_heightmap(&target, &map)?;
+            let files: Vec<_> = files.iter().map(|f| f.display().to_string()).collect();
+            say!("wrote {} ({what}; {})", files.join(" and "), range.line());
+        }
     }
     if let Some(path) = &a.mesh {
-        let soup = sediment::export::mesh::TriangleSoup::from_indexed(
-            &out.mesh,
-            dunes::SAND_ALBEDO.to_array(),
+        let title = format!("dunes {}", a.scene.preset.as_deref().unwrap_or("scene"));
+        let asset = dunes::export::export(scene, &terrain, &out.mesh, &title);
+        say!(
+            "{}",
+            sediment::export::mesh::write_mesh(path, &asset)?.line()
         );
-        sediment::export::mesh::write_mesh(path, &soup)?;
-        say!("wrote {}", path.display());
     }
     let spans = sediment::frame::spans_line;
     say!(
@@ -173,4 +192,17 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// Where the ripple tile of `--heightmap FILE.ext` goes: FILE-ripples.ext.
+fn ripple_tile_path(path: &std::path::Path) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "png".to_owned());
+    path.with_file_name(format!("{stem}-ripples.{ext}"))
 }

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 use sediment::export::check_extension;
+use sediment::export::mesh::{check_mesh_path, write_mesh};
 use sediment::render::growth::GrowthPath;
 use sediment::scene::grow;
 use sediment::scene::params::SceneFileArgs;
@@ -37,10 +38,16 @@ pub struct GrowArgs {
     /// One GIF frame every K passes, 1..=512 (default 1).
     #[arg(long, value_name = "K", default_value_t = 1)]
     gif_every: u32,
-    /// The grown mesh read back from the GPU: .glb (glTF 2.0 binary) or .obj;
-    /// positions, normals, colours.
+    /// The grown mesh read back from the GPU: .glb (glTF 2.0 binary: stalactites,
+    /// stalagmites and columns as named parts with materials and the mineral colours)
+    /// or .obj (with its .mtl and sRGB vertex colours). Metres, y up, the chamber's floor
+    /// centre at the origin.
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
+    /// Metres per scene unit in the exported mesh, (0, 1000] (default 1: the chamber is
+    /// 2.4 m high and a ring starts 9 cm wide, a cave chamber's size).
+    #[arg(long, value_name = "M", default_value_t = 1.0)]
+    unit_scale: f32,
 }
 
 pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
@@ -67,7 +74,13 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         check_extension(g, "--gif", &["gif"])?;
     }
     if let Some(mesh) = &a.mesh {
-        check_extension(mesh, "--mesh", &["glb", "obj"])?;
+        check_mesh_path(mesh, "--mesh")?;
+    }
+    if !(a.unit_scale > 0.0 && a.unit_scale <= 1000.0) {
+        bail!(sediment::Error::invalid(
+            "--unit-scale",
+            "must be in (0, 1000] metres per scene unit"
+        ));
     }
     let ctx = open_context(cli)?;
     let outputs = grow::GrowOutputs {
@@ -95,8 +108,15 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         say!("wrote {} ({} frames)", path.display(), grown.frames.len());
     }
     if let (Some(path), Some(mesh)) = (&a.mesh, &grown.mesh) {
-        sediment::export::mesh::write_mesh(path, &grow::export_mesh(&grown.plan, mesh))?;
-        say!("wrote {} ({} triangles)", path.display(), mesh.len() / 3);
+        let title = format!("grow {}", a.scene.preset.as_deref().unwrap_or("scene"));
+        let asset = grow::export_asset(
+            &grown.plan,
+            mesh,
+            &title,
+            a.unit_scale,
+            scene.growth.floor_y,
+        );
+        say!("{}", write_mesh(path, &asset)?.line());
     }
     let stopped = grown
         .plan

@@ -42,7 +42,10 @@ pub struct LayersArgs {
     /// GPU at --size, as PNG.
     #[arg(long, value_name = "FILE.png")]
     render: Option<PathBuf>,
-    /// The cut-away as .glb or .obj.
+    /// The cut-away as .glb or .obj (+ .mtl): outer surface, light and dark growth
+    /// bands and floor as named parts with materials. Metres, y up, the floor's centre
+    /// at the origin (real units are millimetres; one of Franke's units is read as
+    /// 0.05695 m, his r = 1 as Kaufmann's 2 R0 / sqrt(pi) at R0 = 50.47 mm).
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
 }
@@ -68,7 +71,7 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
         }
     }
     if let Some(m) = &a.mesh {
-        check_extension(m, "--mesh", &["glb", "obj"])?;
+        sediment::export::mesh::check_mesh_path(m, "--mesh")?;
     }
     if !(2..=200).contains(&a.gif_frames) {
         bail!(sediment::Error::invalid(
@@ -136,8 +139,12 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
             render = Some(frame);
         }
         if let Some(path) = &a.mesh {
-            sediment::export::mesh::write_mesh(path, &layers::export(&cut))?;
-            say!("wrote {}", path.display());
+            let title = format!("layers {}", a.scene.preset.as_deref().unwrap_or("scene"));
+            let asset = layers::export(&cut, &title, layers::metres_per_unit(unit.as_deref()));
+            say!(
+                "{}",
+                sediment::export::mesh::write_mesh(path, &asset)?.line()
+            );
         }
     }
     section::write(&output, &stalagmite, &style, w, h)?;

@@ -65,7 +65,8 @@ struct ViewGrowArgs {
     /// One growth pass every K frames, 1..=120 (`[` and `]` change it while running).
     #[arg(long, value_name = "K", default_value_t = 1)]
     every: u32,
-    /// On exit, the grown mesh as .glb (glTF 2.0 binary) or .obj.
+    /// On exit, the grown mesh as .glb (glTF 2.0 binary) or .obj (+ .mtl), as `sediment
+    /// grow --mesh` writes it (metres, the chamber's floor centre at the origin).
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
     #[command(flatten)]
@@ -190,6 +191,7 @@ fn no_print(file: &SceneFileArgs) -> anyhow::Result<()> {
 
 pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
     // Everything the user gave is checked before anything is built or a window opens.
+    let mut grow_floor_y = 0.0;
     let (options, camera, scene, growing): (_, _, SceneBuilder, usize) = match &a.scene {
         ViewSceneArgs::Grow(g) => {
             no_print(&g.file)?;
@@ -201,10 +203,11 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
                 bail!(sediment::Error::invalid("--every", "must be in 1..=120"));
             }
             if let Some(mesh) = &g.mesh {
-                check_extension(mesh, "--mesh", &["glb", "obj"])?;
+                sediment::export::mesh::check_mesh_path(mesh, "--mesh")?;
             }
             let options = view_options(cli, &g.view)?;
             let growing = resolved.scene.growth.passes as usize * g.every as usize;
+            grow_floor_y = resolved.scene.growth.floor_y;
             let (scene, path, every) = (resolved.scene, g.growth, g.every);
             let build: SceneBuilder = Box::new(move |ctx| {
                 let mut frame = GrowthFrame::with_look(ctx, scene, path)?;
@@ -304,13 +307,15 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
         let s = Stats::of(&report.shading_gpu_ms[1..]).median;
         say!("GPU: {s:.2} ms per frame (median)");
     }
-    let mesh_path = match &a.scene {
-        ViewSceneArgs::Grow(g) => g.mesh.as_ref(),
-        _ => None,
-    };
-    if let (Some(path), Some((plan, mesh))) = (mesh_path, &report.grown) {
-        sediment::export::mesh::write_mesh(path, &grow::export_mesh(plan, mesh))?;
-        say!("wrote {} ({} triangles)", path.display(), mesh.len() / 3);
+    if let (ViewSceneArgs::Grow(g), Some((plan, mesh))) = (&a.scene, &report.grown)
+        && let Some(path) = &g.mesh
+    {
+        let title = format!("grow {}", g.scene.preset.as_deref().unwrap_or("scene"));
+        let asset = grow::export_asset(plan, mesh, &title, 1.0, grow_floor_y);
+        say!(
+            "{}",
+            sediment::export::mesh::write_mesh(path, &asset)?.line()
+        );
     }
     Ok(())
 }

@@ -1,0 +1,321 @@
+//! What a mesh file holds, whatever its format: named parts, each an indexed mesh with
+//! its material, in metres with the scene's floor centre at the origin. Scenes build an
+//! [`Asset`]; `gltf` and `obj` write it.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use crate::error::{Error, Result};
+
+/// A scene as a set of named parts (one node and mesh each in glTF, one object in OBJ).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Asset {
+    /// What the file shows ("sediment grow fig9g"), for headers and the glTF scene name.
+    pub title: String,
+    pub parts: Vec<Part>,
+}
+
+/// One named part: an indexed mesh and its material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Part {
+    pub name: String,
+    pub mesh: PartMesh,
+    pub material: Material,
+}
+
+/// An indexed triangle list. Colours are linear RGB (glTF's COLOR_0 is linear).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PartMesh {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
+    /// Per-vertex linear RGB, multiplied into the material's base colour; none: the
+    /// material's colour alone.
+    pub colors: Option<Vec<[f32; 3]>>,
+    /// Texture coordinates of the normal map (TEXCOORD_0) and of the base colour map
+    /// (TEXCOORD_1), with the tangent frame of the normal map; only with textures.
+    pub surface: Option<SurfaceCoordinates>,
+    pub indices: Vec<u32>,
+}
+
+/// The per-vertex coordinates a textured part needs.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SurfaceCoordinates {
+    pub normal_uv: Vec<[f32; 2]>,
+    pub color_uv: Vec<[f32; 2]>,
+    /// glTF's TANGENT: xyz along +u of `normal_uv`, w the handedness, so that the
+    /// bitangent `cross(normal, xyz) * w` points toward -v (the image's "up").
+    pub tangents: Vec<[f32; 4]>,
+}
+
+/// A PBR metallic-roughness material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// Linear RGB; multiplied by the vertex colours and the base colour texture.
+    pub base_color: [f32; 3],
+    pub metallic: f32,
+    pub roughness: f32,
+    pub textures: Option<Textures>,
+}
+
+/// Textures embedded in the file (PNG in glTF, beside the file for OBJ).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Textures {
+    /// sRGB-encoded base colour, repeating over `color_uv`.
+    pub base_color: image::RgbaImage,
+    /// Tangent-space normals (+x along +u, +y toward -v, +z out), `n * 0.5 + 0.5`,
+    /// repeating over `normal_uv`.
+    pub normal: image::RgbaImage,
+}
+
+impl Material {
+    /// A dielectric of one colour (rock, calcite, sand).
+    pub fn plain(name: &str, base_color: Vec3, roughness: f32) -> Self {
+        Self {
+            name: name.to_owned(),
+            base_color: base_color.to_array(),
+            metallic: 0.0,
+            roughness,
+            textures: None,
+        }
+    }
+}
+
+/// Vertex counts before and after welding, for the report.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WeldCounts {
+    /// Corners of the triangles (what a triangle soup stores).
+    pub corners: usize,
+    pub vertices: usize,
+    pub triangles: usize,
+}
+
+impl PartMesh {
+    /// Welds a triangle soup (three corners per triangle, with a normal and an optional
+    /// colour each): corners whose position, normal and colour are bit-for-bit equal
+    /// become one vertex. Exact equality, not a tolerance: the GPU writes the same ring
+    /// vertex with the same bits into every triangle that uses it, and a tolerance
+    /// would merge vertices a crease keeps apart.
+    pub fn weld(positions: &[Vec3], normals: &[Vec3], colors: Option<&[Vec3]>) -> Self {
+        let mut out = PartMesh {
+            colors: colors.map(|_| Vec::new()),
+            ..Self::default()
+        };
+        let mut index: HashMap<[u32; 9], u32> = HashMap::with_capacity(positions.len() / 2);
+        // -0.0 and 0.0 are the same coordinate.
+        let bits = |v: f32| if v == 0.0 { 0 } else { v.to_bits() };
+        for (k, (p, n)) in positions.iter().zip(normals).enumerate() {
+            let c = colors.map_or(Vec3::ZERO, |c| c[k]);
+            let key = [p.x, p.y, p.z, n.x, n.y, n.z, c.x, c.y, c.z].map(bits);
+            let next = out.positions.len() as u32;
+            let i = *index.entry(key).or_insert_with(|| {
+                out.positions.push(p.to_array());
+                out.normals.push(n.to_array());
+                if let Some(colors) = &mut out.colors {
+                    colors.push(c.to_array());
+                }
+                next
+            });
+            out.indices.push(i);
+        }
+        out
+    }
+
+    /// An indexed mesh, welded again: the model's meshes are built part by part (a
+    /// cut-away's bands, a site's profiles) and repeat equal vertices.
+    pub fn from_mesh(mesh: &crate::model::mesh::Mesh) -> Self {
+        let corners =
+            |v: &[Vec3]| -> Vec<Vec3> { mesh.indices.iter().map(|&i| v[i as usize]).collect() };
+        Self::weld(&corners(&mesh.positions), &corners(&mesh.normals), None)
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// The bounding box of the positions.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.positions.iter().fold(EMPTY_BOUNDS, |(lo, hi), p| {
+            let p = Vec3::from_array(*p);
+            (lo.min(p), hi.max(p))
+        })
+    }
+}
+
+const EMPTY_BOUNDS: (Vec3, Vec3) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+
+/// The centre of a bounding box in x and z at its lowest y: "the floor centre" of a
+/// scene without a chamber of its own (caves, dunes).
+pub fn floor_centre((lo, hi): (Vec3, Vec3)) -> Vec3 {
+    Vec3::new(0.5 * (lo.x + hi.x), lo.y, 0.5 * (lo.z + hi.z))
+}
+
+impl Asset {
+    pub fn new(title: impl Into<String>) -> Self {
+        Self {
+            title: title.into(),
+            parts: Vec::new(),
+        }
+    }
+
+    /// Adds a part unless its mesh is empty (a scene without columns has no columns
+    /// part).
+    pub fn push(&mut self, name: &str, mesh: PartMesh, material: Material) {
+        if !mesh.indices.is_empty() {
+            self.parts.push(Part {
+                name: name.to_owned(),
+                mesh,
+                material,
+            });
+        }
+    }
+
+    /// Scales every position by `metres_per_unit` and moves `floor_centre` (in scene
+    /// units) to the origin. Normals and tangents keep their directions (a uniform
+    /// scale).
+    pub fn to_metres(&mut self, metres_per_unit: f32, floor_centre: Vec3) {
+        for part in &mut self.parts {
+            for p in &mut part.mesh.positions {
+                *p = ((Vec3::from_array(*p) - floor_centre) * metres_per_unit).to_array();
+            }
+        }
+    }
+
+    /// The bounding box of every position.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.parts
+            .iter()
+            .map(|part| part.mesh.bounds())
+            .fold(EMPTY_BOUNDS, |(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+    }
+
+    /// Counts over all parts.
+    pub fn counts(&self) -> WeldCounts {
+        let mut c = WeldCounts::default();
+        for part in &self.parts {
+            c.corners += part.mesh.indices.len();
+            c.vertices += part.mesh.positions.len();
+            c.triangles += part.mesh.triangle_count();
+        }
+        c
+    }
+
+    /// Refuses what no reader could use: no parts, indices out of range, a broken
+    /// triangle list, or a coordinate that is not a finite number (an overflowed
+    /// scale), naming the part.
+    pub fn check(&self) -> Result<()> {
+        if self.parts.is_empty() {
+            return Err(Error::invalid("mesh export", "the scene has no geometry"));
+        }
+        for part in &self.parts {
+            let m = &part.mesh;
+            let n = m.positions.len();
+            let bad = |why: &str| {
+                Err(Error::invalid(
+                    "mesh export",
+                    format!("part \"{}\": {why}", part.name),
+                ))
+            };
+            if m.indices.len() % 3 != 0 || m.normals.len() != n {
+                return bad("the mesh must be whole triangles with a normal per vertex");
+            }
+            if m.colors.as_ref().is_some_and(|c| c.len() != n) {
+                return bad("one colour per vertex");
+            }
+            if let Some(s) = &m.surface
+                && (s.normal_uv.len() != n || s.color_uv.len() != n || s.tangents.len() != n)
+            {
+                return bad("texture coordinates and a tangent per vertex");
+            }
+            if m.indices.iter().any(|&i| i as usize >= n) {
+                return bad("an index past the last vertex");
+            }
+            let finite = m
+                .positions
+                .iter()
+                .chain(&m.normals)
+                .flatten()
+                .all(|v| v.is_finite())
+                && m.colors.iter().flatten().flatten().all(|v| v.is_finite())
+                && m.surface.iter().all(|s| {
+                    s.normal_uv
+                        .iter()
+                        .chain(&s.color_uv)
+                        .flatten()
+                        .all(|v| v.is_finite())
+                        && s.tangents.iter().flatten().all(|v| v.is_finite())
+                });
+            if !finite {
+                return bad(
+                    "a coordinate is not a finite number (the scene's sizes overflow single \
+                     precision; choose smaller cell or scale values)",
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Linear to sRGB-encoded, per channel (IEC 61966-2-1).
+pub fn linear_to_srgb(c: f32) -> f32 {
+    let c = c.clamp(0.0, 1.0);
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// sRGB-encoded to linear, per channel.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    let c = c.clamp(0.0, 1.0);
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn welding_shares_equal_corners_and_keeps_creases() {
+        // Two triangles sharing an edge with equal normals, and a third on the same
+        // edge with another normal (a crease): 4 + 2 vertices.
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::X, Vec3::ONE, Vec3::Y];
+        let up = [Vec3::Z; 6];
+        let mut positions = p.to_vec();
+        let mut normals = up.to_vec();
+        positions.extend([Vec3::ZERO, Vec3::X, Vec3::NEG_Y]);
+        normals.extend([Vec3::NEG_Z; 3]);
+        let mesh = PartMesh::weld(&positions, &normals, None);
+        assert_eq!(mesh.positions.len(), 4 + 3);
+        assert_eq!(mesh.indices, vec![0, 1, 2, 1, 3, 2, 4, 5, 6]);
+        for (k, &i) in mesh.indices.iter().enumerate() {
+            assert_eq!(mesh.positions[i as usize], positions[k].to_array());
+        }
+    }
+
+    #[test]
+    fn colour_transfer_round_trips() {
+        for k in 0..=255 {
+            let c = k as f32 / 255.0;
+            assert!((srgb_to_linear(linear_to_srgb(c)) - c).abs() < 1e-5);
+        }
+        // The issue's example: linear 0.022 is sRGB 0.16.
+        assert!((linear_to_srgb(0.022) - 0.161).abs() < 0.002);
+    }
+
+    #[test]
+    fn non_finite_positions_are_refused_by_name() {
+        let mut asset = Asset::new("test");
+        let mut mesh = PartMesh::weld(&[Vec3::ZERO, Vec3::X, Vec3::Y], &[Vec3::Z; 3], None);
+        mesh.positions[1][0] = f32::INFINITY;
+        asset.push("walls", mesh, Material::plain("rock", Vec3::ONE, 0.9));
+        let err = asset.check().expect_err("inf refused").to_string();
+        assert!(err.contains("walls") && err.contains("finite"), "{err}");
+    }
+}

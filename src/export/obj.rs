@@ -1,0 +1,226 @@
+//! An [`Asset`] as Wavefront OBJ with a material library (`.mtl`) beside it.
+//!
+//! What readers take from it:
+//! - Vertex colours `v x y z r g b` are written sRGB-encoded: Blender (3.x and later)
+//!   and MeshLab read them as sRGB into a colour attribute; Unity, Unreal and Godot
+//!   ignore them. Blender does not wire them into the material; glTF does.
+//! - Each part is an object (`o`) with its own material (`usemtl`). `Kd` is the part's
+//!   mean colour in linear RGB, which Blender's importer puts into Base Color as it is;
+//!   `Pr`/`Pm` (the PBR extension of the MTL format) carry roughness and metallic for
+//!   readers that know them (Blender does).
+//! - A textured part (the dunes) writes its normal map beside the file as a PNG and
+//!   names it with `map_Bump` (Blender reads it as a tangent-space normal map over the
+//!   `vt` coordinates); its base colour map uses a second set of texture coordinates,
+//!   which OBJ cannot hold, so OBJ keeps the sand's colour in `Kd` alone.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::asset::{Asset, linear_to_srgb};
+use super::atomic::write_bytes;
+use crate::error::Result;
+
+/// Writes `path` (.obj), its `.mtl` and any normal-map PNGs; returns every file written.
+pub fn write_obj(path: &Path, asset: &Asset) -> Result<Vec<PathBuf>> {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mesh".to_owned());
+    let mtl_path = path.with_file_name(format!("{stem}.mtl"));
+    let mut files = Vec::new();
+    let mut mtl = format!("# sediment {}: materials of {stem}.obj\n", asset.title);
+    let mut obj = format!(
+        "# sediment {} ({}): {} parts, metres, y up, the floor centre at the origin.\n\
+         # Vertex colours (v x y z r g b) are sRGB-encoded.\nmtllib {stem}.mtl\n",
+        env!("CARGO_PKG_VERSION"),
+        asset.title,
+        asset.parts.len()
+    );
+    let (mut base_v, mut base_vt) = (1usize, 1usize);
+    // One MTL entry per distinct material and mean colour.
+    let mut written: Vec<(String, [f32; 3], String)> = Vec::new();
+    for part in &asset.parts {
+        let m = &part.mesh;
+        let mean = mean_colour(part);
+        if let Some((_, _, name)) = written
+            .iter()
+            .find(|(name, colour, _)| *name == part.material.name && *colour == mean)
+        {
+            let _ = writeln!(obj, "o {}\nusemtl {name}", identifier(&part.name));
+            write_part(&mut obj, m, &mut base_v, &mut base_vt);
+            continue;
+        }
+        let material = format!("m{}_{}", written.len(), identifier(&part.material.name));
+        written.push((part.material.name.clone(), mean, material.clone()));
+        let _ = writeln!(
+            mtl,
+            "\nnewmtl {material}\nKd {:.6} {:.6} {:.6}\nKs 0.04 0.04 0.04\nNs {:.1}\nPr {:.3}\nPm {:.3}\nd 1\nillum 2",
+            mean[0],
+            mean[1],
+            mean[2],
+            // Phong exponent from roughness, for readers without Pr (Blender's own
+            // mapping is roughness = 1 - sqrt(Ns / 1000)).
+            1000.0 * (1.0 - part.material.roughness).powi(2),
+            part.material.roughness,
+            part.material.metallic
+        );
+        if let Some(t) = &part.material.textures {
+            let normal =
+                path.with_file_name(format!("{stem}-{}-normals.png", identifier(&part.name)));
+            super::png::write_png(&normal, &t.normal)?;
+            let _ = writeln!(
+                mtl,
+                "map_Bump {}",
+                normal
+                    .file_name()
+                    .map(|f| f.to_string_lossy())
+                    .unwrap_or_default()
+            );
+            files.push(normal);
+        }
+        let _ = writeln!(obj, "o {}\nusemtl {material}", identifier(&part.name));
+        write_part(&mut obj, m, &mut base_v, &mut base_vt);
+    }
+    write_bytes(&mtl_path, mtl.as_bytes())?;
+    write_bytes(path, obj.as_bytes())?;
+    files.insert(0, mtl_path);
+    files.insert(0, path.to_path_buf());
+    Ok(files)
+}
+
+/// One part's `v`, `vn`, `vt` and `f` lines, its indices offset by the vertices
+/// written before it (OBJ's indices are global and 1-based).
+fn write_part(
+    obj: &mut String,
+    m: &super::asset::PartMesh,
+    base_v: &mut usize,
+    base_vt: &mut usize,
+) {
+    {
+        for (i, p) in m.positions.iter().enumerate() {
+            let _ = write!(obj, "v {} {} {}", p[0], p[1], p[2]);
+            if let Some(c) = &m.colors {
+                let c = c[i].map(linear_to_srgb);
+                let _ = write!(obj, " {:.5} {:.5} {:.5}", c[0], c[1], c[2]);
+            }
+            obj.push('\n');
+        }
+        for n in &m.normals {
+            let _ = writeln!(obj, "vn {} {} {}", n[0], n[1], n[2]);
+        }
+        if let Some(s) = &m.surface {
+            // OBJ's v runs up the image, glTF's down it.
+            for uv in &s.normal_uv {
+                let _ = writeln!(obj, "vt {} {}", uv[0], 1.0 - uv[1]);
+            }
+        }
+        for t in m.indices.chunks_exact(3) {
+            obj.push('f');
+            for &i in t {
+                let v = *base_v + i as usize;
+                if m.surface.is_some() {
+                    let _ = write!(obj, " {v}/{}/{v}", *base_vt + i as usize);
+                } else {
+                    let _ = write!(obj, " {v}//{v}");
+                }
+            }
+            obj.push('\n');
+        }
+        *base_v += m.positions.len();
+        if m.surface.is_some() {
+            *base_vt += m.positions.len();
+        }
+    }
+}
+
+/// The part's colour as one linear RGB: the material's base colour times the mean
+/// vertex colour or the mean of its base colour texture.
+fn mean_colour(part: &super::asset::Part) -> [f32; 3] {
+    let mut base = part.material.base_color;
+    if let Some(t) = &part.material.textures {
+        let mut sum = [0.0f64; 3];
+        for p in t.base_color.pixels() {
+            for k in 0..3 {
+                sum[k] += f64::from(super::asset::srgb_to_linear(f32::from(p[k]) / 255.0));
+            }
+        }
+        let n = f64::from(t.base_color.width() * t.base_color.height()).max(1.0);
+        for k in 0..3 {
+            base[k] *= (sum[k] / n) as f32;
+        }
+    }
+    let Some(colors) = part.mesh.colors.as_ref().filter(|c| !c.is_empty()) else {
+        return base;
+    };
+    let mut sum = [0.0f64; 3];
+    for c in colors {
+        for k in 0..3 {
+            sum[k] += f64::from(c[k]);
+        }
+    }
+    let n = colors.len() as f64;
+    [0, 1, 2].map(|k| base[k] * (sum[k] / n) as f32)
+}
+
+/// A name safe as an OBJ/MTL token (no spaces).
+fn identifier(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::export::asset::{Material, PartMesh, srgb_to_linear};
+    use glam::Vec3;
+
+    #[test]
+    fn colours_are_written_srgb_and_materials_named() {
+        let dir = std::env::temp_dir().join(format!("sediment-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let mut asset = Asset::new("test");
+        let linear = Vec3::new(0.022, 0.5, 1.0);
+        let mesh = PartMesh::weld(
+            &[Vec3::ZERO, Vec3::X, Vec3::Y],
+            &[Vec3::Z; 3],
+            Some(&[linear; 3]),
+        );
+        asset.push(
+            "stalactites",
+            mesh,
+            Material::plain("calcite", Vec3::ONE, 0.4),
+        );
+        let path = dir.join("t.obj");
+        let files = write_obj(&path, &asset).expect("write");
+        assert_eq!(files, vec![path.clone(), dir.join("t.mtl")]);
+        let text = std::fs::read_to_string(&path).expect("read");
+        assert!(
+            text.contains("mtllib t.mtl") && text.contains("o stalactites"),
+            "{text}"
+        );
+        let v = text
+            .lines()
+            .find(|l| l.starts_with("v "))
+            .expect("a vertex");
+        let rgb: Vec<f32> = v
+            .split(' ')
+            .skip(4)
+            .map(|x| x.parse().expect("number"))
+            .collect();
+        for (read, want) in rgb.iter().zip(linear.to_array()) {
+            assert!((srgb_to_linear(*read) - want).abs() < 1e-4, "{v}");
+        }
+        assert!(
+            (rgb[0] - 0.161).abs() < 0.002,
+            "0.022 linear is 0.16 sRGB: {v}"
+        );
+        let mtl = std::fs::read_to_string(dir.join("t.mtl")).expect("mtl");
+        assert!(
+            mtl.contains("newmtl m0_calcite") && mtl.contains("Kd 0.022000 0.500000 1.000000"),
+            "{mtl}"
+        );
+        assert!(text.contains("f 1//1 2//2 3//3"), "{text}");
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
+}
