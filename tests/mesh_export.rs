@@ -223,6 +223,36 @@ fn caves_export_watertight_walls_and_stay_small() {
 }
 
 #[test]
+fn short_profile_speleothems_export_closed() {
+    // The Short profiles (Cui et al.) are closed surfaces of revolution: every part,
+    // walls included, has each edge on exactly two triangles once equal points merge
+    // (the stalagmite outline returns to the axis under its base; its axis points once
+    // made degenerate rings, 96 triangles on one edge).
+    let dir = scratch("export-short");
+    let png = s(&dir.join("c.png"));
+    let (glb, _, _) = exported(
+        &dir,
+        "c.glb",
+        &["cave", "--preset", "fig8", "-o", &png, "--size", "32x24"],
+    );
+    assert_eq!(
+        glb.names(),
+        ["cave walls", "stalactites", "stalagmites", "columns"]
+    );
+    for part in &glb.parts {
+        let open = part.open_edges();
+        assert!(
+            open.is_empty(),
+            "{}: {} open or shared edges, e.g. {:?}",
+            part.node,
+            open.len(),
+            open.first()
+        );
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
 fn dunes_and_layers_export_textured_and_named() {
     let dir = scratch("export-dunes");
     let png = s(&dir.join("d.png"));

@@ -116,19 +116,25 @@ impl Profile {
         let side2 = up.cross(side);
         let mut mesh = Mesh::default();
         let n = segments.max(3);
-        let Some((first, rest)) = self.points.split_first() else {
+        // Points on the axis make no ring: those before the first ring close the tip
+        // in a point, those after the last (an outline that returns to the axis, as
+        // the stalagmite profile does under its base) close the far end in one.
+        // Without this their rings are 32 copies of one point and the triangles
+        // between them degenerate (non-manifold once a reader merges equal points).
+        let wide = |p: &[f32; 2]| p[0] > 1e-6;
+        let (Some(first_wide), Some(last_wide)) = (
+            self.points.iter().position(wide),
+            self.points.iter().rposition(wide),
+        ) else {
+            // No width at all: no surface.
             return mesh;
         };
-        let pointed = first[0] <= 1e-9;
         // Tip: a point, or the centre of the end disk.
-        mesh.positions.push(up * first[1]);
-        let ring_points: Vec<[f32; 2]> = if pointed {
-            rest.to_vec()
-        } else {
-            self.points.clone()
-        };
+        let tip = self.points[first_wide.saturating_sub(1)];
+        mesh.positions.push(up * tip[1]);
+        let ring_points = &self.points[first_wide..=last_wide];
         let mut starts = Vec::with_capacity(ring_points.len());
-        for p in &ring_points {
+        for p in ring_points {
             starts.push(mesh.positions.len() as u32);
             for k in 0..n {
                 let a = std::f32::consts::TAU * k as f32 / n as f32;
