@@ -243,6 +243,27 @@ fn wind_column_tip_and_random_mode_match_the_cpu_reference() {
 }
 
 #[test]
+fn a_climate_driven_growth_matches_the_cpu_reference_on_every_path() {
+    // The steps come from a climate record (W0 and R0 per span of years), with a dry
+    // and a wet spell: the same passes, restreamed, appended and computed.
+    let record = "0,10,100,1\n300,10,400,1\n600,10,30,1\n900,10,100,1\n";
+    let climate = sediment::model::speleothem::climate::parse(record, 1e-4, 50.0).expect("record");
+    common::with_gpu(|ctx| {
+        let plan = GrowthScene {
+            count: 2,
+            segments: 16,
+            climate: Some(climate.clone()),
+            ..GrowthScene::default()
+        }
+        .plan()
+        .expect("plan");
+        assert_eq!(plan.passes, 18);
+        assert_eq!(plan.speleothems.len(), 4, "straws and stalagmites");
+        compare(ctx, "climate", &plan);
+    });
+}
+
+#[test]
 fn growth_split_over_submissions_matches_one_submission() {
     common::with_gpu(|ctx| {
         let params = GrowthParams {

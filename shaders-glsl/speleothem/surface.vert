@@ -21,7 +21,8 @@ layout(push_constant) uniform Surface {
     // x segments per ring, y texture repeats per unit of length, z normal-map strength,
     // w 1 for vertices frozen by the append-only growth, else 0
     vec4 params;
-    // x environment reflection strength, y the environment cube's last mip level
+    // x environment reflection strength, y the environment cube's last mip level, z the
+    // rings of the whole growth when colouring by age (0: by mineral)
     vec4 look;
 } surface;
 
@@ -65,6 +66,16 @@ void main() {
     // base to tip (from 35 % at the base), scaled by the user's intensity.
     float t = mineral.w > 0.0 ? clamp(in_extra.w / mineral.w, 0.0, 1.0) : 1.0;
     out_color = mix(CALCITE, mineral.rgb, misc.y * (0.35 + 0.65 * t));
+    if (surface.look.z > 0.0) {
+        // By age: each ring by its date (ring number over the whole growth's), a ramp
+        // from dark umber (oldest) through ochre to pale cream (newest), times the
+        // mineral's colour (white calcite: the ramp itself).
+        float age = clamp(in_extra.w / surface.look.z, 0.0, 1.0);
+        vec3 ramp = age < 0.5
+            ? mix(vec3(0.18, 0.08, 0.03), vec3(0.72, 0.42, 0.14), age * 2.0)
+            : mix(vec3(0.72, 0.42, 0.14), vec3(0.98, 0.95, 0.85), age * 2.0 - 1.0);
+        out_color *= ramp / CALCITE;
+    }
     // The append-only growth writes a vertex once, less the thickening accumulated when
     // it left the front; add the current total (model::speleothem::unfreeze).
     vec3 p = in_pos_id.xyz + n_radial * (misc.z * surface.params.w);

@@ -22,6 +22,7 @@
 //! builds the link (t_i, b'_i, b'_i+1), from B the link (t_i, b'_i+1, t_i+1), so each
 //! front triangle emits at most three triangles (9 vertices).
 
+pub mod climate;
 pub mod plan;
 pub mod table2;
 #[cfg(test)]

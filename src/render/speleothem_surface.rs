@@ -27,7 +27,8 @@ pub struct SurfacePush {
     /// w 1 when drawing vertices frozen by the append-only growth (shifted by their
     /// speleothem's accumulated thickening), else 0.
     pub params: Vec4,
-    /// x environment reflection strength, y the environment cube's last mip level.
+    /// x environment reflection strength, y the environment cube's last mip level, z
+    /// the rings of the whole growth when colouring by age (0: by mineral).
     pub look: Vec4,
 }
 // SAFETY: repr(C), two Vec4.
@@ -197,6 +198,11 @@ impl SpeleothemSurfacePass {
     pub fn set_look(&mut self, bump: f32, environment: f32) {
         self.push.params.z = bump;
         self.push.look.x = environment;
+    }
+
+    /// Colour each ring by its age, over `rings` rings in all (`None`: by mineral).
+    pub fn set_age_colours(&mut self, rings: Option<u32>) {
+        self.push.look.z = rings.map_or(0.0, |r| r.max(1) as f32);
     }
 
     /// Camera and lights, and the ring counts after `passes` passes.

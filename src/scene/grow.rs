@@ -11,10 +11,13 @@ use serde::{Deserialize, Serialize};
 use super::camera::{Camera, CameraOptions, Lighting, ToneMap};
 use super::params::{SceneParams, Way};
 use crate::error::{Error, Result};
+use crate::model::speleothem::climate;
 pub use crate::model::speleothem::plan::GrowthScene;
 use crate::model::speleothem::plan::{GrowthParams, ParamChange, StepMode};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
-pub use frame::{GrowOutputs, Grown, GrowthFrame, export_asset, export_parts, grow};
+pub use frame::{
+    GrowOutputs, Grown, GrowthFrame, cut_away_render, export_asset, export_parts, grow, rings_csv,
+};
 
 /// Names of the Figure 9 presets, with what each shows.
 pub const PRESETS: &[(&str, &str)] = &[
@@ -35,6 +38,10 @@ pub const PRESETS: &[(&str, &str)] = &[
         "random stalactites and stalagmites, 24 speleothems (iron)",
     ),
     ("fig9h", "random stalactites and stalagmites (malachite)"),
+    (
+        "holocene",
+        "stalagmites and straws grown from the shipped Holocene climate record, coloured by age",
+    ),
 ];
 
 /// The growth scene of a Figure 9 preset.
@@ -83,14 +90,49 @@ pub fn preset(name: &str) -> Result<GrowthScene> {
         },
         "fig9g" => random(Pil::Dripping, Mineral::Iron, 12),
         "fig9h" => random(Pil::Dripping, Mineral::Malachite, 9),
+        // Beyond the paper: the same rings with their steps from a climate record.
+        "holocene" => GrowthScene {
+            count: 6,
+            climate: Some(climate::load("holocene", 1e-4, 100.0)?),
+            passes: 117,
+            ..base.clone()
+        },
         other => return Err(Error::unknown_preset(other, PRESETS)),
     })
 }
 
-/// The camera that frames the chamber from the front, slightly below mid-height.
+/// How a preset is shaded: the climate's coloured by age, the others by mineral.
+pub fn preset_look(name: &str) -> Look {
+    match name {
+        "holocene" => Look {
+            color: ColorBy::Age,
+            ..Look::default()
+        },
+        _ => Look::default(),
+    }
+}
+
+/// The camera that frames the chamber from the front, slightly below mid-height (with a
+/// climate record, its lower half).
 pub fn default_camera(scene: &GrowthScene) -> Camera {
     let mid = 0.5 * (scene.floor_y + scene.ceiling_y);
     let height = scene.ceiling_y - scene.floor_y;
+    if scene.climate.is_some() {
+        // A climate's stalagmites are a metre or so tall after the Holocene, and its
+        // straws millimetres wide: closer, lower.
+        return Camera {
+            eye: Vec3::new(
+                0.0,
+                scene.floor_y + 0.355 * height,
+                scene.extent + 0.46 * height,
+            ),
+            target: Vec3::new(0.0, scene.floor_y + 0.25 * height, 0.0),
+            up: Vec3::Y,
+            fov_y_degrees: 55.0,
+            near: 0.02,
+            far: 60.0,
+        };
+    }
     Camera {
         eye: Vec3::new(0.0, mid + 0.05 * height, scene.extent + 1.35 * height),
         target: Vec3::new(0.0, mid - 0.02 * height, 0.0),
@@ -136,6 +178,41 @@ impl std::str::FromStr for Lamp {
 
 crate::serde_as_text!(Lamp);
 
+/// What colours the speleothems (`--color`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ColorBy {
+    /// The mineral over white calcite, rising from base to tip (Table 1).
+    #[default]
+    Mineral,
+    /// The date of each ring, oldest dark to newest pale, over the mineral's colour.
+    Age,
+}
+
+impl std::fmt::Display for ColorBy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ColorBy::Mineral => "mineral",
+            ColorBy::Age => "age",
+        })
+    }
+}
+
+impl std::str::FromStr for ColorBy {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "mineral" => Ok(ColorBy::Mineral),
+            "age" => Ok(ColorBy::Age),
+            other => Err(Error::invalid(
+                "--color",
+                format!("\"{other}\" is not mineral or age"),
+            )),
+        }
+    }
+}
+
+crate::serde_as_text!(ColorBy);
+
 /// How the speleothems are shaded (Tortelli & Walter 4.2: normal, tone and environment
 /// mapping, all three changeable while growing), and the lamp.
 #[derive(Clone, Debug, PartialEq)]
@@ -148,6 +225,7 @@ pub struct Look {
     /// Strength of the environment-mapped reflection (the wet film), 0..=4.
     pub environment: f32,
     pub lamp: Lamp,
+    pub color: ColorBy,
 }
 
 impl Default for Look {
@@ -158,6 +236,7 @@ impl Default for Look {
             bump: 1.0,
             environment: 1.0,
             lamp: Lamp::Neutral,
+            color: ColorBy::Mineral,
         }
     }
 }
@@ -274,7 +353,9 @@ crate::serde_as_text!(ModeName);
 pub struct Params {
     /// Start from a reproduction of a panel of the paper's Figure 9: fig9a (random
     /// stalactites), fig9b/c/d (stalactites, normal/low/high CO2), fig9e (stalagmites,
-    /// dry drip), fig9f (columns), fig9g/fig9h (random, iron/malachite). Default: none
+    /// dry drip), fig9f (columns), fig9g/fig9h (random, iron/malachite); beyond the
+    /// paper, holocene (six sites grown from the shipped climate record, coloured by
+    /// age). Default: none
     /// (9 stalactites, manual mode, PIL 1, standard drip, normal CO2, calcareous).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
@@ -346,6 +427,21 @@ pub struct GrowthOptions {
     /// How strongly the mineral colours the calcite, 0..=1 (default 0.8).
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
     pub mineral_intensity: Option<f32>,
+    /// Grow from a climate record instead of Table 2: `holocene` (the synthetic record
+    /// sediment ships, examples/holocene.csv) or a timeline CSV (rows of calendar year,
+    /// temperature C, drip interval s, excess Ca mol/m^3, as `sediment layers` reads).
+    /// Each pass is --years-per-pass years; stalagmites rise by Kaufmann's W0 and widen
+    /// or narrow toward R0; straws lengthen at W0. Sets the passes; scene units are
+    /// metres (default: none, Table 2).
+    #[arg(long, value_name = "holocene|FILE.csv")]
+    pub climate: Option<String>,
+    /// Years per growth pass with --climate, > 0; the record's span / years must be
+    /// 1..=512 passes (default 100).
+    #[arg(long, value_name = "YEARS", allow_negative_numbers = true)]
+    pub years_per_pass: Option<f64>,
+    /// Water-film thickness with --climate: 0.1, 0.075 or 0.05 mm (default 0.1).
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    pub film: Option<f64>,
 }
 
 /// The `[units]` section: Table 2's steps in scene units.
@@ -398,6 +494,11 @@ pub struct LookOptions {
     /// (default neutral).
     #[arg(long, value_name = "neutral|warm")]
     pub lamp: Option<Lamp>,
+    /// What colours the speleothems: mineral (Table 1's colour over white calcite) or
+    /// age (each ring by its date, oldest dark brown to newest pale, times the
+    /// mineral's colour; with --climate the dates are years) (default mineral).
+    #[arg(long, value_name = "mineral|age")]
+    pub color: Option<ColorBy>,
 }
 
 /// One `[[change]]`: parameters in force from `pass` on.
@@ -420,7 +521,7 @@ impl SceneParams for Params {
     fn base(preset: Option<&str>) -> Result<SpeleothemScene> {
         Ok(SpeleothemScene {
             growth: preset.map_or_else(|| Ok(GrowthScene::default()), self::preset)?,
-            look: Look::default(),
+            look: preset.map_or_else(Look::default, preset_look),
         })
     }
 
@@ -435,6 +536,7 @@ impl SceneParams for Params {
         way.field(&mut l.bump, &mut look.bump);
         way.field(&mut l.environment, &mut look.environment);
         way.field(&mut l.lamp, &mut look.lamp);
+        way.field(&mut l.color, &mut look.color);
         let s = &mut scene.growth;
         let g = &mut self.growth;
         way.field(&mut g.seed, &mut s.seed);
@@ -471,6 +573,40 @@ impl SceneParams for Params {
         way.field(&mut g.wind_direction, &mut p.wind_direction_degrees);
         way.field(&mut g.mineral, &mut p.mineral);
         way.field(&mut g.mineral_intensity, &mut p.mineral_intensity);
+        match way {
+            Way::Apply => {
+                let given = g
+                    .climate
+                    .clone()
+                    .or_else(|| s.climate.as_ref().map(|c| c.source.clone()));
+                if let Some(source) = given {
+                    let film_mm = g
+                        .film
+                        .or_else(|| s.climate.as_ref().map(|c| c.film_m * 1e3))
+                        .unwrap_or(0.1);
+                    let years = g
+                        .years_per_pass
+                        .or_else(|| s.climate.as_ref().map(|c| c.years_per_pass))
+                        .unwrap_or(100.0);
+                    s.climate = Some(climate::load(&source, film_mm * 1e-3, years)?);
+                    s.passes = s.passes();
+                } else if g.years_per_pass.is_some() || g.film.is_some() {
+                    return Err(Error::invalid(
+                        if g.film.is_some() {
+                            "--film"
+                        } else {
+                            "--years-per-pass"
+                        },
+                        "applies only with --climate",
+                    ));
+                }
+            }
+            Way::Capture => {
+                g.climate = s.climate.as_ref().map(|c| c.source.clone());
+                g.years_per_pass = s.climate.as_ref().map(|c| c.years_per_pass);
+                g.film = s.climate.as_ref().map(|c| c.film_m * 1e3);
+            }
+        }
         let (u, su) = (&mut self.units, &mut s.units);
         way.field(&mut u.radius, &mut su.initial_radius);
         way.field(&mut u.radius_unit, &mut su.radius_unit);
@@ -556,6 +692,25 @@ mod tests {
         assert_eq!(scene.params_at(5).co2, Co2::High);
         assert_eq!(scene.params_at(6).co2, Co2::Low);
         assert_eq!(scene.params_at(6).pil, Pil::Stalactites);
+    }
+
+    #[test]
+    fn a_climate_key_grows_from_the_record() {
+        let scene =
+            from_text("[growth]\nclimate = \"holocene\"\nyears_per_pass = 300\ncount = 2\n")
+                .expect("valid");
+        let climate = scene.climate.as_ref().expect("a record");
+        assert_eq!(
+            (climate.source.as_str(), climate.years_per_pass),
+            ("holocene", 300.0)
+        );
+        assert_eq!(scene.passes, 39, "11 700 years at 300 a pass");
+        let plan = scene.plan().expect("plan");
+        assert_eq!(plan.dates, Some((-9700.0, 300.0)));
+        let err = from_text("[growth]\nyears_per_pass = 300\n")
+            .expect_err("no record")
+            .to_string();
+        assert!(err.contains("only with --climate"), "{err}");
     }
 
     #[test]

@@ -112,10 +112,12 @@ pub struct TimelineRow {
 }
 
 /// Reads a timeline CSV: `years, temperature C, drip interval s, excess Ca mol/m^3` per
-/// line, years increasing; a header line and `#` comments are skipped. The last row
+/// line, years increasing; `#` comments and one header line before the data are
+/// skipped. The last row
 /// marks the end.
 pub fn parse_timeline(text: &str, film_m: f64) -> Result<Vec<TimelineRow>> {
     let mut rows = Vec::new();
+    let mut header_seen = false;
     for (n, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
@@ -124,8 +126,10 @@ pub fn parse_timeline(text: &str, film_m: f64) -> Result<Vec<TimelineRow>> {
         let cells: Vec<&str> = line.split(',').map(str::trim).collect();
         let parsed: Option<Vec<f64>> = cells.iter().map(|c| c.parse().ok()).collect();
         let Some(v) = parsed else {
-            if rows.is_empty() && n == 0 {
-                continue; // a header
+            // One header line before the data (after any `#` comments).
+            if rows.is_empty() && !header_seen {
+                header_seen = true;
+                continue;
             }
             return Err(Error::invalid(
                 "timeline",

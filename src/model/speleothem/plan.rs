@@ -10,6 +10,7 @@
 
 use glam::{Vec3, Vec4};
 
+use super::climate::{ClimateGrowth, STRAW_RADIUS_M};
 use super::table2::{Co2, DripInterval, Mineral, Pil, stalactite_steps, stalagmite_steps};
 use crate::error::Result;
 use crate::model::random::{Rng, mix64};
@@ -141,6 +142,10 @@ pub struct GrowthScene {
     /// over the flat chamber; `count`, `extent`, `floor_y` and `ceiling_y` are then
     /// unused. At most 256.
     pub sites: Vec<GrowthSite>,
+    /// Steps from a climate record instead of Table 2 (`super::climate`): `passes`,
+    /// the mode, PIL, drip, CO2 and wind are then the record's (dripping, manual, no
+    /// wind), and scene units are metres.
+    pub climate: Option<ClimateGrowth>,
 }
 
 /// A site given by position: the stalactite's base at `ceiling_y`, its stalagmite's
@@ -169,6 +174,7 @@ impl Default for GrowthScene {
             ceiling_y: 2.4,
             extent: 1.2,
             sites: Vec::new(),
+            climate: None,
         }
     }
 }
@@ -258,11 +264,24 @@ pub struct Speleothem {
 #[derive(Clone, Debug, PartialEq)]
 pub struct GrowthPlan {
     pub speleothems: Vec<Speleothem>,
+    /// With a climate record: the year of ring 0 and the years per pass (ring `k` is
+    /// complete in year `start + k x years_per_pass`).
+    pub dates: Option<(f64, f64)>,
     /// Pass-major: `steps[pass * speleothems.len() + index]`.
     pub steps: Vec<GrowthStep>,
     pub passes: u32,
     pub segments: u32,
     pub ring_thickness: f32,
+}
+
+/// One ring of a grown speleothem (`GrowthPlan::rings`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RingRow {
+    pub ring: u32,
+    pub pass: Option<u32>,
+    /// Distance along the growth from the base, scene units.
+    pub height: f32,
+    pub radius: f32,
 }
 
 /// vec4s per step in the GPU buffer.
@@ -290,6 +309,37 @@ impl GrowthPlan {
             .map(|st| g * st.height + st.wind)
             .sum();
         s.base + g * self.ring_thickness + grown
+    }
+
+    /// Speleothem `index`'s rings after all passes, base band first: each ring's
+    /// distance along the growth from the base (its band's tip ring), its radius, and
+    /// the pass that made it (`None` for the base band). Thickening and flank deposits
+    /// (which a climate's growth has none of) are not included.
+    pub fn rings(&self, index: usize) -> Vec<RingRow> {
+        let Some(s) = self.speleothems.get(index) else {
+            return Vec::new();
+        };
+        let mut out = vec![RingRow {
+            ring: 0,
+            pass: None,
+            height: self.ring_thickness,
+            radius: s.initial_radius,
+        }];
+        let (mut height, mut radius) = (self.ring_thickness, s.initial_radius);
+        for pass in 0..self.passes {
+            let step = self.step(pass, index);
+            if step.action == PassAction::Grow {
+                height += step.height;
+                radius += step.radius;
+                out.push(RingRow {
+                    ring: out.len() as u32,
+                    pass: Some(pass),
+                    height,
+                    radius,
+                });
+            }
+        }
+        out
     }
 
     pub fn gpu_steps(&self) -> Vec<Vec4> {
@@ -396,6 +446,9 @@ impl GrowthScene {
         )?;
         check(positive(self.extent), "extent", "(0, inf)")?;
         check(self.sites.len() <= 256, "sites", "at most 256")?;
+        if let Some(c) = &self.climate {
+            c.validate()?;
+        }
         for s in &self.sites {
             check(
                 s.ceiling_y > s.floor_y + 4.0 * u.ring_thickness && positive(s.radius),
@@ -430,11 +483,34 @@ impl GrowthScene {
         p
     }
 
+    /// Growth passes: the scene's, or with a climate record the record's.
+    pub fn passes(&self) -> u32 {
+        self.climate
+            .as_ref()
+            .map_or(self.passes, ClimateGrowth::passes)
+    }
+
+    /// The parameters in force at `pass`, for planning: with a climate record the
+    /// sites drip (stalagmites grow), without wind, whatever the options say.
+    fn planning_params(&self, pass: u32) -> GrowthParams {
+        let p = self.params_at(pass);
+        match self.climate {
+            Some(_) => GrowthParams {
+                pil: Pil::Dripping,
+                wind_intensity: 0.0,
+                ..p
+            },
+            None => p,
+        }
+    }
+
     /// Places the speleothems and decides every step.
     pub fn plan(&self) -> Result<GrowthPlan> {
         self.validate()?;
         let u = &self.units;
+        let passes = self.passes();
         let any_dripping = self.params.pil == Pil::Dripping
+            || self.climate.is_some()
             || self.changes.iter().any(|c| c.pil == Some(Pil::Dripping));
         let mut speleothems = Vec::new();
         // Pairs: (stalactite index, stalagmite index) at the same site.
@@ -465,11 +541,17 @@ impl GrowthScene {
                 StepMode::Manual => radius,
                 StepMode::Random { .. } => radius * rng.range_f32(0.8, 1.2),
             };
+            // A climate's straws and stalagmites start at their own radii.
+            let radius_of = |kind: Kind| match (&self.climate, kind) {
+                (None, _) => radius,
+                (Some(_), Kind::Stalactite) => STRAW_RADIUS_M as f32,
+                (Some(c), Kind::Stalagmite) => c.stalagmite_initial_radius() as f32,
+            };
             let make = |kind: Kind, y: f32| Speleothem {
                 kind,
                 site: site as u32,
                 base: Vec3::new(x, y, z),
-                initial_radius: radius,
+                initial_radius: radius_of(kind),
                 mineral: self.params.mineral,
                 mineral_intensity: self.params.mineral_intensity,
                 rings: 0,
@@ -492,16 +574,21 @@ impl GrowthScene {
                 radius: s.initial_radius,
             })
             .collect();
-        let mut steps = Vec::with_capacity(n * self.passes as usize);
-        let t0 = u.ring_thickness;
-        for pass in 0..self.passes {
-            let params = self.params_at(pass);
+        let mut steps = Vec::with_capacity(n * passes as usize);
+        // A climate's band is never thicker than its thinnest step (a step below the
+        // band thickness would fold the link strip back).
+        let t0 = match &self.climate {
+            Some(c) => u.ring_thickness.min(0.5 * c.smallest_height() as f32),
+            None => u.ring_thickness,
+        };
+        for pass in 0..passes {
+            let params = self.planning_params(pass);
             let mut pass_steps = vec![GrowthStep::idle(); n];
             // Candidate (height, radius change, wind, flank) for every growing front.
             let mut candidates: Vec<Option<GrowthStep>> = vec![None; n];
             for (i, s) in speleothems.iter().enumerate() {
                 if s.stop.is_some() {
-                    if params.pil != Pil::Dry {
+                    if params.pil != Pil::Dry && self.climate.is_none() {
                         pass_steps[i].thicken = u.thicken_rate;
                     }
                     continue;
@@ -542,7 +629,8 @@ impl GrowthScene {
                 let s = &mut speleothems[i];
                 let g = Vec3::Y * s.kind.sign();
                 let f = &mut fronts[i];
-                if f.radius + c.radius <= 0.5 * u.radius_unit {
+                // A climate's rings relax toward a positive radius and never close.
+                if self.climate.is_none() && f.radius + c.radius <= 0.5 * u.radius_unit {
                     pass_steps[i] = GrowthStep {
                         action: PassAction::Close,
                         target: f.centre + g * (t0 + c.height) + c.wind,
@@ -572,8 +660,9 @@ impl GrowthScene {
         }
         Ok(GrowthPlan {
             speleothems,
+            dates: self.climate.as_ref().map(|c| (c.start(), c.years_per_pass)),
             steps,
-            passes: self.passes,
+            passes,
             segments: self.segments,
             ring_thickness: t0,
         })
@@ -588,6 +677,21 @@ impl GrowthScene {
         current_radius: f32,
     ) -> GrowthStep {
         let u = &self.units;
+        if let Some(c) = &self.climate {
+            let height = c.height(pass) as f32;
+            let radius = match s.kind {
+                Kind::Stalagmite => {
+                    c.stalagmite_radius_step(pass, f64::from(current_radius)) as f32
+                }
+                Kind::Stalactite => 0.0,
+            };
+            return GrowthStep {
+                action: PassAction::Grow,
+                height,
+                radius,
+                ..GrowthStep::idle()
+            };
+        }
         // Keyed by site and kind, not by the index in the plan: a PIL change that adds
         // stalagmites shifts the indices but must not change the stalactites' draws.
         let kind_bit = u64::from(s.kind == Kind::Stalagmite);

@@ -16,7 +16,9 @@ use std::time::Instant;
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::{GrowthScene, Lamp, Look, PRESETS, SpeleothemScene, default_camera, lamp_lighting};
+use super::{
+    ColorBy, GrowthScene, Lamp, Look, PRESETS, SpeleothemScene, default_camera, lamp_lighting,
+};
 use crate::error::Result;
 use crate::export::asset::{Asset, Material, PartMesh};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
@@ -230,6 +232,7 @@ impl GrowthFrame {
         let mut surface =
             SpeleothemSurfacePass::new(ctx, ctx.frame_format(), &plan, scene.seed, &environment)?;
         surface.set_look(look.bump, look.environment);
+        surface.set_age_colours((look.color == ColorBy::Age).then_some(plan.passes));
         let mut frame = Self {
             growth: path.start(ctx, &plan)?,
             surface,
@@ -377,6 +380,8 @@ impl GrowthFrame {
             &self.environment,
         )?;
         self.surface.set_look(self.look.bump, self.look.environment);
+        self.surface
+            .set_age_colours((self.look.color == ColorBy::Age).then_some(plan.passes));
         if self.chamber.is_some() {
             // The chamber's relief follows the seed: its reflection too.
             self.chamber = Some(Chamber::new(ctx, &self.scene)?);
@@ -716,7 +721,16 @@ pub fn grow(
         progress(frame.passes_done(), passes);
         let done = frame.passes_done() >= passes;
         if outputs.frame_every.is_some() {
-            frames.push(image.clone());
+            let mut shown = image.clone();
+            if let Some((first, years)) = frame.plan.dates {
+                // The calendar year the growth has reached, top left, over a shadow.
+                let year = first + f64::from(frame.passes_done()) * years;
+                let label = crate::model::speleothem::climate::calendar_year(year);
+                let x = 12.0 + 4.0 * label.chars().count() as f64;
+                crate::export::draw::text(&mut shown, &label, x + 1.0, 11.0, [0, 0, 0]);
+                crate::export::draw::text(&mut shown, &label, x, 10.0, [255, 255, 255]);
+            }
+            frames.push(shown);
         }
         if done {
             frame.counts()?;
@@ -825,6 +839,55 @@ pub fn export_asset(
     asset
 }
 
+/// Every ring of every speleothem as CSV text (`sediment grow --csv`): with a climate
+/// record the year each ring was complete, else the pass that made it.
+pub fn rings_csv(plan: &GrowthPlan) -> String {
+    use std::fmt::Write as _;
+    let dated = plan.dates.is_some();
+    let mut out = format!(
+        "speleothem,kind,ring,{},height_m,radius_m\n",
+        if dated { "year" } else { "pass" }
+    );
+    for (i, s) in plan.speleothems.iter().enumerate() {
+        let kind = match s.kind {
+            SpeleothemKind::Stalactite => "stalactite",
+            SpeleothemKind::Stalagmite => "stalagmite",
+        };
+        for r in plan.rings(i) {
+            let when = r.pass.map_or(0, |p| p + 1);
+            let date = plan.dates.map_or(f64::from(when), |(first, years)| {
+                first + f64::from(when) * years
+            });
+            let _ = writeln!(
+                out,
+                "{i},{kind},{},{date},{:.6},{:.6}",
+                r.ring, r.height, r.radius
+            );
+        }
+    }
+    out
+}
+
+/// The plan's first stalagmite cut open, its rings as growth layers in bands of 10
+/// rings, rendered as `sediment layers --render` draws Franke's layers.
+pub fn cut_away_render(
+    ctx: &Arc<Context>,
+    plan: &GrowthPlan,
+    size: crate::scene::Size,
+) -> Result<image::RgbaImage> {
+    let index = plan
+        .speleothems
+        .iter()
+        .position(|s| s.kind == SpeleothemKind::Stalagmite)
+        .ok_or_else(|| {
+            crate::error::Error::invalid("--cut-away", "the growth has no stalagmite")
+        })?;
+    let layers = crate::model::speleothem::climate::dated_layers(plan, index)
+        .ok_or_else(|| crate::error::Error::internal("cut-away", "no rings"))?;
+    let cut = crate::scene::layers::cut_away(&layers, 10);
+    Ok(crate::scene::layers::render(ctx, &cut, size, None)?.image)
+}
+
 /// The speleothem scene in the registry.
 pub struct Kind;
 
@@ -849,7 +912,18 @@ impl SceneKind for Kind {
                         seed,
                         ..super::preset(name)?
                     };
-                    let g = grow(ctx, &scene, size, &GrowOutputs::default(), &mut |_, _| {})?;
+                    let outputs = GrowOutputs {
+                        look: super::preset_look(name),
+                        // The climate's 117 passes: the append-only path (the same
+                        // mesh, tests/ring_growth.rs), ten times faster here.
+                        path: if scene.climate.is_some() {
+                            GrowthPath::XfbAppend
+                        } else {
+                            GrowthPath::XfbRestream
+                        },
+                        ..GrowOutputs::default()
+                    };
+                    let g = grow(ctx, &scene, size, &outputs, &mut |_, _| {})?;
                     Ok(Shot::still(g.image, g.gpu_spans, g.wall_ms))
                 }),
             })

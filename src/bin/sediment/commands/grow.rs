@@ -48,6 +48,15 @@ pub struct GrowArgs {
     /// 2.4 m high and a ring starts 9 cm wide, a cave chamber's size).
     #[arg(long, value_name = "M", default_value_t = 1.0)]
     unit_scale: f32,
+    /// Every ring of every speleothem as CSV: speleothem, kind, ring, year (with
+    /// --climate; else the pass), height along the growth and radius in metres.
+    #[arg(long, value_name = "FILE.csv")]
+    csv: Option<PathBuf>,
+    /// The first stalagmite cut open (a wedge removed), its rings as growth layers in
+    /// bands of 10 rings (with --climate, 1000 years at 100 years a pass), rendered
+    /// at --size as `sediment layers --render` draws Franke's layers.
+    #[arg(long, value_name = "FILE.png")]
+    cut_away: Option<PathBuf>,
 }
 
 pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
@@ -63,9 +72,9 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
             "must be in 1..=512"
         ));
     }
-    let output = match (&a.output, &a.gif, &a.mesh) {
-        (None, None, None) => Some(PathBuf::from("grow.png")),
-        (o, _, _) => o.clone(),
+    let output = match (&a.output, &a.gif, &a.mesh, &a.csv, &a.cut_away) {
+        (None, None, None, None, None) => Some(PathBuf::from("grow.png")),
+        (o, ..) => o.clone(),
     };
     if let Some(o) = &output {
         check_extension(o, "-o", &["png"])?;
@@ -75,6 +84,23 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
     }
     if let Some(mesh) = &a.mesh {
         check_mesh_path(mesh, "--mesh")?;
+    }
+    if let Some(csv) = &a.csv {
+        check_extension(csv, "--csv", &["csv"])?;
+    }
+    if let Some(cut) = &a.cut_away {
+        check_extension(cut, "--cut-away", &["png"])?;
+        let plan = scene.growth.plan()?;
+        if !plan
+            .speleothems
+            .iter()
+            .any(|s| s.kind == sediment::model::speleothem::Kind::Stalagmite)
+        {
+            bail!(sediment::Error::invalid(
+                "--cut-away",
+                "needs a stalagmite: grow with --pil 2 or --climate"
+            ));
+        }
     }
     if !(a.unit_scale > 0.0 && a.unit_scale <= 1000.0) {
         bail!(sediment::Error::invalid(
@@ -117,6 +143,31 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
             scene.growth.floor_y,
         );
         say!("{}", write_mesh(path, &asset)?.line());
+    }
+    if let Some(path) = &a.csv {
+        sediment::export::atomic::write_bytes(path, grow::rings_csv(&grown.plan).as_bytes())?;
+        say!(
+            "wrote {} (every ring: date, height, radius)",
+            path.display()
+        );
+    }
+    if let Some(path) = &a.cut_away {
+        let image = grow::cut_away_render(&ctx, &grown.plan, cli.size)?;
+        fail_on_validation_errors(&ctx)?;
+        sediment::export::png::write_png(path, &image)?;
+        say!(
+            "wrote {} (the first stalagmite's rings as growth layers)",
+            path.display()
+        );
+    }
+    if let Some((first, years)) = grown.plan.dates {
+        say!(
+            "climate: {} to {}, {years} years a pass",
+            sediment::model::speleothem::climate::calendar_year(first),
+            sediment::model::speleothem::climate::calendar_year(
+                first + f64::from(grown.plan.passes) * years
+            )
+        );
     }
     let stopped = grown
         .plan
