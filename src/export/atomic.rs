@@ -16,7 +16,13 @@ pub fn write_atomically(
         source,
     };
     let tmp = temporary_name(path);
-    let file = std::fs::File::create(&tmp).map_err(io_err)?;
+    // A new file only (O_CREAT | O_EXCL): never one already there, nor through a
+    // symlink planted under the temporary name (issue 17 #12).
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .map_err(io_err)?;
     let mut writer = std::io::BufWriter::new(file);
     let result = write(&mut writer)
         .and_then(|()| writer.flush().map_err(io_err))
@@ -50,6 +56,28 @@ fn temporary_name(path: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_symlink_planted_at_the_temporary_name_is_not_followed() {
+        // Issue 17 #12: the temporary file was opened without O_EXCL, so a symlink
+        // planted at its name had its target overwritten.
+        let dir = std::env::temp_dir().join(format!("sediment-atomic-link-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let target = dir.join("out.png");
+        let victim = dir.join("victim.txt");
+        std::fs::write(&victim, b"precious").expect("victim");
+        std::os::unix::fs::symlink(&victim, temporary_name(&target)).expect("plant link");
+        let result = write_atomically(&target, |w| {
+            w.write_all(b"overwrite").map_err(|source| Error::Write {
+                path: target.clone(),
+                source,
+            })
+        });
+        assert!(result.is_err(), "refused");
+        assert_eq!(std::fs::read(&victim).expect("victim"), b"precious");
+        assert!(!target.exists());
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
 
     #[test]
     fn failure_leaves_no_file_and_success_renames() {

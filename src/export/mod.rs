@@ -21,7 +21,7 @@ pub fn check_extension(
 ) -> crate::error::Result<()> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     if allowed.iter().any(|a| ext.eq_ignore_ascii_case(a)) {
-        Ok(())
+        check_folder(path, argument)
     } else {
         Err(crate::error::Error::invalid(
             argument,
@@ -35,5 +35,49 @@ pub fn check_extension(
                     .join(" or ")
             ),
         ))
+    }
+}
+
+/// Refuses an output whose folder does not exist (or is not a folder), before any work
+/// is done (issue 17 #10: the run used to work for seconds and then fail to write).
+fn check_folder(path: &std::path::Path, argument: &str) -> crate::error::Result<()> {
+    let Some(folder) = path.parent().filter(|f| !f.as_os_str().is_empty()) else {
+        return Ok(());
+    };
+    if folder.is_dir() {
+        Ok(())
+    } else {
+        Err(crate::error::Error::invalid(
+            argument,
+            format!(
+                "{}: the folder {} does not exist",
+                path.display(),
+                folder.display()
+            ),
+        ))
+    }
+}
+
+/// Refuses an output that is one of the run's input files (`inputs`), which writing
+/// would destroy (issue 17 #11: `layers --base b.csv --csv b.csv`).
+pub fn check_not_input(
+    path: &std::path::Path,
+    argument: &str,
+    inputs: &[&std::path::Path],
+) -> crate::error::Result<()> {
+    let same = |input: &std::path::Path| match (path.canonicalize(), input.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    match inputs.iter().find(|i| same(i)) {
+        Some(input) => Err(crate::error::Error::invalid(
+            argument,
+            format!(
+                "{} is also an input of this run ({}); writing it would destroy it",
+                path.display(),
+                input.display()
+            ),
+        )),
+        None => Ok(()),
     }
 }

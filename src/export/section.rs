@@ -129,6 +129,9 @@ fn ramp(t: f64) -> [u8; 3] {
     [c(0), c(1), c(2)]
 }
 
+/// The most layers a section draws (SVG or PNG).
+pub const MAX_DRAWN_LAYERS: usize = 1000;
+
 fn strokes(s: &Stalagmite, style: &SectionStyle, frame: &Frame) -> Vec<Stroke> {
     let n = style.upto.unwrap_or(s.layers.len()).min(s.layers.len());
     let (lo, hi) = s.steps.iter().fold((f64::MAX, f64::MIN), |(lo, hi), st| {
@@ -148,7 +151,16 @@ fn strokes(s: &Stalagmite, style: &SectionStyle, frame: &Frame) -> Vec<Stroke> {
         color: AXIS,
         dashed: true,
     });
+    // At most MAX_DRAWN_LAYERS thin lines (every k-th; the emphasised ones and the last
+    // always): 20 000 layers of 2000 points made a 1.1 GB SVG (issue 17 #2), and more
+    // lines than pixels show nothing more.
+    let every = n.div_ceil(MAX_DRAWN_LAYERS).max(1);
     for (k, layer) in s.layers.iter().enumerate().take(n) {
+        let marked = style.emphasis >= every && k % style.emphasis == 0;
+        let shown = k % every == 0 || marked || k == last || k + 1 == n;
+        if !shown {
+            continue;
+        }
         let emphasised = k == 0 || k == last || (style.emphasis > 0 && k % style.emphasis == 0);
         let color = match style.colouring {
             Colouring::Plain => INK,

@@ -399,12 +399,17 @@ pub fn grow(base: &[[f64; 2]], steps: &[LayerStep], decay: Decay) -> Result<Stal
         // New trajectories where neighbours have spread apart, the outermost dropped.
         let mut layer = Vec::with_capacity(pz);
         for j in 0..next.len() {
+            // The layer keeps `pz` points: inserting past them would only be dropped
+            // (and a huge dic asks for astronomically many: issue 17 #1).
+            if layer.len() >= pz {
+                break;
+            }
             layer.push(next[j]);
             if let Some(b) = next.get(j + 1) {
                 let a = next[j];
                 let gap = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
-                let parts = (gap / max_gap).ceil().max(1.0) as usize;
-                for i in 1..parts {
+                let parts = (gap / max_gap).ceil().clamp(1.0, pz as f64) as usize;
+                for i in (1..parts).take(pz.saturating_sub(layer.len())) {
                     let t = i as f64 / parts as f64;
                     layer.push([a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t]);
                 }

@@ -570,6 +570,7 @@ impl DunesScene {
         )?;
         check(self.ripple_steps <= 100_000, "--ripple-steps", "0..=100000")?;
         check(self.dune_steps <= 100_000, "--dune-steps", "0..=100000")?;
+        check(self.dust_step <= 100_000, "--dust-step", "0..=100000")?;
         check(
             self.cell > 0.0 && self.cell.is_finite(),
             "--cell",

@@ -25,6 +25,9 @@ pub struct CutAway {
     pub base_y: f32,
 }
 
+/// The most layers whose ribbons a cut-away builds.
+pub const MAX_CUT_LAYERS: usize = 600;
+
 /// Builds the cut-away: bands of `band` layers alternate light and dark.
 pub fn cut_away(s: &Stalagmite, band: usize) -> CutAway {
     let to3 = |p: [f64; 2], a: f32| {
@@ -73,7 +76,17 @@ pub fn cut_away(s: &Stalagmite, band: usize) -> CutAway {
     let mut light = Mesh::default();
     let mut dark = Mesh::default();
     let band = band.max(1);
-    for (k, w) in s.layers.windows(2).enumerate() {
+    // Ribbons between at most MAX_CUT_LAYERS layers (every k-th, the bands' edges
+    // kept): each ribbon is a layer's points twice over, and 20 000 layers of 2000
+    // points exhausted memory (issue 17 #2).
+    let every = s.layers.len().div_ceil(MAX_CUT_LAYERS).max(1);
+    let drawn: Vec<usize> = (0..s.layers.len())
+        .filter(|&k| k % every == 0 || (band >= every && k % band == 0) || k + 1 == s.layers.len())
+        .collect();
+    for (k, w) in drawn
+        .windows(2)
+        .map(|w| (w[0], [&s.layers[w[0]], &s.layers[w[1]]]))
+    {
         let target = if (k / band) % 2 == 0 {
             &mut light
         } else {
@@ -84,7 +97,7 @@ pub fn cut_away(s: &Stalagmite, band: usize) -> CutAway {
             (kept, Vec3::new(-kept.sin(), 0.0, kept.cos())),
         ] {
             let start = target.indices.len();
-            ribbon(&w[0], &w[1], |p| to3(p, angle), target);
+            ribbon(w[0], w[1], |p| to3(p, angle), target);
             let mut part = Mesh {
                 positions: std::mem::take(&mut target.positions),
                 normals: Vec::new(),

@@ -245,3 +245,44 @@ fn a_timeline_dates_the_layers_in_millimetres() {
         assert!(parse_timeline(bad, 1e-4).is_err(), "{bad:?}");
     }
 }
+
+#[test]
+fn a_huge_deposit_keeps_the_layers_at_pz_points() {
+    // Issue 17 #1: `--dic 1e300` asked for (gap / max_gap).ceil() insertions per gap
+    // before truncating to pz: 8 GiB in 14 s. Each layer now stops at pz points.
+    let params = FrankeParams {
+        dic: 1e300,
+        pz: 40,
+        rep: 10,
+        r: 1.0,
+        decay: Decay::Gaussian,
+        supply: Supply::Constant,
+    };
+    let base = Base::flat(4.0, params.pz).resampled(params.pz);
+    let s = grow(&base, &params.schedule(), params.decay).expect("grows or stops");
+    assert!(s.layers.iter().all(|l| l.len() <= params.pz));
+}
+
+#[test]
+fn many_layers_draw_and_cut_within_bounds() {
+    // Issue 17 #2: 20 000 layers of 2000 points made a 1.1 GB SVG and exhausted memory
+    // in the cut-away. A section draws at most MAX_DRAWN_LAYERS lines, a cut-away
+    // builds ribbons between at most MAX_CUT_LAYERS layers.
+    let s = candlestick(Decay::Gaussian, 1.0, 3000, None);
+    let style = crate::export::section::SectionStyle::default();
+    let svg = crate::export::section::svg(&s, &style, 200, 200);
+    let lines = svg.matches("<polyline").count();
+    assert!(
+        lines <= crate::export::section::MAX_DRAWN_LAYERS + 16,
+        "{lines} polylines for {} layers",
+        s.layers.len()
+    );
+    let cut = super::cut_away::cut_away(&s, (s.layers.len() / 24).max(1));
+    let ribbons = cut.light.triangle_count() + cut.dark.triangle_count();
+    // Two cut planes, (points - 1) quads of 2 triangles per ribbon.
+    let per_ribbon = 2 * 2 * (s.layers[0].len() - 1);
+    assert!(
+        ribbons <= (super::cut_away::MAX_CUT_LAYERS + 30) * per_ribbon,
+        "{ribbons} triangles"
+    );
+}

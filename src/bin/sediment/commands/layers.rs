@@ -73,6 +73,28 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
     if let Some(m) = &a.mesh {
         sediment::export::mesh::check_mesh_path(m, "--mesh")?;
     }
+    // No output may overwrite an input of the run.
+    let mut inputs: Vec<&std::path::Path> = Vec::new();
+    if let Some(sediment::scene::layers::BaseSpec::File(f)) = &a.scene.base {
+        inputs.push(f);
+    }
+    if let Some(sediment::scene::layers::SupplySpec::Timeline(f)) = &a.scene.supply {
+        inputs.push(f);
+    }
+    if let Some(f) = &a.file.scene {
+        inputs.push(f);
+    }
+    for (path, what) in [
+        (Some(&output), "-o"),
+        (a.csv.as_ref(), "--csv"),
+        (a.gif.as_ref(), "--gif"),
+        (a.render.as_ref(), "--render"),
+        (a.mesh.as_ref(), "--mesh"),
+    ] {
+        if let Some(p) = path {
+            sediment::export::check_not_input(p, what, &inputs)?;
+        }
+    }
     if !(2..=200).contains(&a.gif_frames) {
         bail!(sediment::Error::invalid(
             "--gif-frames",
