@@ -95,19 +95,20 @@ pub enum Error {
     #[error("Shader module {path}: {message}")]
     Shader { path: String, message: String },
 
-    #[error("Could not write {}: {source}", path.display())]
+    // The cause is the error's source: `{:#}` and anyhow's chain print it once.
+    #[error("Could not write {}", path.display())]
     Write {
         path: PathBuf,
         source: std::io::Error,
     },
 
-    #[error("Could not read {}: {source}", path.display())]
+    #[error("Could not read {}", path.display())]
     Read {
         path: PathBuf,
         source: std::io::Error,
     },
 
-    #[error("Could not encode {}: {source}", path.display())]
+    #[error("Could not encode {}", path.display())]
     Encode {
         path: PathBuf,
         source: image::ImageError,
@@ -115,6 +116,16 @@ pub enum Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// A user's text as an error message quotes it: long input cut to its first 60
+/// characters (a 20 MB preset name was echoed whole).
+pub fn echo(text: &str) -> String {
+    const MAX: usize = 60;
+    match text.char_indices().nth(MAX) {
+        Some((cut, _)) => format!("{}... ({} characters)", &text[..cut], text.chars().count()),
+        None => text.to_owned(),
+    }
+}
 
 /// Names the Vulkan call a raw `vk::Result` came from, so no error is a bare code.
 pub(crate) trait VkContext<T> {
@@ -143,7 +154,8 @@ impl Error {
         Error::invalid(
             "--preset",
             format!(
-                "\"{name}\" is not one of: {}",
+                "\"{}\" is not one of: {}",
+                crate::error::echo(name),
                 presets.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
             ),
         )

@@ -101,3 +101,67 @@ fn the_dust_step_range_is_enforced() {
     );
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+#[test]
+fn messages_name_the_real_cause_once_and_cut_long_input() {
+    // #13, case by case.
+    let dir = scratch("rel-messages");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    // A NaN year is blamed on the timeline's line, not on --years-per-layer.
+    std::fs::write(
+        dir.join("nan.csv"),
+        "0,10,100,1\nnan,10,100,1\n200,10,100,1\n",
+    )
+    .expect("csv");
+    let supply = format!("timeline:{}", s("nan.csv"));
+    refused(
+        &["layers", "--supply", &supply, "-o", &s("l.svg")],
+        "line 2: the year NaN",
+    );
+    // More than 1000 steps says so.
+    let steps = format!("steps:{}", vec!["1"; 1200].join(","));
+    refused(
+        &["layers", "--supply", &steps, "-o", &s("l.svg")],
+        "at most 1000 factors, not 1200",
+    );
+    // --section-size is named as itself, not as --size.
+    let err = refused(
+        &["layers", "--section-size", "0x0", "-o", &s("l.svg")],
+        "--section-size",
+    );
+    assert!(!err.contains("for --size"), "{err}");
+    // `-inf` is a value, refused for what it is (was "unexpected argument '-i'").
+    refused(
+        &["grow", "--wind-direction", "-inf", "-o", &s("g.png")],
+        "finite degrees",
+    );
+    // A 5000-character preset name is cut when echoed.
+    let long = "x".repeat(5000);
+    let err = refused(
+        &["grow", "--preset", &long, "-o", &s("g.png")],
+        "(5000 characters)",
+    );
+    assert!(err.len() < 1000, "{} bytes of message", err.len());
+    // An I/O error gives its cause once; an unwritable folder is refused up front.
+    let missing = s("none.csv");
+    let err = refused(
+        &[
+            "layers",
+            "--supply",
+            &format!("timeline:{missing}"),
+            "-o",
+            &s("l.svg"),
+        ],
+        "none.csv",
+    );
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+    refused(
+        &["grow", "-o", "/proc/nope.png"],
+        "cannot write in the folder /proc",
+    );
+    assert!(
+        std::fs::read_dir(&dir).expect("dir").count() == 1,
+        "only the CSV we wrote"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

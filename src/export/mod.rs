@@ -38,14 +38,35 @@ pub fn check_extension(
     }
 }
 
-/// Refuses an output whose folder does not exist (or is not a folder), before any work
-/// is done (issue 17 #10: the run used to work for seconds and then fail to write).
+/// Refuses an output whose folder does not exist, is not a folder or cannot be written
+/// in, before any work is done (issue 17 #10: the run used to work for seconds and then
+/// fail to write).
 fn check_folder(path: &std::path::Path, argument: &str) -> crate::error::Result<()> {
-    let Some(folder) = path.parent().filter(|f| !f.as_os_str().is_empty()) else {
-        return Ok(());
-    };
+    let folder = path
+        .parent()
+        .filter(|f| !f.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
     if folder.is_dir() {
-        Ok(())
+        // Writable: create (exclusively) and remove a probe beside the output.
+        let probe = folder.join(format!(".sediment-probe-{}", std::process::id()));
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&probe)
+        {
+            Ok(_) => {
+                let _ = std::fs::remove_file(&probe);
+                Ok(())
+            }
+            Err(e) => Err(crate::error::Error::invalid(
+                argument,
+                format!(
+                    "{}: cannot write in the folder {} ({e})",
+                    path.display(),
+                    folder.display()
+                ),
+            )),
+        }
     } else {
         Err(crate::error::Error::invalid(
             argument,

@@ -140,6 +140,14 @@ impl Supply {
     }
 
     pub fn validate(&self) -> Result<()> {
+        if let Supply::Steps(v) = self
+            && v.len() > 1000
+        {
+            return Err(Error::invalid(
+                "--supply",
+                format!("steps: takes at most 1000 factors, not {}", v.len()),
+            ));
+        }
         let ok = |v: f64| v.is_finite() && (0.05..=20.0).contains(&v);
         let good = match self {
             Supply::Constant => true,

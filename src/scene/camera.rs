@@ -13,10 +13,10 @@ pub struct CameraOptions {
     /// Camera position x,y,z in the scene's units (grow: scene units, the chamber's
     /// floor at y = 0; dunes and cave: metres, see the command's help). Default: the
     /// scene's own view.
-    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true, value_parser = parse_point)]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_point)]
     pub eye: Option<[f32; 3]>,
     /// The point the camera looks at, x,y,z in the same units. Default: the scene's.
-    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true, value_parser = parse_point)]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_point)]
     pub target: Option<[f32; 3]>,
 }
 

@@ -230,34 +230,34 @@ pub struct Params {
     #[arg(long, value_name = "N")]
     pub depth: Option<u32>,
     /// Side of the cave's cube in metres, 1..=10000 (default 24).
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
     pub cave_size: Option<f32>,
     /// Laplacian weight lambda of eq. (1), 0..=1 (default 0.5, the paper's).
-    #[arg(long, value_name = "L", allow_negative_numbers = true)]
+    #[arg(long, value_name = "L", allow_hyphen_values = true)]
     pub lambda: Option<f32>,
     /// Smoothing iterations k, 0..=100 (default 4).
     #[arg(long, value_name = "K")]
     pub iterations: Option<u32>,
     /// Wall noise frequency in features per cube side, 1..=64 (default 6).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub noise_scale: Option<f32>,
     /// fBm octaves, 1..=8 (default 4).
     #[arg(long, value_name = "N")]
     pub octaves: Option<u32>,
     /// Wall roughness (noise amplitude), 0..=0.2 of the side (default 0.05).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub roughness: Option<f32>,
     /// Carving threshold, -0.1..=0.1 of the side: higher carves a wider cave (default 0).
-    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub threshold: Option<f32>,
     /// Passage half-height, 0.04..=0.3 of the side (default 0.16).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub half_height: Option<f32>,
     /// Passage half-width, 0.04..=0.3 of the side (default 0.13).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub half_width: Option<f32>,
     /// How far the passage winds sideways, 0..=0.2 of the side (default 0.1).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub meander: Option<f32>,
     /// Speleothems: short (Short et al.'s profile, as the paper), grown (the same
     /// sites grown on the geometry-shader / transform-feedback pipeline), or none
@@ -269,11 +269,11 @@ pub struct Params {
     pub speleothem_count: Option<u32>,
     /// Metres per unit of the paper's speleothem radius r (r is 5..50 units), (0, 1]
     /// (default 0.03).
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
     pub unit: Option<f32>,
     /// Stalagmite growth relative to its stalactite, 0.1..=10 (default 1.5, the
     /// paper's).
-    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
     pub growth_ratio: Option<f32>,
     /// Growth passes with --speleothems grown, 1..=512 (default 30).
     #[arg(long, value_name = "N")]
@@ -297,7 +297,7 @@ pub struct Params {
     #[arg(long, value_name = "on|off", num_args = 0..=1, default_missing_value = "on", value_parser = on_off)]
     pub voxel_speleothems: Option<bool>,
     /// Fog density per metre, 0..=1 (default 0.04).
-    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub fog: Option<f32>,
     // --eye/--target in metres (the cave spans 0..cave-size on each axis; the passage
     // runs along x with its floor at y = cave-size / 4); a scene file's `[camera]`.

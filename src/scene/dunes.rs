@@ -341,50 +341,50 @@ pub struct Params {
     #[arg(long, value_name = "N")]
     pub dune_steps: Option<u32>,
     /// Ripple saltation length L0 in texels, > 0 (default 7.3, the paper's).
-    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "CELLS", allow_hyphen_values = true)]
     pub ripple_l0: Option<f64>,
     /// Ripple saltation amount q, > 0 (default 0.6, the paper's).
-    #[arg(long, value_name = "Q", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub ripple_q: Option<f64>,
     /// Ripple hop growth with height b, >= 0 (default 2.0, the paper's).
-    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    #[arg(long, value_name = "B", allow_hyphen_values = true)]
     pub ripple_b: Option<f64>,
     /// Creep diffusion D of the ripple simulation, 0..=1 (default 0.8: long straight
     /// crests across the wind; 0.2 gives a maze of short ones).
-    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub ripple_diffusion: Option<f64>,
     /// Creep diffusion D of the dune simulation, 0..=1 (default 0.2).
-    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub dune_diffusion: Option<f64>,
     /// Angle of repose for dune avalanching in degrees, or "off" (default 33).
     #[arg(long, value_name = "DEG|off")]
     pub repose: Option<Degrees>,
     /// World metres per dune cell, > 0 (default 4).
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
     pub cell: Option<f32>,
     /// World metres covered by one ripple tile, > 0 (default 16: 64 ripple texels per
     /// 4 m dune cell, as in the paper).
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
     pub ripple_tile: Option<f32>,
     /// Ripple bump strength, 0..=4 (default 0.65; 1 uses the simulated slopes as they
     /// are).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub ripple_strength: Option<f32>,
     /// Ripple orientation relative to the dune field's wind (+x), finite degrees
     /// (default 0).
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub wind_direction: Option<f32>,
     /// Sun elevation above the horizon, -2..=90 degrees (default 30; below 0 the sun
     /// has set and the sky's twilight lights the sand).
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub sun_elevation: Option<f32>,
     /// Sun azimuth, finite degrees from +x toward +z (default 200).
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub sun_azimuth: Option<f32>,
     /// Aerosol optical depth of the air at the zenith, 0..=3 (default 0.1, a clear
     /// desert day; 0.5 and more is a dusty one): the haze, the sun's glow and how red
     /// a low sun turns.
-    #[arg(long, value_name = "TAU", allow_negative_numbers = true)]
+    #[arg(long, value_name = "TAU", allow_hyphen_values = true)]
     pub aerosol_depth: Option<f32>,
     /// Multiple scattering in the sky after Hillaire (2020), beyond the paper's single
     /// scattering: on or off (default on; off is Nishita's model alone, a darker sky
@@ -393,7 +393,7 @@ pub struct Params {
     pub multiple_scattering: Option<bool>,
     /// Exposure, a factor on the automatic exposure that adapts to the sun and sky,
     /// (0, 64] (default 1).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub exposure: Option<f32>,
     /// Level of detail over the ripple normal chain: on, or off (level 0 everywhere)
     /// (default on).
@@ -430,20 +430,20 @@ pub struct Params {
     #[arg(long, value_name = "N")]
     pub dust_step: Option<u32>,
     /// Dune saltation length L0 in cells, > 0 (default 7.0, the paper's).
-    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "CELLS", allow_hyphen_values = true)]
     pub dune_l0: Option<f64>,
     /// Dune saltation base amount q0, > 0 (default 1.5, the paper's).
-    #[arg(long, value_name = "Q", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub dune_q0: Option<f64>,
     /// Dune hop shortening with slope b, >= 0 (default 2.0, the paper's).
-    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    #[arg(long, value_name = "B", allow_hyphen_values = true)]
     pub dune_b: Option<f64>,
     /// Dune lift increase with slope b', >= 0 (default 2.0, the paper's).
-    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    #[arg(long, value_name = "B", allow_hyphen_values = true)]
     pub dune_b_prime: Option<f64>,
     /// Dune wind speed-up: extra hop length in cells per unit of sand height above the
     /// field's mean, >= 0 (default 2; 0 for the paper's law alone).
-    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "CELLS", allow_hyphen_values = true)]
     pub dune_speedup: Option<f64>,
     /// Lee shadow zone behind dune crests in degrees, 0..90 exclusive, or "off" for the
     /// paper's law alone (default 15): sand there is not eroded and catches the grains

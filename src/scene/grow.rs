@@ -399,7 +399,7 @@ pub struct GrowthOptions {
     #[arg(long, value_name = "manual|random")]
     pub mode: Option<ModeName>,
     /// Random mode's step jitter, as a fraction, 0..=0.9 (default 0.5).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub jitter: Option<f32>,
     /// Pluviometric index level: 0 no growth, 1 stalactites only, 2 dripping
     /// (stalagmites below the stalactites) (default 1).
@@ -414,18 +414,18 @@ pub struct GrowthOptions {
     #[arg(long, value_name = "low|normal|high")]
     pub co2: Option<Co2>,
     /// Wind intensity wi, 0..=1 (displaces each new ring by wi x 0.02 units; default 0).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub wind: Option<f32>,
     /// Wind direction in degrees from +x toward +z, finite (default 0). Manual mode
     /// only: random mode draws a direction for every new ring (the paper's Fig. 7).
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub wind_direction: Option<f32>,
     /// Mineral colour (Table 1): calcareous, iron, manganese, copper, malachite
     /// (default calcareous).
     #[arg(long, value_name = "NAME")]
     pub mineral: Option<Mineral>,
     /// How strongly the mineral colours the calcite, 0..=1 (default 0.8).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub mineral_intensity: Option<f32>,
     /// Grow from a climate record instead of Table 2: `holocene` (the synthetic record
     /// sediment ships, examples/holocene.csv) or a timeline CSV (rows of calendar year,
@@ -437,10 +437,10 @@ pub struct GrowthOptions {
     pub climate: Option<String>,
     /// Years per growth pass with --climate, > 0; the record's span / years must be
     /// 1..=512 passes (default 100).
-    #[arg(long, value_name = "YEARS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "YEARS", allow_hyphen_values = true)]
     pub years_per_pass: Option<f64>,
     /// Water-film thickness with --climate: 0.1, 0.075 or 0.05 mm (default 0.1).
-    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
     pub film: Option<f64>,
 }
 
@@ -449,25 +449,25 @@ pub struct GrowthOptions {
 #[serde(deny_unknown_fields)]
 pub struct UnitsOptions {
     /// Initial ring radius irr, scene units, > 0 (default 0.09).
-    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
     pub radius: Option<f32>,
     /// Table 2's "x1" radius step, scene units, > 0 (default 0.006).
-    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
     pub radius_unit: Option<f32>,
     /// Table 2's "x1" height step, scene units, > 0 (default 0.035).
-    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
     pub height_unit: Option<f32>,
     /// kf of the flank displacement vd = kf * arr / irr, scene units, >= 0 (default
     /// 0.02).
-    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
     pub kf: Option<f32>,
     /// Chance per pass, 0..=1, that a drop solidifies on the flank while CO2 is low
     /// (default 0.3).
-    #[arg(long, value_name = "P", allow_negative_numbers = true)]
+    #[arg(long, value_name = "P", allow_hyphen_values = true)]
     pub flank_rate: Option<f32>,
     /// Horizontal thickening per pass after vertical growth stopped, scene units, >= 0
     /// (default 0.0012).
-    #[arg(long, value_name = "UNITS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
     pub thicken: Option<f32>,
 }
 
@@ -481,14 +481,14 @@ pub struct LookOptions {
     #[arg(long, value_name = "ashikhmin|aces|reinhard")]
     pub tonemap: Option<ToneMap>,
     /// Exposure before tone mapping, (0, 64] (default 1).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub exposure: Option<f32>,
     /// Normal-map strength (the calcite's ruggedness), 0..=4; 0 is smooth (default 1).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub bump: Option<f32>,
     /// Strength of the environment-mapped reflection of the chamber (the wet film),
     /// 0..=4; 0 turns it off (default 1).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub environment: Option<f32>,
     /// The lamp's colour: neutral (white: the minerals show their own colours) or warm
     /// (default neutral).

@@ -271,7 +271,7 @@ pub struct Params {
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
     /// Layer thickness per time unit at the apex, > 0 (default 0.02; Franke units).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub dic: Option<f64>,
     /// Support points of the profile, 8..=2000 (default 160).
     #[arg(long, value_name = "N")]
@@ -281,7 +281,7 @@ pub struct Params {
     pub rep: Option<usize>,
     /// Decay length r of the deposit, > 0 (default 1; the stationary radius is
     /// 0.886 r for the Gaussian, r / 2 linear, r exponential).
-    #[arg(long = "r", value_name = "F", allow_negative_numbers = true)]
+    #[arg(long = "r", value_name = "F", allow_hyphen_values = true)]
     pub r: Option<f64>,
     /// Decay law: gaussian (Franke's exp(-(s/r)^2)), linear (Dreybrodt's), exponential
     /// (default gaussian).
@@ -299,28 +299,28 @@ pub struct Params {
     #[arg(long, value_name = "FILE.csv")]
     pub base: Option<BaseSpec>,
     /// Radius of the flat base in stationary radii, 2..=20 (default 4.5).
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub extent: Option<f64>,
     /// Real units at constant cave conditions (the options below), in mm and years.
     #[arg(long, num_args = 0, default_missing_value = "true")]
     pub physical: Option<bool>,
     /// Cave temperature with --physical, 0..=40 C (default 10).
-    #[arg(long, value_name = "C", allow_negative_numbers = true)]
+    #[arg(long, value_name = "C", allow_hyphen_values = true)]
     pub temperature: Option<f64>,
     /// Drip interval with --physical, 0.1..=1000000 s (default 100).
-    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub drip_interval: Option<f64>,
     /// Excess calcium c_in - c_eq with --physical, 0..=10 mol/m^3 (default 1).
-    #[arg(long, value_name = "MOL_M3", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MOL_M3", allow_hyphen_values = true)]
     pub excess_ca: Option<f64>,
     /// Water-film thickness in real units: 0.1, 0.075 or 0.05 mm (default 0.1).
-    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
     pub film: Option<f64>,
     /// Years of growth with --physical, > 0 (default 10000).
-    #[arg(long, value_name = "YEARS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "YEARS", allow_hyphen_values = true)]
     pub years: Option<f64>,
     /// Years per layer in real units, > 0 (default 40).
-    #[arg(long, value_name = "YEARS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "YEARS", allow_hyphen_values = true)]
     pub years_per_layer: Option<f64>,
     /// A climate timeline in real units (scene files only: `[[timeline]]` rows).
     #[arg(skip)]

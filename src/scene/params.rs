@@ -192,9 +192,15 @@ pub fn parse<P: SceneParams>(text: &str) -> Result<P, (Option<usize>, String)> {
             .map(|span| 1 + text[..span.start.min(text.len())].matches('\n').count());
         let quoted = line
             .and_then(|l| text.lines().nth(l - 1))
-            .map(|l| format!(" (`{}`)", l.trim()))
+            .map(|l| format!(" (`{}`)", crate::error::echo(l.trim())))
             .unwrap_or_default();
-        (line, format!("{}{quoted}", e.message().trim()))
+        // The message may quote the value: long input is cut there too.
+        let message = e.message().trim();
+        let message = match message.char_indices().nth(400) {
+            Some((cut, _)) => format!("{}...", &message[..cut]),
+            None => message.to_owned(),
+        };
+        (line, format!("{message}{quoted}"))
     })
 }
 

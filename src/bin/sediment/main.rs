@@ -105,7 +105,11 @@ enum Command {
 }
 
 pub fn parse_size(s: &str) -> Result<Size, String> {
-    s.parse::<Size>().map_err(|e| e.to_string())
+    // Clap names the option (`--size`, `--section-size`); say only what is wrong.
+    s.parse::<Size>().map_err(|e| match e {
+        sediment::Error::InvalidArgument { message, .. } => message,
+        other => other.to_string(),
+    })
 }
 
 fn main() -> ExitCode {

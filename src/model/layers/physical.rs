@@ -146,6 +146,12 @@ pub fn parse_timeline(text: &str, film_m: f64) -> Result<Vec<TimelineRow>> {
                 ),
             ));
         }
+        if !v[0].is_finite() {
+            return Err(Error::invalid(
+                "timeline",
+                format!("line {}: the year {} is not a finite number", n + 1, v[0]),
+            ));
+        }
         let row = TimelineRow {
             year: v[0],
             temperature_c: v[1],
