@@ -165,3 +165,51 @@ fn messages_name_the_real_cause_once_and_cut_long_input() {
     );
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+#[test]
+fn an_interrupted_write_leaves_no_partial_file() {
+    // #9: a run killed during its write left `.NAME.partial-PID` (up to 10 MB).
+    let dir = scratch("rel-signal");
+    let gif = dir.join("g.gif");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .args([
+            "grow", "--passes", "40", "--count", "4", "--size", "640x480", "--gif",
+        ])
+        .arg(&gif)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start sediment");
+    // Wait until the GIF's temporary file exists (encoding 41 frames takes seconds),
+    // then send SIGTERM.
+    let partial = || {
+        std::fs::read_dir(&dir)
+            .expect("dir")
+            .filter_map(|e| e.ok())
+            .any(|e| e.file_name().to_string_lossy().contains(".partial-"))
+    };
+    let start = std::time::Instant::now();
+    while !partial() {
+        assert!(
+            start.elapsed().as_secs() < 120 && child.try_wait().expect("wait").is_none(),
+            "the GIF's temporary file never appeared"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    // The shell's own `kill` (no procps needed).
+    let killed = std::process::Command::new("sh")
+        .args(["-c", &format!("kill -TERM {}", child.id())])
+        .status()
+        .expect("kill");
+    assert!(killed.success());
+    let out = child.wait_with_output().expect("exit");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(
+        stderr.contains("removed 1 unfinished output file"),
+        "{stderr}"
+    );
+    assert!(!partial(), "no partial file left");
+    assert!(!gif.exists(), "no GIF either");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

@@ -5,6 +5,29 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 
+/// The temporary files being written now, for an interrupt handler to remove.
+static IN_FLIGHT: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn in_flight() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    // A panic while holding the list leaves it as it was: still the right list.
+    IN_FLIGHT
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Removes every temporary file being written (from a SIGINT/SIGTERM handler, before
+/// the process exits): an interrupted run leaves no `.NAME.partial-PID` behind.
+/// Returns how many were removed.
+pub fn remove_in_flight() -> usize {
+    let mut list = in_flight();
+    let n = list
+        .iter()
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count();
+    list.clear();
+    n
+}
+
 /// Writes `path` through `write` into a temporary sibling file, then renames it into
 /// place. On any error the temporary file is removed and `path` is left untouched.
 pub fn write_atomically(
@@ -23,6 +46,7 @@ pub fn write_atomically(
         .create_new(true)
         .open(&tmp)
         .map_err(io_err)?;
+    in_flight().push(tmp.clone());
     let mut writer = std::io::BufWriter::new(file);
     let result = write(&mut writer)
         .and_then(|()| writer.flush().map_err(io_err))
@@ -32,6 +56,7 @@ pub fn write_atomically(
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    in_flight().retain(|p| *p != tmp);
     result
 }
 

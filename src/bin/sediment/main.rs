@@ -113,6 +113,19 @@ pub fn parse_size(s: &str) -> Result<Size, String> {
 }
 
 fn main() -> ExitCode {
+    // Interrupted (Ctrl-C, SIGTERM): no half-written output stays behind.
+    let _ = ctrlc::set_handler(|| {
+        let removed = sediment::export::atomic::remove_in_flight();
+        eprintln!(
+            "\ninterrupted{}",
+            if removed > 0 {
+                format!(": removed {removed} unfinished output file(s)")
+            } else {
+                String::new()
+            }
+        );
+        std::process::exit(130);
+    });
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
