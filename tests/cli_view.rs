@@ -354,3 +354,34 @@ fn bad_viewer_input_is_refused_before_a_window_opens() {
     assert!(!out.status.success());
     assert!(err.contains("Xvfb") && err.contains("DISPLAY"), "{err}");
 }
+
+#[test]
+fn pausing_restarting_and_resizing_while_growing_stay_validation_clean() {
+    // Issue 17 #3 and its proof: the audit's script (pause at 40, restart at 70) gave
+    // 40 VUIDs and wrote the screenshot while exiting 1. Here pause, resume, restart
+    // and resize while fig9g grows, with validation on: exit 0 and the screenshot.
+    let x = Xvfb::start();
+    let dir = common::cli::scratch("view-script");
+    let out = view(
+        &x,
+        &dir,
+        &[
+            "--validate",
+            "view",
+            "grow",
+            "--preset",
+            "fig9g",
+            "--frames",
+            "90",
+            "--script",
+            "10:space,20:space,40:space,50:r,55:resize=400x300,60:space,70:r,80:resize=560x360",
+            "--screenshot",
+            "shot.png",
+        ],
+    );
+    let stdout = common::cli::assert_success(&out, "sediment view (scripted)");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("VUID"), "{stderr}");
+    assert!(stdout.contains("90 frames at 560x360"), "{stdout}");
+    assert_eq!(load(&dir.join("shot.png")).dimensions(), (560, 360));
+}
