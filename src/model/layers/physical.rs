@@ -189,9 +189,44 @@ pub fn parse_timeline(text: &str, film_m: f64) -> Result<Vec<TimelineRow>> {
     Ok(rows)
 }
 
+/// Checks rows given as data (a scene file's `[[timeline]]`) as `parse_timeline`
+/// checks a file's lines: finite increasing years, conditions in range, at least two.
+pub fn check_rows(rows: &[TimelineRow], film_m: f64) -> Result<()> {
+    if rows.len() < 2 {
+        return Err(Error::invalid(
+            "timeline",
+            "needs at least two rows (a start and an end year)",
+        ));
+    }
+    for (k, row) in rows.iter().enumerate() {
+        let bad = |what: String| Err(Error::invalid("timeline", format!("row {}: {what}", k + 1)));
+        if !row.year.is_finite() {
+            return bad(format!("the year {} is not a finite number", row.year));
+        }
+        if k > 0 && row.year <= rows[k - 1].year {
+            return bad(format!(
+                "years must increase ({} after {})",
+                row.year,
+                rows[k - 1].year
+            ));
+        }
+        let conditions = Conditions {
+            temperature_c: row.temperature_c,
+            drip_interval_s: row.drip_interval_s,
+            excess_ca: row.excess_ca,
+            film_m,
+        };
+        if let Err(e) = conditions.validate() {
+            return bad(e.to_string());
+        }
+    }
+    Ok(())
+}
+
 /// Layers of `years_per_layer` over the timeline, in millimetres: each layer's apex
 /// thickness is W0 times the step, its decay length `2 R0 / sqrt(pi)`.
 pub fn schedule(rows: &[TimelineRow], film_m: f64, years_per_layer: f64) -> Result<Vec<LayerStep>> {
+    check_rows(rows, film_m)?;
     if !(years_per_layer.is_finite() && years_per_layer > 0.0) {
         return Err(Error::invalid("--years-per-layer", "must be > 0"));
     }

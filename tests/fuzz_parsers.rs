@@ -1,0 +1,190 @@
+//! A seeded fuzz of every parser a user feeds (issue 17): each subcommand's scene file
+//! (every preset printed as TOML, then mutated) and the climate/timeline CSV, run
+//! in-process through parse, resolve and validate, never the GPU. Nothing may panic,
+//! and nothing accepted may hold a non-finite number (the accepted scene is captured
+//! back to TOML, where one would read `nan` or `inf`). `fuzz/` has cargo-fuzz targets
+//! for the same parsers (README: Tests).
+
+use sediment::model::random::Rng;
+use sediment::scene::params::{SceneParams, capture, parse, resolve};
+
+/// Replacements that have broken parsers elsewhere: non-finite, huge, tiny, negative,
+/// zero, the wrong type, long.
+const NASTY: &[&str] = &[
+    "nan",
+    "inf",
+    "-inf",
+    "1e308",
+    "-1e308",
+    "1e-308",
+    "-1",
+    "0",
+    "-0.0",
+    "4294967296",
+    "18446744073709551616",
+    "\"x\"",
+    "[]",
+    "{}",
+    "true",
+    "\"\"",
+    "1e39",
+    "0x10",
+    "999999999",
+    "0.5",
+];
+
+fn pick<'a>(rng: &mut Rng, items: &'a [&'a str]) -> &'a str {
+    items[(rng.next_u64() % items.len() as u64) as usize]
+}
+
+/// One mutation of `text`: a value replaced, a line dropped or doubled, a character
+/// changed, or the text cut short.
+fn mutate(text: &str, rng: &mut Rng) -> String {
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    if lines.is_empty() {
+        return pick(rng, NASTY).to_owned();
+    }
+    let at = (rng.next_u64() % lines.len() as u64) as usize;
+    match rng.next_u64() % 6 {
+        0..=2 => {
+            // The value after `=` or a comma-separated cell.
+            let line = &lines[at];
+            let nasty = pick(rng, NASTY);
+            lines[at] = if let Some((key, _)) = line.split_once('=') {
+                format!("{key}= {nasty}")
+            } else {
+                let mut cells: Vec<&str> = line.split(',').collect();
+                let k = (rng.next_u64() % cells.len() as u64) as usize;
+                cells[k] = nasty;
+                cells.join(",")
+            };
+        }
+        3 => {
+            lines.remove(at);
+        }
+        4 => {
+            let copy = lines[at].clone();
+            lines.insert(at, copy);
+        }
+        _ => {
+            let mut bytes = lines[at].clone().into_bytes();
+            if !bytes.is_empty() {
+                let k = (rng.next_u64() % bytes.len() as u64) as usize;
+                const CHARS: &[u8] = b" =,.[]\"#-0123456789aeinfx\n";
+                bytes[k] = CHARS[(rng.next_u64() % CHARS.len() as u64) as usize];
+            }
+            lines[at] = String::from_utf8_lossy(&bytes).into_owned();
+        }
+    }
+    let mut out = lines.join("\n");
+    if rng.next_u64() % 10 == 0 {
+        let cut = (rng.next_u64() % (out.len() as u64 + 1)) as usize;
+        out.truncate(out.floor_char_boundary(cut));
+    }
+    out
+}
+
+/// A number token in TOML text that is not finite.
+fn non_finite(toml: &str) -> Option<&str> {
+    toml.split(|c: char| c.is_whitespace() || ",[]=".contains(c))
+        .find(|t| matches!(t.trim_start_matches(['-', '+']), "nan" | "inf"))
+}
+
+/// Mutates every preset's printed scene `rounds` times each.
+fn fuzz_scene_files<P: SceneParams + serde::Serialize>(
+    name: &str,
+    presets: &[(&str, &str)],
+    rounds: usize,
+) -> (usize, usize) {
+    let mut rng = Rng::new(0x5EED ^ name.len() as u64);
+    let (mut accepted, mut refused) = (0, 0);
+    for (preset, _) in presets {
+        let mut given = P::default();
+        given.set_preset(Some((*preset).to_owned()));
+        let resolved = resolve(&given, None, 1).expect("preset resolves");
+        let text = toml::to_string(&capture::<P>(&resolved).expect("capture")).expect("toml");
+        for round in 0..rounds {
+            let mutated = mutate(&text, &mut rng);
+            let outcome = std::panic::catch_unwind(|| {
+                let parsed = parse::<P>(&mutated).map_err(|(_, m)| m)?;
+                let resolved = resolve(&parsed, None, 1).map_err(|e| e.to_string())?;
+                let back = capture::<P>(&resolved).map_err(|e| e.to_string())?;
+                toml::to_string(&back).map_err(|e| e.to_string())
+            });
+            match outcome {
+                Err(_) => panic!("{name} {preset} round {round}: panicked on\n{mutated}"),
+                Ok(Ok(captured)) => {
+                    accepted += 1;
+                    if let Some(t) = non_finite(&captured) {
+                        panic!(
+                            "{name} {preset} round {round}: accepted `{t}` from\n{mutated}\nas\n{captured}"
+                        );
+                    }
+                }
+                Ok(Err(message)) => {
+                    refused += 1;
+                    assert!(!message.is_empty(), "{name}: an empty message");
+                }
+            }
+        }
+    }
+    eprintln!("{name}: {accepted} mutated scene files accepted, {refused} refused");
+    (accepted, refused)
+}
+
+#[test]
+fn mutated_scene_files_never_panic_or_smuggle_non_finite_values() {
+    use sediment::scene::{cave, dunes, grow, layers};
+    let grow = fuzz_scene_files::<grow::Params>("grow", grow::PRESETS, 200);
+    let dunes = fuzz_scene_files::<dunes::Params>("dunes", dunes::PRESETS, 200);
+    let cave = fuzz_scene_files::<cave::Params>("cave", cave::PRESETS, 200);
+    let layers = fuzz_scene_files::<layers::Params>("layers", layers::PRESETS, 200);
+    // The fuzz reaches both sides: some mutations are harmless, most are refused.
+    for (name, (a, r)) in [
+        ("grow", grow),
+        ("dunes", dunes),
+        ("cave", cave),
+        ("layers", layers),
+    ] {
+        assert!(a > 0 && r > 0, "{name}: {a} accepted, {r} refused");
+    }
+}
+
+#[test]
+fn mutated_climate_records_never_panic_or_accept_non_finite_rows() {
+    use sediment::model::layers::physical::parse_timeline;
+    use sediment::model::speleothem::climate;
+    let mut rng = Rng::new(0xC11A);
+    let (mut accepted, mut refused) = (0, 0);
+    for round in 0..400 {
+        let mutated = mutate(climate::HOLOCENE, &mut rng);
+        let outcome = std::panic::catch_unwind(|| {
+            let rows = parse_timeline(&mutated, 1e-4);
+            let record = climate::parse(&mutated, 1e-4, 100.0);
+            (rows, record)
+        });
+        let Ok((rows, record)) = outcome else {
+            panic!("round {round}: panicked on\n{mutated}");
+        };
+        match rows {
+            Ok(rows) => {
+                accepted += 1;
+                for r in &rows {
+                    assert!(
+                        [r.year, r.temperature_c, r.drip_interval_s, r.excess_ca]
+                            .iter()
+                            .all(|v| v.is_finite()),
+                        "round {round}: accepted {r:?}"
+                    );
+                }
+            }
+            Err(_) => refused += 1,
+        }
+        if let Ok(c) = record {
+            let grown: f64 = (0..c.passes()).map(|p| c.height(p)).sum();
+            assert!(grown.is_finite() && grown >= 0.0, "round {round}: {grown}");
+        }
+    }
+    eprintln!("timelines: {accepted} accepted, {refused} refused");
+    assert!(accepted > 0 && refused > 0);
+}
