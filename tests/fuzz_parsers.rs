@@ -78,8 +78,11 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
     }
     let mut out = lines.join("\n");
     if rng.next_u64() % 10 == 0 {
-        let cut = (rng.next_u64() % (out.len() as u64 + 1)) as usize;
-        out.truncate(out.floor_char_boundary(cut));
+        let mut cut = (rng.next_u64() % (out.len() as u64 + 1)) as usize;
+        while !out.is_char_boundary(cut) {
+            cut -= 1;
+        }
+        out.truncate(cut);
     }
     out
 }
