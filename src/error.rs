@@ -46,14 +46,15 @@ pub enum Error {
     )]
     NoValidationLayer,
 
-    #[error("The Vulkan call {call} failed with {result:?} ({result}).")]
+    #[error("The Vulkan call {call} failed with {result:?} ({result}).{}", memory_hint(*result))]
     Vulkan {
         call: &'static str,
         result: vk::Result,
     },
 
     #[error(
-        "Out of GPU memory (or no suitable memory type) allocating \"{name}\" ({bytes} bytes): {source}"
+        "Out of GPU memory (or no suitable memory type) allocating \"{name}\" ({bytes} bytes){}",
+        memory_hint(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY)
     )]
     Allocation {
         name: String,
@@ -116,6 +117,18 @@ pub enum Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// What to do when memory ran out, for the messages of the calls that report it.
+fn memory_hint(result: vk::Result) -> &'static str {
+    match result {
+        vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
+            " The scene needs more memory than the device has: make it smaller (--size, or \
+             the scene's own --count, --passes, --segments, --depth, --ripple-size, \
+             --dune-size, --rep, --pz) or use a device with more memory."
+        }
+        _ => "",
+    }
+}
 
 /// A user's text as an error message quotes it: long input cut to its first 60
 /// characters (a 20 MB preset name was echoed whole).

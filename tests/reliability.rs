@@ -213,3 +213,37 @@ fn an_interrupted_write_leaves_no_partial_file() {
     assert!(!gif.exists(), "no GIF either");
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+#[test]
+fn a_growth_too_big_for_the_device_is_refused_naming_what_to_reduce() {
+    // #8: a large append run failed with a raw "vkCreateBuffer failed with
+    // ERROR_OUT_OF_DEVICE_MEMORY". The plan's vertex buffers are budgeted against the
+    // device heap before anything is allocated.
+    use sediment::model::speleothem::plan::GrowthScene;
+    use sediment::render::growth::GrowthPath;
+    let plan = GrowthScene {
+        count: 256,
+        passes: 512,
+        segments: 128,
+        ..GrowthScene::default()
+    }
+    .plan()
+    .expect("the accepted maximum plans");
+    let restream = GrowthPath::XfbRestream.buffer_bytes(&plan);
+    let append = GrowthPath::XfbAppend.buffer_bytes(&plan);
+    assert_eq!(restream, 2 * append, "ping-pong against one buffer");
+    // A device with 1.5x what re-streaming needs (budget: half of it) refuses it...
+    let heap = restream / 2 * 3;
+    let err = GrowthPath::XfbRestream
+        .check_budget_in(&plan, heap)
+        .expect_err("over budget")
+        .to_string();
+    assert!(
+        err.contains("reduce --count, --passes or --segments") && err.contains("--growth append"),
+        "{err}"
+    );
+    // ...and takes the append-only path, whose one buffer fits.
+    GrowthPath::XfbAppend
+        .check_budget_in(&plan, heap)
+        .expect("append fits");
+}

@@ -59,6 +59,9 @@ pub struct DeviceInfo {
     pub max_image_dimension_2d: u32,
     pub max_geometry_output_vertices: u32,
     pub max_geometry_total_output_components: u32,
+    /// The largest device-local memory heap, bytes (what GPU buffers are budgeted
+    /// against).
+    pub device_heap_bytes: u64,
 }
 
 /// Instance-level state shared by `Context::new` and `probe_devices`.
@@ -377,6 +380,18 @@ impl Context {
 
         // SAFETY: `physical` came from this instance.
         let props = unsafe { parts.instance.get_physical_device_properties(physical) };
+        // SAFETY: `physical` came from this instance.
+        let memory = unsafe {
+            parts
+                .instance
+                .get_physical_device_memory_properties(physical)
+        };
+        let device_heap_bytes = memory.memory_heaps[..memory.memory_heap_count as usize]
+            .iter()
+            .filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL))
+            .map(|h| h.size)
+            .max()
+            .unwrap_or(0);
         let info = DeviceInfo {
             name: report.name,
             driver_name: report.driver_name,
@@ -386,6 +401,7 @@ impl Context {
             max_image_dimension_2d: props.limits.max_image_dimension2_d,
             max_geometry_output_vertices: props.limits.max_geometry_output_vertices,
             max_geometry_total_output_components: props.limits.max_geometry_total_output_components,
+            device_heap_bytes,
         };
         let ctx = Context {
             frame_format,

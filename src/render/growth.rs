@@ -112,8 +112,60 @@ impl GrowthPath {
         self != GrowthPath::CpuUpload
     }
 
+    /// Vertex buffers this path holds for `plan`, bytes: the re-streaming paths two
+    /// of the largest mesh (ping-pong), the others one (append: the frozen mesh; cpu:
+    /// the uploaded one).
+    pub fn buffer_bytes(self, plan: &GrowthPlan) -> u64 {
+        let largest = crate::model::speleothem::vertex_counts(plan)
+            .into_iter()
+            .max()
+            .unwrap_or(0);
+        let copies = match self {
+            GrowthPath::XfbRestream | GrowthPath::ComputeRestream => 2,
+            GrowthPath::XfbAppend | GrowthPath::CpuUpload => 1,
+        };
+        copies * largest * u64::from(crate::model::speleothem::VERTEX_STRIDE)
+    }
+
+    /// Refuses, before anything is allocated, a growth whose vertex buffers would not
+    /// fit the device's memory (a raw ERROR_OUT_OF_DEVICE_MEMORY said nothing of what to
+    /// reduce: issue 17 #8). Half the largest device heap is the budget: the frame,
+    /// the shading and the driver need the rest.
+    pub fn check_budget(self, ctx: &Context, plan: &GrowthPlan) -> Result<()> {
+        self.check_budget_in(plan, ctx.info().device_heap_bytes)
+    }
+
+    /// `check_budget` against a heap of `heap` bytes.
+    pub fn check_budget_in(self, plan: &GrowthPlan, heap: u64) -> Result<()> {
+        let needed = self.buffer_bytes(plan);
+        let budget = heap / 2;
+        if heap == 0 || needed <= budget {
+            return Ok(());
+        }
+        let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+        Err(Error::invalid(
+            "growth size",
+            format!(
+                "the {} growth needs {:.1} GiB of vertex buffers for its {} speleothems x {} passes x {} segments;                  this device has {:.1} GiB ({:.1} GiB budgeted): reduce --count, --passes or --segments{}",
+                self.short_name(),
+                gib(needed),
+                plan.speleothems.len(),
+                plan.passes,
+                plan.segments,
+                gib(heap),
+                gib(budget),
+                if copies_two(self) {
+                    ", or use --growth append (one buffer)"
+                } else {
+                    ""
+                }
+            ),
+        ))
+    }
+
     /// Starts a growth of `plan` on this path.
     pub fn start(self, ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Box<dyn Growth>> {
+        self.check_budget(ctx, plan)?;
         Ok(match self {
             GrowthPath::XfbRestream => Box::new(RingGrowth::new(ctx, plan, None)?),
             GrowthPath::XfbAppend => Box::new(AppendGrowth::new(ctx, plan)?),
@@ -121,6 +173,10 @@ impl GrowthPath {
             GrowthPath::CpuUpload => Box::new(CpuGrowth::new(ctx, plan)?),
         })
     }
+}
+
+fn copies_two(path: GrowthPath) -> bool {
+    matches!(path, GrowthPath::XfbRestream | GrowthPath::ComputeRestream)
 }
 
 impl std::fmt::Display for GrowthPath {

@@ -289,6 +289,51 @@ impl GrowthFrame {
         self.growth.passes_done()
     }
 
+    /// Grows up to `passes` more passes without drawing, in submissions of bounded work
+    /// (about `VERTICES_PER_SUBMISSION` vertices through the growth pass each, at
+    /// least one pass), reporting `progress(done, total)` after each: the largest
+    /// growths ran for minutes in one submission with no progress (issue 17 #8).
+    /// Returns the growth's time, ms (GPU timestamps; the clock on the CPU path).
+    pub fn advance(
+        &mut self,
+        ctx: &Arc<Context>,
+        passes: u32,
+        progress: &mut dyn FnMut(u32, u32),
+    ) -> Result<f64> {
+        const VERTICES_PER_SUBMISSION: u64 = 20_000_000;
+        let mut timer = GpuTimer::new(ctx, "ring growth (advance)", 1)?;
+        let on_gpu = self.growth.path().on_gpu();
+        let mut total_ms = 0.0;
+        let counts = crate::model::speleothem::vertex_counts(&self.plan);
+        let end = (self.passes_done() + passes).min(self.plan.passes);
+        while self.passes_done() < end {
+            let start = self.passes_done();
+            let mut n = 0;
+            let mut work = 0u64;
+            while start + n < end && (n == 0 || work < VERTICES_PER_SUBMISSION) {
+                // A re-streaming pass reads the whole mesh; the count before the pass.
+                work += counts.get(start as usize).copied().unwrap_or(0);
+                n += 1;
+            }
+            let growth = &mut self.growth;
+            let clock = Instant::now();
+            ctx.submit_and_wait("ring growth", |cmd| {
+                timer.reset(cmd);
+                let span = timer.begin(cmd, "ring growth")?;
+                growth.record(cmd, n)?;
+                timer.end(cmd, span);
+                Ok(())
+            })?;
+            total_ms += if on_gpu {
+                timer.read()?.iter().map(|s| s.milliseconds).sum()
+            } else {
+                clock.elapsed().as_secs_f64() * 1e3
+            };
+            progress(self.passes_done(), self.plan.passes);
+        }
+        Ok(total_ms)
+    }
+
     /// The viewer grows one pass every `every` frames (1..=120).
     pub fn set_every(&mut self, every: u32) {
         self.live.every = every.clamp(1, 120);
@@ -716,6 +761,12 @@ pub fn grow(
         step
     };
     let mut frames = Vec::new();
+    // Only the final frame is drawn: grow in bounded submissions first, and count
+    // their time as the frame's growth.
+    let grown_ms = match outputs.frame_every {
+        None => frame.advance(ctx, passes, progress)?,
+        Some(_) => 0.0,
+    };
     loop {
         let (image, f) = runner.render(&mut frame, &camera, Time::At(time))?;
         progress(frame.passes_done(), passes);
@@ -742,7 +793,7 @@ pub fn grow(
             return Ok(Grown {
                 plan: frame.plan.clone(),
                 image,
-                gpu_spans: f.spans,
+                gpu_spans: with_growth_time(f.spans, grown_ms),
                 wall_ms: start.elapsed().as_secs_f64() * 1e3,
                 frames,
                 mesh,
@@ -837,6 +888,23 @@ pub fn export_asset(
     export_parts(plan, vertices, &mut asset);
     asset.to_metres(metres_per_unit, Vec3::new(0.0, floor_y, 0.0));
     asset
+}
+
+/// `spans` with `grown_ms` added to their ring growth (grown before the frame).
+fn with_growth_time(mut spans: Vec<Span>, grown_ms: f64) -> Vec<Span> {
+    if grown_ms > 0.0 {
+        match spans.iter_mut().find(|s| s.name == "ring growth") {
+            Some(s) => s.milliseconds += grown_ms,
+            None => spans.insert(
+                0,
+                Span {
+                    name: "ring growth".to_owned(),
+                    milliseconds: grown_ms,
+                },
+            ),
+        }
+    }
+    spans
 }
 
 /// Every ring of every speleothem as CSV text (`sediment grow --csv`): with a climate
