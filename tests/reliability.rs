@@ -247,3 +247,74 @@ fn a_growth_too_big_for_the_device_is_refused_naming_what_to_reduce() {
         .check_budget_in(&plan, heap)
         .expect("append fits");
 }
+
+/// Runs sediment with `args` and returns its peak resident memory in MB, read from
+/// /proc while it runs (VmHWM is the high-water mark, so the last reading is the peak
+/// up to then).
+fn peak_rss_mb(args: &[&str]) -> f64 {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("start sediment");
+    let status = format!("/proc/{}/status", child.id());
+    let mut peak_kb = 0u64;
+    loop {
+        if let Ok(text) = std::fs::read_to_string(&status)
+            && let Some(kb) = text
+                .lines()
+                .find_map(|l| l.strip_prefix("VmHWM:"))
+                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
+        {
+            peak_kb = peak_kb.max(kb);
+        }
+        if let Some(done) = child.try_wait().expect("wait") {
+            assert!(done.success(), "sediment {args:?} failed");
+            return peak_kb as f64 / 1024.0;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn an_animation_holds_one_frame_not_all_of_them() {
+    // #7: every GIF frame was held until the end (2.25 GB for a 2048x2048 growth of
+    // 129 frames). 24 frames of 1024x1024 RGBA are 100 MB; streamed, the GIF costs
+    // one frame and the encoder.
+    let dir = scratch("rel-gif");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let common = [
+        "grow",
+        "--size",
+        "1024x1024",
+        "--passes",
+        "23",
+        "--count",
+        "2",
+        "--growth",
+        "append",
+    ];
+    let mut without = common.to_vec();
+    let png = s("g.png");
+    without.extend(["-o", &png]);
+    let mut with = without.clone();
+    let gif = s("g.gif");
+    with.extend(["--gif", &gif]);
+    let base = peak_rss_mb(&without);
+    let animated = peak_rss_mb(&with);
+    eprintln!("peak memory: {base:.0} MB without the GIF, {animated:.0} MB with 24 frames");
+    assert!(
+        animated - base < 50.0,
+        "{animated:.0} MB against {base:.0} MB"
+    );
+    let frames = image::AnimationDecoder::into_frames(
+        image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+            std::fs::File::open(&gif).expect("GIF written"),
+        ))
+        .expect("decodes"),
+    )
+    .count();
+    assert_eq!(frames, 24);
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

@@ -28,36 +28,90 @@ pub fn remove_in_flight() -> usize {
     n
 }
 
+/// A file being written under a temporary sibling name: `commit` renames it into
+/// place; dropped uncommitted (an error, a panic), it is removed and the target left
+/// untouched. For outputs written piece by piece as the work goes (animations).
+pub struct AtomicFile {
+    path: PathBuf,
+    tmp: PathBuf,
+    writer: Option<std::io::BufWriter<std::fs::File>>,
+}
+
+impl AtomicFile {
+    pub fn create(path: &Path) -> Result<Self> {
+        let tmp = temporary_name(path);
+        // A new file only (O_CREAT | O_EXCL): never one already there, nor through a
+        // symlink planted under the temporary name (issue 17 #12).
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(|source| Error::Write {
+                path: path.to_path_buf(),
+                source,
+            })?;
+        in_flight().push(tmp.clone());
+        Ok(Self {
+            path: path.to_path_buf(),
+            tmp,
+            writer: Some(std::io::BufWriter::new(file)),
+        })
+    }
+
+    /// Where the data goes.
+    pub fn writer(&mut self) -> Result<&mut std::io::BufWriter<std::fs::File>> {
+        self.writer
+            .as_mut()
+            .ok_or_else(|| Error::internal("atomic file", "written after commit"))
+    }
+
+    /// The target path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    pub fn io_error(&self, source: std::io::Error) -> Error {
+        Error::Write {
+            path: self.path.clone(),
+            source,
+        }
+    }
+
+    /// Flushes, syncs and renames into place.
+    pub fn commit(mut self) -> Result<()> {
+        let Some(mut writer) = self.writer.take() else {
+            return Err(Error::internal("atomic file", "committed twice"));
+        };
+        writer.flush().map_err(|e| self.io_error(e))?;
+        writer.get_ref().sync_all().map_err(|e| self.io_error(e))?;
+        drop(writer);
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| self.io_error(e))?;
+        in_flight().retain(|p| *p != self.tmp);
+        // Renamed: nothing for Drop to remove.
+        self.tmp = PathBuf::new();
+        Ok(())
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if !self.tmp.as_os_str().is_empty() {
+            self.writer.take();
+            let _ = std::fs::remove_file(&self.tmp);
+            in_flight().retain(|p| *p != self.tmp);
+        }
+    }
+}
+
 /// Writes `path` through `write` into a temporary sibling file, then renames it into
 /// place. On any error the temporary file is removed and `path` is left untouched.
 pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<()>,
 ) -> Result<()> {
-    let io_err = |source| Error::Write {
-        path: path.to_path_buf(),
-        source,
-    };
-    let tmp = temporary_name(path);
-    // A new file only (O_CREAT | O_EXCL): never one already there, nor through a
-    // symlink planted under the temporary name (issue 17 #12).
-    let file = std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp)
-        .map_err(io_err)?;
-    in_flight().push(tmp.clone());
-    let mut writer = std::io::BufWriter::new(file);
-    let result = write(&mut writer)
-        .and_then(|()| writer.flush().map_err(io_err))
-        .and_then(|()| writer.get_ref().sync_all().map_err(io_err));
-    drop(writer);
-    let result = result.and_then(|()| std::fs::rename(&tmp, path).map_err(io_err));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    in_flight().retain(|p| *p != tmp);
-    result
+    let mut file = AtomicFile::create(path)?;
+    write(file.writer()?)?;
+    file.commit()
 }
 
 /// Writes `bytes` to `path` atomically.

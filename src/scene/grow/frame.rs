@@ -738,6 +738,25 @@ pub fn grow(
     outputs: &GrowOutputs,
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Grown> {
+    let mut frames = Vec::new();
+    let mut grown = grow_streaming(ctx, scene, size, outputs, progress, &mut |f| {
+        frames.push(f.clone());
+        Ok(())
+    })?;
+    grown.frames = frames;
+    Ok(grown)
+}
+
+/// `grow`, handing each animation frame to `on_frame` as it is made instead of keeping
+/// them (`Grown::frames` stays empty): an animation of any length holds one frame.
+pub fn grow_streaming(
+    ctx: &Arc<Context>,
+    scene: &GrowthScene,
+    size: Size,
+    outputs: &GrowOutputs,
+    progress: &mut dyn FnMut(u32, u32),
+    on_frame: &mut dyn FnMut(&image::RgbaImage) -> Result<()>,
+) -> Result<Grown> {
     let start = Instant::now();
     let camera = outputs
         .camera
@@ -760,7 +779,6 @@ pub fn grow(
     } else {
         step
     };
-    let mut frames = Vec::new();
     // Only the final frame is drawn: grow in bounded submissions first, and count
     // their time as the frame's growth.
     let grown_ms = match outputs.frame_every {
@@ -781,7 +799,7 @@ pub fn grow(
                 crate::export::draw::text(&mut shown, &label, x + 1.0, 11.0, [0, 0, 0]);
                 crate::export::draw::text(&mut shown, &label, x, 10.0, [255, 255, 255]);
             }
-            frames.push(shown);
+            on_frame(&shown)?;
         }
         if done {
             frame.counts()?;
@@ -795,7 +813,7 @@ pub fn grow(
                 image,
                 gpu_spans: with_growth_time(f.spans, grown_ms),
                 wall_ms: start.elapsed().as_secs_f64() * 1e3,
-                frames,
+                frames: Vec::new(),
                 mesh,
             });
         }

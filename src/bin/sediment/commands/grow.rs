@@ -126,12 +126,20 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         frame_every: a.gif.as_ref().map(|_| a.gif_every),
         mesh: a.mesh.is_some(),
     };
-    let grown = grow::grow(
+    // The GIF is encoded frame by frame as the growth goes (one frame in memory),
+    // into a temporary file renamed into place when the growth succeeded.
+    let mut gif = a
+        .gif
+        .as_ref()
+        .map(|path| sediment::export::gif::GifStream::create(path, 80))
+        .transpose()?;
+    let grown = grow::grow_streaming(
         &ctx,
         &scene.growth,
         cli.size,
         &outputs,
         &mut |done, total| progress(done as usize, total as usize, "passes"),
+        &mut |frame| gif.as_mut().map_or(Ok(()), |g| g.push(frame)),
     )?;
     eprintln!();
     fail_on_validation_errors(&ctx)?;
@@ -139,9 +147,9 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         sediment::export::png::write_png(path, &grown.image)?;
         say!("wrote {}", path.display());
     }
-    if let Some(path) = &a.gif {
-        sediment::export::gif::write_gif(path, &grown.frames, 80)?;
-        say!("wrote {} ({} frames)", path.display(), grown.frames.len());
+    if let (Some(path), Some(gif)) = (&a.gif, gif) {
+        let frames = gif.finish()?;
+        say!("wrote {} ({frames} frames)", path.display());
     }
     if let (Some(path), Some(mesh)) = (&a.mesh, &grown.mesh) {
         let title = format!("grow {}", a.scene.preset.as_deref().unwrap_or("scene"));
