@@ -366,12 +366,29 @@ pub fn render(
     size: Size,
     cameras: &[Camera],
 ) -> Result<CaveRender> {
+    render_streaming(ctx, scene, model, size, cameras, &mut |_, _| Ok(true))
+}
+
+/// `render`, handing each camera's image to `on_frame(index, image)` as it is made;
+/// only the frames it returns `true` for are kept in `CaveRender::frames` (a
+/// fly-through streamed to its GIF holds one frame, not all of them).
+pub fn render_streaming(
+    ctx: &Arc<Context>,
+    scene: &CaveScene,
+    model: &Arc<CaveModel>,
+    size: Size,
+    cameras: &[Camera],
+    on_frame: &mut dyn FnMut(usize, &image::RgbaImage) -> Result<bool>,
+) -> Result<CaveRender> {
     let mut runner = FrameRunner::new(ctx, size)?;
     let mut frame = CaveFrame::new(ctx, scene, model.clone())?;
-    let frames = cameras
-        .iter()
-        .map(|camera| runner.render(&mut frame, camera, Time::At(0)))
-        .collect::<Result<_>>()?;
+    let mut frames = Vec::new();
+    for (i, camera) in cameras.iter().enumerate() {
+        let rendered = runner.render(&mut frame, camera, Time::At(0))?;
+        if on_frame(i, &rendered.0)? {
+            frames.push(rendered);
+        }
+    }
     Ok(CaveRender {
         frames,
         grown: frame.grown(ctx)?,

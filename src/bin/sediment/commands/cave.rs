@@ -114,7 +114,25 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
     if a.flythrough.is_some() {
         cameras.extend(cave::flythrough(scene, &model, a.flythrough_frames));
     }
-    let rendered = cave::render(&ctx, scene, &model, cli.size, &cameras)?;
+    // The fly-through's frames go to the GIF as they are made (one in memory); the
+    // still (camera 0) is kept.
+    let mut gif = a
+        .flythrough
+        .as_ref()
+        .map(|path| sediment::export::gif::GifStream::create(path, 120))
+        .transpose()?;
+    let rendered = cave::render_streaming(
+        &ctx,
+        scene,
+        &model,
+        cli.size,
+        &cameras,
+        &mut |i, image| match (&mut gif, i) {
+            (_, 0) => Ok(true),
+            (Some(g), _) => g.push(image).map(|()| false),
+            (None, _) => Ok(false),
+        },
+    )?;
     fail_on_validation_errors(&ctx)?;
     let output = a
         .output
@@ -123,10 +141,9 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
     let (image, frame) = &rendered.frames[0];
     sediment::export::png::write_png(&output, image)?;
     say!("wrote {}", output.display());
-    if let Some(path) = &a.flythrough {
-        let frames: Vec<_> = rendered.frames[1..].iter().map(|f| f.0.clone()).collect();
-        sediment::export::gif::write_gif(path, &frames, 120)?;
-        say!("wrote {} ({} frames)", path.display(), frames.len());
+    if let (Some(path), Some(gif)) = (&a.flythrough, gif) {
+        let frames = gif.finish()?;
+        say!("wrote {} ({frames} frames)", path.display());
     }
     if let Some(path) = &a.mesh {
         let title = format!("cave {}", a.scene.preset.as_deref().unwrap_or("scene"));
