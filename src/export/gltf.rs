@@ -165,14 +165,7 @@ fn add_part(
     use json::mesh::Semantic;
     let m = &part.mesh;
     let n = m.positions.len();
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    for p in &m.positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = m.bounds();
     let mut attributes = BTreeMap::new();
     let position = bin.accessor(
         root,
@@ -181,7 +174,7 @@ fn add_part(
         C::F32,
         T::Vec3,
         false,
-        Some((lo, hi)),
+        Some((lo.to_array(), hi.to_array())),
         ArrayBuffer,
     );
     attributes.insert(Valid(Semantic::Positions), position);

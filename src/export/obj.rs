@@ -96,40 +96,38 @@ fn write_part(
     base_v: &mut usize,
     base_vt: &mut usize,
 ) {
-    {
-        for (i, p) in m.positions.iter().enumerate() {
-            let _ = write!(obj, "v {} {} {}", p[0], p[1], p[2]);
-            if let Some(c) = &m.colors {
-                let c = c[i].map(linear_to_srgb);
-                let _ = write!(obj, " {:.5} {:.5} {:.5}", c[0], c[1], c[2]);
+    for (i, p) in m.positions.iter().enumerate() {
+        let _ = write!(obj, "v {} {} {}", p[0], p[1], p[2]);
+        if let Some(c) = &m.colors {
+            let c = c[i].map(linear_to_srgb);
+            let _ = write!(obj, " {:.5} {:.5} {:.5}", c[0], c[1], c[2]);
+        }
+        obj.push('\n');
+    }
+    for n in &m.normals {
+        let _ = writeln!(obj, "vn {} {} {}", n[0], n[1], n[2]);
+    }
+    if let Some(s) = &m.surface {
+        // OBJ's v runs up the image, glTF's down it.
+        for uv in &s.normal_uv {
+            let _ = writeln!(obj, "vt {} {}", uv[0], 1.0 - uv[1]);
+        }
+    }
+    for t in m.indices.chunks_exact(3) {
+        obj.push('f');
+        for &i in t {
+            let v = *base_v + i as usize;
+            if m.surface.is_some() {
+                let _ = write!(obj, " {v}/{}/{v}", *base_vt + i as usize);
+            } else {
+                let _ = write!(obj, " {v}//{v}");
             }
-            obj.push('\n');
         }
-        for n in &m.normals {
-            let _ = writeln!(obj, "vn {} {} {}", n[0], n[1], n[2]);
-        }
-        if let Some(s) = &m.surface {
-            // OBJ's v runs up the image, glTF's down it.
-            for uv in &s.normal_uv {
-                let _ = writeln!(obj, "vt {} {}", uv[0], 1.0 - uv[1]);
-            }
-        }
-        for t in m.indices.chunks_exact(3) {
-            obj.push('f');
-            for &i in t {
-                let v = *base_v + i as usize;
-                if m.surface.is_some() {
-                    let _ = write!(obj, " {v}/{}/{v}", *base_vt + i as usize);
-                } else {
-                    let _ = write!(obj, " {v}//{v}");
-                }
-            }
-            obj.push('\n');
-        }
-        *base_v += m.positions.len();
-        if m.surface.is_some() {
-            *base_vt += m.positions.len();
-        }
+        obj.push('\n');
+    }
+    *base_v += m.positions.len();
+    if m.surface.is_some() {
+        *base_vt += m.positions.len();
     }
 }
 

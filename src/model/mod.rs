@@ -17,3 +17,4 @@ pub mod rock;
 pub mod sand;
 pub mod sand_grain;
 pub mod speleothem;
+pub mod srgb;

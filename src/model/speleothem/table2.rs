@@ -64,13 +64,7 @@ impl Mineral {
     /// paler (malachite's saturation 0.18 shows as 0.08). So each is decoded from sRGB
     /// and scaled so that calcareous keeps the 0.8 albedo of white calcite.
     pub fn albedo(self) -> [f32; 3] {
-        let decode = |c: f32| {
-            if c <= 0.04045 {
-                c / 12.92
-            } else {
-                ((c + 0.055) / 1.055).powf(2.4)
-            }
-        };
+        let decode = crate::model::srgb::srgb_to_linear;
         let white = Mineral::Calcareous.color()[0];
         let scale = white / decode(white);
         self.color().map(|c| (decode(c) * scale).min(1.0))

@@ -405,12 +405,10 @@ pub fn export(
     title: &str,
 ) -> Asset {
     let mut asset = Asset::new(title);
-    let wall = shown_wall(scene.smooth, model);
-    asset.push(
-        "cave walls",
-        PartMesh::from_mesh(&wall),
-        Material::plain("rock", ROCK, 0.9),
-    );
+    let walls = PartMesh::from_mesh(&shown_wall(scene.smooth, model));
+    // The walls' floor, before the speleothems (whose bases sink into the rock) join.
+    let floor = floor_centre(walls.bounds());
+    asset.push("cave walls", walls, Material::plain("rock", ROCK, 0.9));
     if !model.short_mesh.indices.is_empty() {
         // 0 stalactites, 1 stalagmites, 2 columns.
         let mut parts: [Mesh; 3] = Default::default();
@@ -431,7 +429,6 @@ pub fn export(
     if let Some((plan, vertices)) = grown {
         crate::scene::grow::export_parts(plan, vertices, &mut asset);
     }
-    let floor = floor_centre(PartMesh::from_mesh(&wall).bounds());
     asset.to_metres(1.0, floor);
     asset
 }

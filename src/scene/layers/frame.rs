@@ -163,10 +163,13 @@ pub fn export(c: &CutAway, title: &str, metres_per_unit: f32) -> Asset {
             Material::plain(material, colour, 0.5),
         );
     }
-    asset.to_metres(
-        metres_per_unit,
-        floor_centre(PartMesh::from_mesh(&c.floor).bounds()),
-    );
+    // The floor part as welded above (the disk on the axis at the base).
+    let floor = asset
+        .parts
+        .iter()
+        .find(|p| p.name == "floor")
+        .map_or(glam::Vec3::ZERO, |p| floor_centre(p.mesh.bounds()));
+    asset.to_metres(metres_per_unit, floor);
     asset
 }
 

@@ -88,14 +88,11 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
     if let Some(csv) = &a.csv {
         check_extension(csv, "--csv", &["csv"])?;
         // Not the climate record or the scene file it was read from.
-        let inputs: Vec<&std::path::Path> = [
-            a.scene.growth.climate.as_deref(),
-            a.file.scene.as_deref().and_then(|p| p.to_str()),
-        ]
-        .into_iter()
-        .flatten()
-        .map(std::path::Path::new)
-        .collect();
+        let climate = a.scene.growth.climate.as_deref().map(std::path::Path::new);
+        let inputs: Vec<&std::path::Path> = [climate, a.file.scene.as_deref()]
+            .into_iter()
+            .flatten()
+            .collect();
         sediment::export::check_not_input(csv, "--csv", &inputs)?;
     }
     if let Some(cut) = &a.cut_away {
