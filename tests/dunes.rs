@@ -358,7 +358,21 @@ fn frames_at(
     times: &[u32],
 ) -> Vec<image::RgbaImage> {
     let camera = dunes::default_camera(scene, terrain);
-    dunes::render_times(ctx, scene, terrain, size, &camera, times, &mut |_, _| {}).expect("render")
+    let mut frames = Vec::new();
+    dunes::render_times(
+        ctx,
+        scene,
+        terrain,
+        size,
+        &camera,
+        times,
+        &mut |_, image| {
+            frames.push(image);
+            Ok(())
+        },
+    )
+    .expect("render");
+    frames
 }
 
 /// Pixels where the dust's contribution (|with - without|, summed over RGB) drops

@@ -318,3 +318,96 @@ fn an_animation_holds_one_frame_not_all_of_them() {
     assert_eq!(frames, 24);
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+#[test]
+fn a_dune_animation_streams_its_frames_too() {
+    // #7 for dunes: both GIFs (the dunes forming; the dust blowing) went to the
+    // encoder only once all frames were rendered. 24 frames of 1024x1024 RGBA are
+    // 100 MB; streamed they cost one frame and the encoder.
+    let dir = scratch("rel-dunes-gif");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let png = s("d.png");
+    let field = [
+        "dunes",
+        "--size",
+        "1024x1024",
+        "--ripple-size",
+        "64",
+        "--dune-size",
+        "32",
+        "-o",
+        &png,
+    ];
+    let base = peak_rss_mb(&field);
+    for (name, dust) in [("forming.gif", false), ("dust.gif", true)] {
+        let gif = s(name);
+        let mut args = field.to_vec();
+        if dust {
+            args.push("--dust");
+        }
+        args.extend(["--gif", &gif, "--gif-frames", "24"]);
+        let animated = peak_rss_mb(&args);
+        eprintln!("{name}: peak {animated:.0} MB against {base:.0} MB for the still");
+        assert!(
+            animated - base < 50.0,
+            "{name}: {animated:.0} MB against {base:.0} MB"
+        );
+        let frames = image::AnimationDecoder::into_frames(
+            image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+                std::fs::File::open(&gif).expect("GIF written"),
+            ))
+            .expect("decodes"),
+        )
+        .count();
+        assert_eq!(frames, 24, "{name}");
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn a_run_failing_late_leaves_none_of_its_outputs() {
+    // #10, the rest: outputs are written all or nothing as a set. Here the mesh's
+    // final guard (a thickening that overflows single precision) fails after the
+    // picture was finished: the picture must not stay behind either.
+    let dir = scratch("rel-set");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let (png, glb) = (s("ok.png"), s("t.glb"));
+    let out = sediment(&[
+        "grow",
+        "--size",
+        "64x48",
+        "--count",
+        "2",
+        "--passes",
+        "40",
+        "--thicken",
+        "1e38",
+        "-o",
+        &png,
+        "--mesh",
+        &glb,
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("not a finite number"), "{stderr}");
+    assert!(
+        stderr.contains("nothing was written") && stderr.contains("ok.png"),
+        "{stderr}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name())
+        .collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+    // The same run without the overflow writes both.
+    let out = sediment(&[
+        "grow", "--size", "64x48", "--count", "2", "--passes", "40", "-o", &png, "--mesh", &glb,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("ok.png").exists() && dir.join("t.glb").exists());
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

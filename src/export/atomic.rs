@@ -1,4 +1,4 @@
-//! Write-then-rename.
+//! Write-then-rename, one file at a time or a whole run's outputs as a set.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -28,6 +28,110 @@ pub fn remove_in_flight() -> usize {
     n
 }
 
+thread_local! {
+    /// The finished outputs of the open [`OutputSet`] on this thread, as (temporary,
+    /// target): `None` when no set is open and each file is renamed as it is finished.
+    static PENDING: std::cell::RefCell<Option<Vec<(PathBuf, PathBuf)>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// A run's outputs written all or nothing (issue 17 #10): while a set is open on this
+/// thread, each finished [`AtomicFile`] waits under its temporary name; `commit`
+/// renames them all at the end, and a set dropped uncommitted (the run failed) removes
+/// them, so a failure late in a run leaves none of the outputs made before it. An
+/// interrupt removes them like any file in flight.
+pub struct OutputSet {
+    open: bool,
+}
+
+impl OutputSet {
+    /// Opens the set on this thread (one at a time: a second replaces the first).
+    pub fn begin() -> Self {
+        PENDING.with(|p| *p.borrow_mut() = Some(Vec::new()));
+        Self { open: true }
+    }
+
+    fn take(&mut self) -> Vec<(PathBuf, PathBuf)> {
+        self.open = false;
+        PENDING.with(|p| p.borrow_mut().take()).unwrap_or_default()
+    }
+
+    /// Renames every finished output into place; returns their paths. Every target is
+    /// checked before the first rename (a folder in the way fails the set, nothing
+    /// renamed); a rename failing after that (the disk going away) says which landed.
+    pub fn commit(mut self) -> Result<Vec<PathBuf>> {
+        let list = self.take();
+        let blocked = list.iter().find(|(_, target)| target.is_dir());
+        if let Some((_, target)) = blocked {
+            let target = target.clone();
+            remove_temporaries(&list);
+            return Err(Error::Write {
+                path: target,
+                source: std::io::Error::other("a folder is in the way; no output was written"),
+            });
+        }
+        let mut landed = Vec::with_capacity(list.len());
+        for (i, (tmp, target)) in list.iter().enumerate() {
+            if let Err(e) = std::fs::rename(tmp, target) {
+                remove_temporaries(&list[i..]);
+                in_flight().retain(|p| !list.iter().any(|(t, _)| t == p));
+                let written = if landed.is_empty() {
+                    "none was written".to_owned()
+                } else {
+                    format!(
+                        "written before the failure: {}",
+                        landed
+                            .iter()
+                            .map(|p: &PathBuf| p.display().to_string())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )
+                };
+                return Err(Error::Write {
+                    path: target.clone(),
+                    source: std::io::Error::new(e.kind(), format!("{e}; {written}")),
+                });
+            }
+            landed.push(target.clone());
+        }
+        in_flight().retain(|p| !list.iter().any(|(t, _)| t == p));
+        Ok(landed)
+    }
+
+    /// Removes every finished output (the run failed); returns the paths they would
+    /// have had, for the message.
+    pub fn discard(mut self) -> Vec<PathBuf> {
+        let list = self.take();
+        remove_temporaries(&list);
+        list.into_iter().map(|(_, target)| target).collect()
+    }
+}
+
+impl Drop for OutputSet {
+    fn drop(&mut self) {
+        if self.open {
+            let list = self.take();
+            remove_temporaries(&list);
+        }
+    }
+}
+
+fn remove_temporaries(list: &[(PathBuf, PathBuf)]) {
+    for (tmp, _) in list {
+        let _ = std::fs::remove_file(tmp);
+    }
+    in_flight().retain(|p| !list.iter().any(|(t, _)| t == p));
+}
+
+/// Whether the open set already holds a finished output for `path`.
+fn pending_for(path: &Path) -> bool {
+    PENDING.with(|p| {
+        p.borrow()
+            .as_ref()
+            .is_some_and(|list| list.iter().any(|(_, target)| target == path))
+    })
+}
+
 /// A file being written under a temporary sibling name: `commit` renames it into
 /// place; dropped uncommitted (an error, a panic), it is removed and the target left
 /// untouched. For outputs written piece by piece as the work goes (animations).
@@ -39,6 +143,16 @@ pub struct AtomicFile {
 
 impl AtomicFile {
     pub fn create(path: &Path) -> Result<Self> {
+        if pending_for(path) {
+            // Two outputs of one run with the same name: the second would silently
+            // replace the first.
+            return Err(Error::Write {
+                path: path.to_path_buf(),
+                source: std::io::Error::other(
+                    "this run already wrote a file of that name (two outputs given the same path?)",
+                ),
+            });
+        }
         let tmp = temporary_name(path);
         // A new file only (O_CREAT | O_EXCL): never one already there, nor through a
         // symlink planted under the temporary name (issue 17 #12).
@@ -77,7 +191,8 @@ impl AtomicFile {
         }
     }
 
-    /// Flushes, syncs and renames into place.
+    /// Flushes, syncs and renames into place, or, while an [`OutputSet`] is open,
+    /// hands the finished file to it to be renamed with the others.
     pub fn commit(mut self) -> Result<()> {
         let Some(mut writer) = self.writer.take() else {
             return Err(Error::internal("atomic file", "committed twice"));
@@ -85,6 +200,19 @@ impl AtomicFile {
         writer.flush().map_err(|e| self.io_error(e))?;
         writer.get_ref().sync_all().map_err(|e| self.io_error(e))?;
         drop(writer);
+        let tmp = std::mem::take(&mut self.tmp);
+        let deferred = PENDING.with(|p| match p.borrow_mut().as_mut() {
+            Some(list) => {
+                list.push((tmp.clone(), self.path.clone()));
+                true
+            }
+            None => false,
+        });
+        if deferred {
+            // Still in flight (an interrupt removes it) until the set is committed.
+            return Ok(());
+        }
+        self.tmp = tmp;
         std::fs::rename(&self.tmp, &self.path).map_err(|e| self.io_error(e))?;
         in_flight().retain(|p| *p != self.tmp);
         // Renamed: nothing for Drop to remove.
@@ -181,6 +309,59 @@ mod tests {
         })
         .expect("write succeeds");
         assert_eq!(std::fs::read(&target).expect("read back"), b"whole");
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
+
+    #[test]
+    fn a_set_renames_all_at_the_end_or_none() {
+        let dir = std::env::temp_dir().join(format!("sediment-atomic-set-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let (a, b) = (dir.join("a.txt"), dir.join("b.txt"));
+        let names = || -> Vec<String> {
+            let mut v: Vec<String> = std::fs::read_dir(&dir)
+                .expect("read dir")
+                .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+                .collect();
+            v.sort();
+            v
+        };
+        // A failed run: the first output was finished, then the run failed.
+        {
+            let set = OutputSet::begin();
+            write_bytes(&a, b"first").expect("a finished");
+            assert!(!a.exists(), "not in place before the set commits");
+            assert_eq!(names().len(), 1, "waiting under its temporary name");
+            let discarded = set.discard();
+            assert_eq!(discarded, vec![a.clone()]);
+        }
+        assert!(names().is_empty(), "nothing left: {:?}", names());
+        // Dropped without a word (a `?` out of the run): the same.
+        {
+            let _set = OutputSet::begin();
+            write_bytes(&a, b"first").expect("a finished");
+        }
+        assert!(names().is_empty(), "nothing left: {:?}", names());
+        // The same path twice in one run is refused.
+        let set = OutputSet::begin();
+        write_bytes(&a, b"first").expect("a finished");
+        assert!(write_bytes(&a, b"again").is_err(), "same path twice");
+        write_bytes(&b, b"second").expect("b finished");
+        let landed = set.commit().expect("commit");
+        assert_eq!(landed, vec![a.clone(), b.clone()]);
+        assert_eq!(names(), vec!["a.txt".to_owned(), "b.txt".to_owned()]);
+        assert_eq!(std::fs::read(&b).expect("b"), b"second");
+        // A folder in the way of one target: none of the set lands.
+        let c = dir.join("c.txt");
+        std::fs::create_dir(dir.join("d.txt")).expect("folder in the way");
+        let set = OutputSet::begin();
+        write_bytes(&c, b"third").expect("c finished");
+        write_bytes(&dir.join("d.txt"), b"fourth").expect("d finished");
+        assert!(set.commit().is_err());
+        assert!(!c.exists(), "c not renamed either");
+        assert_eq!(names().len(), 3, "a, b and the folder: {:?}", names());
+        // Without a set, a file lands as it is finished.
+        write_bytes(&c, b"now").expect("c");
+        assert!(c.exists());
         std::fs::remove_dir_all(&dir).expect("clean up");
     }
 }

@@ -127,10 +127,31 @@ fn main() -> ExitCode {
         std::process::exit(130);
     });
     let cli = Cli::parse();
-    match run(cli) {
+    // A run's outputs land together at the end or not at all (issue 17 #10). The
+    // viewer is the exception: its screenshots are written when asked for.
+    let set =
+        (!matches!(cli.command, Command::View(_))).then(sediment::export::atomic::OutputSet::begin);
+    let mut discarded = Vec::new();
+    let result = match (run(cli), set) {
+        (Ok(()), Some(set)) => set.commit().map(drop).map_err(Into::into),
+        (Err(e), Some(set)) => {
+            discarded = set.discard();
+            Err(e)
+        }
+        (result, None) => result,
+    };
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
+            if !discarded.is_empty() {
+                let names: Vec<String> =
+                    discarded.iter().map(|p| p.display().to_string()).collect();
+                eprintln!(
+                    "nothing was written: the outputs finished before the failure were removed ({})",
+                    names.join(", ")
+                );
+            }
             ExitCode::FAILURE
         }
     }

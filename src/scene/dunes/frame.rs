@@ -42,19 +42,18 @@ pub struct Terrain {
 
 /// Runs both simulations; `progress(done, total)` over all steps.
 pub fn simulate(scene: &DunesScene, progress: &mut dyn FnMut(u32, u32)) -> Result<Terrain> {
-    let mut frames = simulate_frames(scene, 1, progress)?;
-    frames
-        .pop()
-        .ok_or_else(|| Error::internal("simulation", "produced no terrain"))
+    simulate_frames(scene, 1, progress, &mut |_, _| Ok(()))
 }
 
-/// Runs both simulations in `frames` equal chunks and keeps the terrain after each
-/// (the ripples and dunes forming over time, for an animation).
+/// Runs both simulations in `frames` equal chunks and hands the terrain after each to
+/// `each(index, terrain)` (the ripples and dunes forming over time, for an animation,
+/// one snapshot alive at a time); returns the final terrain.
 pub fn simulate_frames(
     scene: &DunesScene,
     frames: u32,
     progress: &mut dyn FnMut(u32, u32),
-) -> Result<Vec<Terrain>> {
+    each: &mut dyn FnMut(u32, &Terrain) -> Result<()>,
+) -> Result<Terrain> {
     scene.validate()?;
     let frames = frames.max(1);
     let total = scene.ripple_steps + scene.dune_steps;
@@ -73,7 +72,7 @@ pub fn simulate_frames(
         scene.dune.clone(),
     )?;
     let (mut ripple_done, mut dune_done) = (0u32, 0u32);
-    let mut out = Vec::with_capacity(frames as usize);
+    let mut last = None;
     for f in 1..=frames {
         let ripple_to = (u64::from(scene.ripple_steps) * u64::from(f) / u64::from(frames)) as u32;
         let dune_to = (u64::from(scene.dune_steps) * u64::from(f) / u64::from(frames)) as u32;
@@ -83,13 +82,11 @@ pub fn simulate_frames(
         let base = ripple_done + dune_done;
         dunes.run(dune_to - dune_done, &mut |d| progress(base + d, total));
         dune_done = dune_to;
-        out.push(terrain_of(
-            scene,
-            ripples.field().clone(),
-            dunes.field().clone(),
-        ));
+        let terrain = terrain_of(scene, ripples.field().clone(), dunes.field().clone());
+        each(f - 1, &terrain)?;
+        last = Some(terrain);
     }
-    Ok(out)
+    last.ok_or_else(|| Error::internal("simulation", "produced no terrain"))
 }
 
 /// World-unit dune heights (lowest at 0) from the simulated fields.
@@ -743,7 +740,8 @@ pub fn render(
 
 /// Frames of `scene` at each of `times` (`Time::At`: the dust `dust_step + t` steps
 /// on) from one frame set-up, as the viewer draws them: the dust blowing over the
-/// terrain; `progress(done, total)` per frame.
+/// terrain, each handed to `each(index, image)` as it is made (an animation streams
+/// to its encoder, one frame alive at a time).
 pub fn render_times(
     ctx: &Arc<Context>,
     scene: &DunesScene,
@@ -751,17 +749,14 @@ pub fn render_times(
     size: Size,
     camera: &Camera,
     times: &[u32],
-    progress: &mut dyn FnMut(usize, usize),
-) -> Result<Vec<image::RgbaImage>> {
+    each: &mut dyn FnMut(usize, image::RgbaImage) -> Result<()>,
+) -> Result<()> {
     let mut frame = DunesFrame::new(ctx, scene.clone(), terrain)?;
     let mut runner = FrameRunner::new(ctx, size)?;
-    let mut out = Vec::with_capacity(times.len());
     for (i, &t) in times.iter().enumerate() {
-        progress(i, times.len());
-        out.push(runner.render(&mut frame, camera, Time::At(t))?.0);
+        each(i, runner.render(&mut frame, camera, Time::At(t))?.0)?;
     }
-    progress(times.len(), times.len());
-    Ok(out)
+    Ok(())
 }
 
 /// The dune figures in the registry.

@@ -106,33 +106,6 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         Some(&camera),
         a.timing_frames,
     )?;
-    let mut gif_frames = Vec::new();
-    if a.gif.is_some() && scene.dust.is_some() {
-        // The dust blowing over the final terrain, two time steps a frame.
-        let times: Vec<u32> = (0..a.gif_frames).map(|i| 2 * i).collect();
-        gif_frames = dunes::render_times(
-            &ctx,
-            scene,
-            &terrain,
-            cli.size,
-            &camera,
-            &times,
-            &mut |d, t| progress(d, t, "animation frames"),
-        )?;
-        eprintln!();
-    } else if a.gif.is_some() {
-        // The simulation again in chunks, one frame after each (the same seed gives
-        // the same final terrain).
-        let snapshots = dunes::simulate_frames(scene, a.gif_frames, &mut |d, t| {
-            progress(d as usize, t as usize, "animation steps")
-        })?;
-        eprintln!();
-        for (i, terrain) in snapshots.iter().enumerate() {
-            progress(i, snapshots.len(), "animation frames");
-            gif_frames.push(dunes::render(&ctx, scene, terrain, cli.size, Some(&camera), 0)?.image);
-        }
-        eprintln!();
-    }
     fail_on_validation_errors(&ctx)?;
     let output = a
         .output
@@ -141,8 +114,42 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
     sediment::export::png::write_png(&output, &out.image)?;
     say!("wrote {}", output.display());
     if let Some(path) = &a.gif {
-        sediment::export::gif::write_gif(path, &gif_frames, 150)?;
-        say!("wrote {} ({} frames)", path.display(), gif_frames.len());
+        // Each frame goes to the encoder as it is rendered: one frame in memory.
+        let mut gif = sediment::export::gif::GifStream::create(path, 150)?;
+        let frames = a.gif_frames as usize;
+        if scene.dust.is_some() {
+            // The dust blowing over the final terrain, two time steps a frame.
+            let times: Vec<u32> = (0..a.gif_frames).map(|i| 2 * i).collect();
+            dunes::render_times(
+                &ctx,
+                scene,
+                &terrain,
+                cli.size,
+                &camera,
+                &times,
+                &mut |i, image| {
+                    progress(i + 1, frames, "animation frames");
+                    gif.push(&image)
+                },
+            )?;
+        } else {
+            // The simulation again in chunks, one frame rendered after each (the same
+            // seed gives the same final terrain).
+            dunes::simulate_frames(
+                scene,
+                a.gif_frames,
+                &mut |d, t| progress(d as usize, t as usize, "animation (simulation and frames)"),
+                &mut |_, snapshot| {
+                    let image =
+                        dunes::render(&ctx, scene, snapshot, cli.size, Some(&camera), 0)?.image;
+                    gif.push(&image)
+                },
+            )?;
+        }
+        eprintln!();
+        fail_on_validation_errors(&ctx)?;
+        let written = gif.finish()?;
+        say!("wrote {} ({written} frames)", path.display());
     }
     if let Some(path) = &a.heightmap {
         use sediment::export::heightmap::write_heightmap;
