@@ -140,6 +140,40 @@ pub fn echo(text: &str) -> String {
     }
 }
 
+/// A whole message with every over-long word in it (a value quoted back by the
+/// argument parser) cut as [`echo`] cuts it; lines and spacing kept.
+pub fn echo_long_words(message: &str) -> String {
+    const LONG: usize = 100;
+    let mut out = String::with_capacity(message.len().min(4096));
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        if word.chars().count() > LONG {
+            // Quotes around the value stay, so the count is the value's own.
+            let quote = |c: char| matches!(c, '\'' | '"' | ':' | ',');
+            let core = word.trim_start_matches(quote);
+            let lead = &word[..word.len() - core.len()];
+            let core = core.trim_end_matches(quote);
+            let tail = &word[lead.len() + core.len()..];
+            out.push_str(lead);
+            out.push_str(&echo(core));
+            out.push_str(tail);
+        } else {
+            out.push_str(word);
+        }
+        word.clear();
+    };
+    for c in message.chars() {
+        if c.is_whitespace() {
+            flush(&mut word, &mut out);
+            out.push(c);
+        } else {
+            word.push(c);
+        }
+    }
+    flush(&mut word, &mut out);
+    out
+}
+
 /// Names the Vulkan call a raw `vk::Result` came from, so no error is a bare code.
 pub(crate) trait VkContext<T> {
     fn vk(self, call: &'static str) -> Result<T>;

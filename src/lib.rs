@@ -8,6 +8,7 @@
 #![warn(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
 
 pub mod bench;
+pub mod budget;
 pub mod demo;
 pub mod error;
 pub mod export;

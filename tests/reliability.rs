@@ -142,6 +142,16 @@ fn messages_name_the_real_cause_once_and_cut_long_input() {
         "(5000 characters)",
     );
     assert!(err.len() < 1000, "{} bytes of message", err.len());
+    // So are values the argument parser quotes back (it echoed them whole).
+    for (option, value) in [("--size", "x".repeat(5000)), ("--count", "9".repeat(5000))] {
+        let err = refused(&["grow", option, &value, "-o", &s("g.png")], option);
+        assert!(
+            err.contains("(5000 characters)") && err.len() < 1000,
+            "{} bytes of message: {}",
+            err.len(),
+            sediment::error::echo(&err)
+        );
+    }
     // An I/O error gives its cause once; an unwritable folder is refused up front.
     let missing = s("none.csv");
     let err = refused(
@@ -409,5 +419,42 @@ fn a_run_failing_late_leaves_none_of_its_outputs() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(dir.join("ok.png").exists() && dir.join("t.glb").exists());
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn a_frame_over_the_memory_budget_is_refused_and_the_estimate_holds() {
+    // The accepted maximum --size (16384x16384) needed about 12 GiB at 4 samples: the
+    // kernel killed it half way. A frame is budgeted from its size and samples before
+    // any work (4 GiB host: on lavapipe device memory is host memory).
+    let dir = scratch("rel-frame-budget");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let err = refused(
+        &["dunes", "--size", "16384x16384", "-o", &s("d.png")],
+        "memory budget",
+    );
+    assert!(
+        err.contains("reduce --size (at most about 9459x9459") && err.contains("--samples"),
+        "{err}"
+    );
+    assert!(std::fs::read_dir(&dir).expect("dir").next().is_none());
+    // The estimate is an upper bound on what a frame really costs: the peak of a
+    // 3000x3000 cave over a 64x64 one stays under it.
+    use sediment::gpu::TargetFormat;
+    let estimate = TargetFormat::FRAME.frame_bytes(3000, 3000) as f64 / (1 << 20) as f64;
+    let small = peak_rss_mb(&["cave", "--size", "64x64", "-o", &s("small.png")]);
+    let large = peak_rss_mb(&["cave", "--size", "3000x3000", "-o", &s("large.png")]);
+    eprintln!(
+        "3000x3000 frame: {:.0} MB measured, {estimate:.0} MB estimated",
+        large - small
+    );
+    assert!(
+        large - small <= estimate,
+        "{large:.0} - {small:.0} MB over {estimate:.0} MB"
+    );
+    assert!(
+        large - small >= 0.5 * estimate,
+        "the estimate is not wildly high"
+    );
     std::fs::remove_dir_all(&dir).expect("clean up");
 }

@@ -146,7 +146,7 @@ impl GrowthPath {
         Err(Error::invalid(
             "growth size",
             format!(
-                "the {} growth needs {:.1} GiB of vertex buffers for its {} speleothems x {} passes x {} segments;                  this device has {:.1} GiB ({:.1} GiB budgeted): reduce --count, --passes or --segments{}",
+                "the {} growth needs {:.1} GiB of vertex buffers for its {} speleothems x {} passes x {} segments; this device has {:.1} GiB ({:.1} GiB budgeted): reduce --count, --passes or --segments{}",
                 self.short_name(),
                 gib(needed),
                 plan.speleothems.len(),

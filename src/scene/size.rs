@@ -46,7 +46,8 @@ impl FromStr for Size {
             Error::invalid(
                 "--size",
                 format!(
-                    "\"{s}\" is not WIDTHxHEIGHT in pixels, each 1..={MAX_SIDE} (e.g. 720x480)"
+                    "\"{}\" is not WIDTHxHEIGHT in pixels, each 1..={MAX_SIDE} (e.g. 720x480)",
+                    crate::error::echo(s)
                 ),
             )
         };

@@ -126,7 +126,19 @@ fn main() -> ExitCode {
         );
         std::process::exit(130);
     });
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => e.exit(), // --help, --version
+        Err(e) => {
+            // The parser quotes a bad value back whole (a 20 MB --size was echoed in
+            // full): long words cut, the rest of its message as it was.
+            eprint!(
+                "{}",
+                sediment::error::echo_long_words(&e.render().to_string())
+            );
+            return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2));
+        }
+    };
     // A run's outputs land together at the end or not at all (issue 17 #10). The
     // viewer is the exception: its screenshots are written when asked for.
     let set =
@@ -204,7 +216,12 @@ fn info() -> anyhow::Result<()> {
 }
 
 pub fn open_context(cli: &Cli) -> anyhow::Result<std::sync::Arc<Context>> {
-    Ok(Context::new(&context_options(cli))?)
+    let ctx = Context::new(&context_options(cli))?;
+    // Before any work: a frame over the memory budget is refused here, not after a
+    // simulation of minutes.
+    ctx.frame_format()
+        .check_budget(cli.size.width, cli.size.height)?;
+    Ok(ctx)
 }
 
 /// The device options of the command line and the environment.
