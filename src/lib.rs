@@ -19,6 +19,7 @@ pub mod pod;
 pub mod render;
 pub mod scene;
 pub mod shaders;
+pub mod tables;
 pub mod text;
 pub mod view;
 

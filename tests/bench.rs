@@ -80,6 +80,6 @@ fn reports_round_trip_and_compare_with_themselves_as_one() {
         assert!(ratios.len() >= 3, "{table}");
         assert!(ratios.iter().all(|r| *r == "1.00" || *r == "-"), "{table}");
         assert!(report.markdown().contains("| cave | depth-5 | frame |"));
-        assert!(report.csv().lines().count() > 3);
+        assert!(report.csv().expect("csv").lines().count() > 3);
     });
 }

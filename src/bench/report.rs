@@ -208,36 +208,46 @@ impl Report {
         out
     }
 
-    /// One CSV row per series and pass (the frame as pass "frame").
-    pub fn csv(&self) -> String {
-        let mut out = String::from(
-            "scene,variant,pass,gpu_min_ms,gpu_median_ms,gpu_p95_ms,cpu_median_ms,samples\n",
-        );
-        for s in self.floor.iter().chain(&self.series) {
-            out.push_str(&format!(
-                "{},{},frame,{},{},{},{},{}\n",
-                s.scene,
-                s.variant,
-                s.frame_gpu_ms.min,
-                s.frame_gpu_ms.median,
-                s.frame_gpu_ms.p95,
-                s.frame_cpu_ms.median,
-                s.frame_gpu_ms.samples
-            ));
-            for p in &s.passes {
-                out.push_str(&format!(
-                    "{},{},{},{},{},{},,{}\n",
-                    s.scene,
-                    s.variant,
-                    p.name,
-                    p.gpu_ms.min,
-                    p.gpu_ms.median,
-                    p.gpu_ms.p95,
-                    p.gpu_ms.samples
-                ));
+    /// One CSV row per series and pass (the frame as pass "frame"); times in ms.
+    pub fn csv(&self) -> Result<String> {
+        use crate::tables::Cell;
+        let header = [
+            "scene",
+            "variant",
+            "pass",
+            "gpu_min_ms",
+            "gpu_median_ms",
+            "gpu_p95_ms",
+            "cpu_median_ms",
+            "samples",
+        ];
+        crate::tables::to_string("bench CSV", &header, |table| {
+            for s in self.floor.iter().chain(&self.series) {
+                table.row(&[
+                    Cell::Text(&s.scene),
+                    Cell::Text(&s.variant),
+                    Cell::Text("frame"),
+                    Cell::Num(s.frame_gpu_ms.min),
+                    Cell::Num(s.frame_gpu_ms.median),
+                    Cell::Num(s.frame_gpu_ms.p95),
+                    Cell::Num(s.frame_cpu_ms.median),
+                    Cell::Int(s.frame_gpu_ms.samples as u64),
+                ])?;
+                for p in &s.passes {
+                    table.row(&[
+                        Cell::Text(&s.scene),
+                        Cell::Text(&s.variant),
+                        Cell::Text(&p.name),
+                        Cell::Num(p.gpu_ms.min),
+                        Cell::Num(p.gpu_ms.median),
+                        Cell::Num(p.gpu_ms.p95),
+                        Cell::Text(""),
+                        Cell::Int(p.gpu_ms.samples as u64),
+                    ])?;
+                }
             }
-        }
-        out
+            Ok(())
+        })
     }
 }
 

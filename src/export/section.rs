@@ -338,14 +338,16 @@ pub fn write(
     }
 }
 
-/// Every layer's points as CSV: `layer,time,point,x,y`.
-pub fn write_csv(path: &Path, s: &Stalagmite) -> Result<()> {
-    write_atomically(path, |w| {
-        let io = |source| Error::Write {
-            path: path.to_path_buf(),
-            source,
-        };
-        writeln!(w, "layer,time,point,x,y").map_err(io)?;
+/// Every layer's points as CSV: `layer,time_years,point,x_mm,y_mm` in real units
+/// (`unit` "mm"), `layer,time_steps,point,x_units,y_units` in Franke's.
+pub fn write_csv(path: &Path, s: &Stalagmite, unit: Option<&str>) -> Result<()> {
+    use crate::tables::Cell;
+    let header = if unit == Some("mm") {
+        ["layer", "time_years", "point", "x_mm", "y_mm"]
+    } else {
+        ["layer", "time_steps", "point", "x_units", "y_units"]
+    };
+    crate::tables::write_file(path, "--csv", &header, |table| {
         // The base is as old as one step before the first layer (steps are uniform).
         let start = match s.steps.as_slice() {
             [a, b, ..] => a.time - (b.time - a.time),
@@ -355,7 +357,13 @@ pub fn write_csv(path: &Path, s: &Stalagmite) -> Result<()> {
         for (k, layer) in s.layers.iter().enumerate() {
             let time = if k == 0 { start } else { s.steps[k - 1].time };
             for (j, p) in layer.iter().enumerate() {
-                writeln!(w, "{k},{time},{j},{},{}", p[0], p[1]).map_err(io)?;
+                table.row(&[
+                    Cell::Int(k as u64),
+                    Cell::Num(time),
+                    Cell::Int(j as u64),
+                    Cell::Num(p[0]),
+                    Cell::Num(p[1]),
+                ])?;
             }
         }
         Ok(())

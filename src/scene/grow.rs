@@ -17,7 +17,7 @@ use crate::model::speleothem::plan::{GrowthParams, ParamChange, StepMode};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 pub use frame::{
     GrowOutputs, Grown, GrowthFrame, cut_away_render, export_asset, export_parts, grow,
-    grow_streaming, rings_csv,
+    grow_streaming, write_rings_csv,
 };
 
 /// Names of the Figure 9 presets, with what each shows.

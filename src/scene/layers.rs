@@ -236,24 +236,11 @@ impl BaseSpec {
             path: path.clone(),
             source,
         })?;
-        let mut points = Vec::new();
-        for (n, line) in text.lines().enumerate() {
-            let line = line.trim();
-            if line.is_empty() || line.starts_with('#') {
-                continue;
-            }
-            let v: Option<Vec<f64>> = line.split(',').map(|c| c.trim().parse().ok()).collect();
-            match v.as_deref() {
-                Some([x, y]) => points.push([*x, *y]),
-                _ if n == 0 => {} // a header
-                _ => {
-                    return Err(Error::invalid(
-                        "--base",
-                        format!("{} line {}: \"{line}\" is not x,y", path.display(), n + 1),
-                    ));
-                }
-            }
-        }
+        let what = format!("--base {}", path.display());
+        let points = crate::tables::read_numbers(&text, &what, &["x", "y"])?
+            .into_iter()
+            .map(|r| [r.values[0], r.values[1]])
+            .collect();
         Ok(points)
     }
 }

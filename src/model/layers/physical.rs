@@ -111,47 +111,24 @@ pub struct TimelineRow {
     pub excess_ca: f64,
 }
 
+/// The columns of a timeline CSV, as messages name them.
+pub const TIMELINE_COLUMNS: [&str; 4] = [
+    "year",
+    "temperature (C)",
+    "drip interval (s)",
+    "excess Ca (mol/m^3)",
+];
+
 /// Reads a timeline CSV: `years, temperature C, drip interval s, excess Ca mol/m^3` per
 /// line, years increasing; `#` comments and one header line before the data are
-/// skipped. The last row
-/// marks the end.
+/// skipped (read by [`crate::tables::read_numbers`]: a spreadsheet's BOM and quoted
+/// cells are fine, `;` separators are refused with a message). The last row marks the
+/// end.
 pub fn parse_timeline(text: &str, film_m: f64) -> Result<Vec<TimelineRow>> {
-    let mut rows = Vec::new();
-    let mut header_seen = false;
-    for (n, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-        let parsed: Option<Vec<f64>> = cells.iter().map(|c| c.parse().ok()).collect();
-        let Some(v) = parsed else {
-            // One header line before the data (after any `#` comments).
-            if rows.is_empty() && !header_seen {
-                header_seen = true;
-                continue;
-            }
-            return Err(Error::invalid(
-                "timeline",
-                format!("line {}: \"{line}\" is not four numbers", n + 1),
-            ));
-        };
-        if v.len() != 4 {
-            return Err(Error::invalid(
-                "timeline",
-                format!(
-                    "line {}: expected years, temperature C, drip interval s, excess Ca mol/m^3; found {} values",
-                    n + 1,
-                    v.len()
-                ),
-            ));
-        }
-        if !v[0].is_finite() {
-            return Err(Error::invalid(
-                "timeline",
-                format!("line {}: the year {} is not a finite number", n + 1, v[0]),
-            ));
-        }
+    let table = crate::tables::read_numbers(text, "timeline", &TIMELINE_COLUMNS)?;
+    let mut rows: Vec<TimelineRow> = Vec::with_capacity(table.len());
+    for r in table {
+        let (line, v) = (r.line, r.values);
         let row = TimelineRow {
             year: v[0],
             temperature_c: v[1],
@@ -165,14 +142,13 @@ pub fn parse_timeline(text: &str, film_m: f64) -> Result<Vec<TimelineRow>> {
             film_m,
         }
         .validate()
-        .map_err(|e| Error::invalid("timeline", format!("line {}: {e}", n + 1)))?;
-        if let Some(prev) = rows.last().map(|r: &TimelineRow| r.year) {
+        .map_err(|e| Error::invalid("timeline", format!("line {line}: {e}")))?;
+        if let Some(prev) = rows.last().map(|r| r.year) {
             if row.year <= prev {
                 return Err(Error::invalid(
                     "timeline",
                     format!(
-                        "line {}: years must increase ({} after {prev})",
-                        n + 1,
+                        "line {line}: years must increase ({} after {prev})",
                         row.year
                     ),
                 ));

@@ -925,33 +925,44 @@ fn with_growth_time(mut spans: Vec<Span>, grown_ms: f64) -> Vec<Span> {
     spans
 }
 
-/// Every ring of every speleothem as CSV text (`sediment grow --csv`): with a climate
-/// record the year each ring was complete, else the pass that made it.
-pub fn rings_csv(plan: &GrowthPlan) -> String {
-    use std::fmt::Write as _;
-    let dated = plan.dates.is_some();
-    let mut out = format!(
-        "speleothem,kind,ring,{},height_m,radius_m\n",
-        if dated { "year" } else { "pass" }
-    );
-    for (i, s) in plan.speleothems.iter().enumerate() {
-        let kind = match s.kind {
-            SpeleothemKind::Stalactite => "stalactite",
-            SpeleothemKind::Stalagmite => "stalagmite",
-        };
-        for r in plan.rings(i) {
-            let when = r.pass.map_or(0, |p| p + 1);
-            let date = plan.dates.map_or(f64::from(when), |(first, years)| {
-                first + f64::from(when) * years
-            });
-            let _ = writeln!(
-                out,
-                "{i},{kind},{},{date},{:.6},{:.6}",
-                r.ring, r.height, r.radius
-            );
+/// Every ring of every speleothem as CSV (`sediment grow --csv`): with a climate record
+/// the year each ring was complete, else the pass that made it; heights and radii in
+/// scene units (metres: the chamber is 2.4 m high, a climate growth is in metres).
+pub fn write_rings_csv(path: &std::path::Path, plan: &GrowthPlan) -> Result<()> {
+    use crate::tables::Cell;
+    let when_column = if plan.dates.is_some() { "year" } else { "pass" };
+    let header = [
+        "speleothem",
+        "kind",
+        "ring",
+        when_column,
+        "height_m",
+        "radius_m",
+    ];
+    crate::tables::write_file(path, "--csv", &header, |table| {
+        for (i, s) in plan.speleothems.iter().enumerate() {
+            let kind = match s.kind {
+                SpeleothemKind::Stalactite => "stalactite",
+                SpeleothemKind::Stalagmite => "stalagmite",
+            };
+            for r in plan.rings(i) {
+                let when = r.pass.map_or(0, |p| p + 1);
+                let when = match plan.dates {
+                    Some((first, years)) => Cell::Num(first + f64::from(when) * years),
+                    None => Cell::Int(u64::from(when)),
+                };
+                table.row(&[
+                    Cell::Int(i as u64),
+                    Cell::Text(kind),
+                    Cell::Int(u64::from(r.ring)),
+                    when,
+                    Cell::Fixed(f64::from(r.height), 6),
+                    Cell::Fixed(f64::from(r.radius), 6),
+                ])?;
+            }
         }
-    }
-    out
+        Ok(())
+    })
 }
 
 /// The plan's first stalagmite cut open, its rings as growth layers in bands of 10

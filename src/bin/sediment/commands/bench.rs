@@ -97,7 +97,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         say!("wrote {}", path.display());
     }
     if let Some(path) = &a.csv {
-        let csv = report.csv();
+        let csv = report.csv()?;
         sediment::export::atomic::write_atomically(path, |w| {
             w.write_all(csv.as_bytes())
                 .map_err(|source| sediment::Error::Write {

@@ -160,7 +160,7 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         say!("{}", write_mesh(path, &asset)?.line());
     }
     if let Some(path) = &a.csv {
-        sediment::export::atomic::write_bytes(path, grow::rings_csv(&grown.plan).as_bytes())?;
+        grow::write_rings_csv(path, &grown.plan)?;
         say!(
             "wrote {} (every ring: date, height, radius)",
             path.display()

@@ -172,7 +172,7 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
     section::write(&output, &stalagmite, &style, w, h)?;
     say!("wrote {}", output.display());
     if let Some(path) = &a.csv {
-        section::write_csv(path, &stalagmite)?;
+        section::write_csv(path, &stalagmite, unit.as_deref())?;
         say!("wrote {}", path.display());
     }
     if let Some(path) = &a.gif {
