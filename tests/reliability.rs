@@ -437,6 +437,12 @@ fn a_frame_over_the_memory_budget_is_refused_and_the_estimate_holds() {
         err.contains("reduce --size (at most about 9459x9459") && err.contains("--samples"),
         "{err}"
     );
+    // The gallery also keeps its flythrough's frames: budgeted with them, before the
+    // output folder is made.
+    refused(
+        &["demo", "--size", "8000x8000", "--out", &s("gallery")],
+        "25-frame flythrough",
+    );
     assert!(std::fs::read_dir(&dir).expect("dir").next().is_none());
     // The estimate is an upper bound on what a frame really costs: the peak of a
     // 3000x3000 cave over a 64x64 one stays under it.

@@ -16,7 +16,7 @@ use crate::model::cave::placement::VerticalRays;
 use crate::model::cave::volume::FLOOR_Y;
 use crate::model::mesh::Mesh;
 pub use build::{CaveModel, PAPER_TABLE_1, Progress, TableRow, build, table};
-pub use frame::{CaveFrame, CaveRender, export, render, render_streaming};
+pub use frame::{CaveFrame, CaveRender, FLYTHROUGH_FRAMES, export, render, render_streaming};
 
 /// Which speleothems the cave gets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

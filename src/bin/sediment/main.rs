@@ -236,9 +236,18 @@ pub fn context_options(cli: &Cli) -> ContextOptions {
 }
 
 fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
+    let ctx = open_context(cli)?;
+    // The gallery keeps one animation's frames (the cave's flythrough) with the frame.
+    let frames = u64::from(sediment::scene::cave::FLYTHROUGH_FRAMES) + 1;
+    let (w, h) = (cli.size.width, cli.size.height);
+    sediment::budget::check_host(
+        "--size",
+        &format!("the gallery's {frames}-frame flythrough at {}", cli.size),
+        frames * u64::from(w) * u64::from(h) * 4 + ctx.frame_format().frame_bytes(w, h),
+        "reduce --size",
+    )?;
     std::fs::create_dir_all(out)
         .with_context(|| format!("could not create the output folder {}", out.display()))?;
-    let ctx = open_context(cli)?;
     let info = ctx.info();
     eprintln!("device: {} ({})", info.name, info.driver_info);
     let gallery = sediment::demo::gallery();
