@@ -373,6 +373,16 @@ impl State {
                 "no frame has been rendered yet",
             ));
         };
+        // A frame the validation layer objected to is not trusted to a file: the run
+        // exits 1 at the end with the errors, having written nothing (issue 17 #3).
+        let errors = self.ctx.validation_error_count();
+        if errors > 0 {
+            say(&format!(
+                "screenshot {} not written: the validation layer reported {errors} error(s)",
+                path.display()
+            ));
+            return Ok(());
+        }
         crate::export::png::write_png(path, &runner.image()?)?;
         say(&format!("wrote {}", path.display()));
         Ok(())
