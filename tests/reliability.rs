@@ -6,14 +6,16 @@ mod common;
 use common::cli::{scratch, sediment};
 
 fn refused(args: &[&str], names: &str) -> String {
-    let out = sediment(args);
+    // -v: each stage's start is a debug line ("...: N to do").
+    let verbose: Vec<&str> = std::iter::once("-v").chain(args.iter().copied()).collect();
+    let out = sediment(&verbose);
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(!out.status.success(), "{args:?} must fail");
     assert!(stderr.contains(names), "{args:?}: {stderr}");
     assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
-    // Refused up front: no progress bar was drawn.
+    // Refused up front: no stage started.
     assert!(
-        !stderr.contains("[#") && !stderr.contains("[-"),
+        !stderr.contains(" to do"),
         "{args:?} worked first: {stderr}"
     );
     stderr

@@ -403,6 +403,19 @@ impl Context {
             max_geometry_total_output_components: props.limits.max_geometry_total_output_components,
             device_heap_bytes,
         };
+        log::debug!(
+            "device: {} ({}, Vulkan {}), {} MiB device heap, {} samples a pixel{}",
+            info.name,
+            info.driver_info,
+            info.api_version,
+            info.device_heap_bytes >> 20,
+            frame_format.samples.as_raw(),
+            if options.validate {
+                ", validation on"
+            } else {
+                ""
+            }
+        );
         let ctx = Context {
             frame_format,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),

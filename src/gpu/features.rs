@@ -6,7 +6,7 @@ use std::ffi::CStr;
 use ash::vk;
 
 /// One capability sediment relies on (or reports), as read from a device.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct Capability {
     /// The Vulkan name (feature, property or limit).
     pub name: &'static str,
@@ -20,8 +20,9 @@ pub struct Capability {
     pub required: bool,
 }
 
-/// Everything `sediment info` shows about one device.
-#[derive(Clone, Debug)]
+/// Everything `sediment info` shows about one device (`--json`: these fields, and
+/// `usable`).
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct DeviceReport {
     pub name: String,
     pub device_type: String,

@@ -69,14 +69,14 @@ unsafe extern "system" fn on_message(
     if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
         && kind.contains(vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION)
     {
-        eprintln!("[vulkan validation error] {message}");
+        log::error!("Vulkan validation: {message}");
         // SAFETY: user_data is the `ValidationLog` boxed by the context, which outlives
         // the messenger (the context destroys the messenger before dropping the log).
         if let Some(log) = unsafe { user_data.cast::<ValidationLog>().as_ref() } {
             log.record(message);
         }
     } else if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING) {
-        eprintln!("[vulkan validation warning] {message}");
+        log::warn!("Vulkan validation: {message}");
     }
     vk::FALSE
 }

@@ -19,13 +19,24 @@ macro_rules! say {
 }
 
 mod commands;
+mod output;
+
+/// `--version`: the crate's version and the commit it was built from.
+const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (git ",
+    env!("SEDIMENT_GIT_COMMIT"),
+    ")"
+);
+
+pub use output::progress;
 
 use commands::{bench, cave, dunes, grow, layers, view};
 
 /// Simulates and renders depositional natural scenes (speleothems, caves, stalagmite
 /// layers, desert dunes) on Vulkan; runs headless on Mesa's lavapipe.
 #[derive(Parser, Debug)]
-#[command(name = "sediment", version, about, long_about = None)]
+#[command(name = "sediment", version = VERSION, about, long_about = None)]
 pub struct Cli {
     /// Use the first Vulkan device whose name contains SUBSTRING (case-insensitive).
     /// Default: the first discrete, then integrated GPU with every needed feature,
@@ -54,6 +65,16 @@ pub struct Cli {
     #[arg(long, global = true, value_name = "N", default_value_t = 1)]
     pub seed: u64,
 
+    /// Quiet: only warnings and errors on stderr (no progress bars, no status lines);
+    /// the report on stdout is unchanged.
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    pub quiet: bool,
+
+    /// More on stderr: -v each stage and file as it goes (debug), -vv trace. Without
+    /// -q or -v, RUST_LOG is honoured (e.g. RUST_LOG=sediment=debug); default: info.
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    pub verbose: u8,
+
     #[command(subcommand)]
     command: Command,
 }
@@ -62,7 +83,13 @@ pub struct Cli {
 enum Command {
     /// Print each Vulkan device, its driver and Vulkan version, and for every feature
     /// and limit sediment relies on whether it is present.
-    Info,
+    Info {
+        /// The same as JSON on stdout: an array of devices, each with `name`,
+        /// `device_type`, `driver_name`, `driver_info`, `api_version`, `usable` and
+        /// `capabilities` (`name`, `why`, `present`, `value`, `required`).
+        #[arg(long)]
+        json: bool,
+    },
     /// Render the gallery of every scene that exists into a folder of PNGs, with a
     /// progress bar and a timing table.
     Demo {
@@ -139,6 +166,7 @@ fn main() -> ExitCode {
             return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2));
         }
     };
+    output::init(cli.quiet, cli.verbose);
     // A run's outputs land together at the end or not at all (issue 17 #10). The
     // viewer is the exception: its screenshots are written when asked for.
     let set =
@@ -155,6 +183,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
+            output::clear();
             eprintln!("error: {e:#}");
             if !discarded.is_empty() {
                 let names: Vec<String> =
@@ -171,7 +200,7 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> anyhow::Result<()> {
     match &cli.command {
-        Command::Info => info(),
+        Command::Info { json } => info(*json),
         Command::Demo { out } => demo(&cli, out),
         Command::Grow(args) => grow::run(&cli, args),
         Command::Dunes(args) => dunes::run(&cli, args),
@@ -182,9 +211,26 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
-fn info() -> anyhow::Result<()> {
+fn info(json: bool) -> anyhow::Result<()> {
     let reports = sediment::gpu::probe_devices()?;
     let mut out = std::io::stdout().lock();
+    if json {
+        #[derive(serde::Serialize)]
+        struct Device<'a> {
+            #[serde(flatten)]
+            report: &'a sediment::gpu::DeviceReport,
+            usable: bool,
+        }
+        let devices: Vec<Device> = reports
+            .iter()
+            .map(|report| Device {
+                report,
+                usable: report.first_missing().is_none(),
+            })
+            .collect();
+        writeln!(out, "{}", serde_json::to_string_pretty(&devices)?)?;
+        return Ok(());
+    }
     for (i, r) in reports.iter().enumerate() {
         writeln!(out, "device {i}: {} ({})", r.name, r.device_type)?;
         writeln!(out, "  driver: {} — {}", r.driver_name, r.driver_info)?;
@@ -249,11 +295,12 @@ fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(out)
         .with_context(|| format!("could not create the output folder {}", out.display()))?;
     let info = ctx.info();
-    eprintln!("device: {} ({})", info.name, info.driver_info);
+    log::info!("device: {} ({})", info.name, info.driver_info);
     let gallery = sediment::demo::gallery();
     let mut rows = Vec::new();
     for (i, entry) in gallery.iter().enumerate() {
-        progress(i, gallery.len(), entry.name);
+        progress(i, gallery.len(), "gallery scenes");
+        log::debug!("gallery: {}", entry.name);
         let shot = (entry.render)(&ctx, cli.size, cli.seed)
             .with_context(|| format!("rendering the \"{}\" scene failed", entry.name))?;
         let path = out.join(format!("{}.png", entry.name));
@@ -269,8 +316,7 @@ fn demo(cli: &Cli, out: &std::path::Path) -> anyhow::Result<()> {
         let gpu_ms: f64 = shot.gpu_spans.iter().map(|s| s.milliseconds).sum();
         rows.push((entry.name, path, gpu_ms, shot.wall_ms));
     }
-    progress(gallery.len(), gallery.len(), "done");
-    eprintln!();
+    output::done();
     let errors = ctx.take_validation_errors();
     if !errors.is_empty() {
         bail!(
@@ -312,16 +358,4 @@ pub fn fail_on_validation_errors(ctx: &Context) -> anyhow::Result<()> {
         );
     }
     Ok(())
-}
-
-/// A one-line progress bar on stderr.
-pub fn progress(done: usize, total: usize, label: &str) {
-    const WIDTH: usize = 24;
-    let filled = (done * WIDTH).checked_div(total).unwrap_or(WIDTH);
-    eprint!(
-        "\r[{}{}] {done}/{total} {label:<24}",
-        "#".repeat(filled),
-        "-".repeat(WIDTH - filled)
-    );
-    let _ = std::io::stderr().flush();
 }

@@ -26,8 +26,9 @@ pub struct BenchArgs {
     /// dune-ripple-shadows, all-with-dust; cave: depth-5 .. depth-9.
     #[arg(long, value_name = "V,V,...", value_delimiter = ',')]
     variants: Vec<String>,
-    /// The report as JSON (for --compare).
-    #[arg(long, value_name = "FILE.json")]
+    /// The report as JSON (for --compare); `-` writes it to stdout instead of the
+    /// Markdown tables (`sediment bench --json - | jq`), the tables then go to stderr.
+    #[arg(long, value_name = "FILE.json|-")]
     json: Option<PathBuf>,
     /// One CSV row per series and pass.
     #[arg(long, value_name = "FILE.csv")]
@@ -54,8 +55,10 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         say!("{}", bench::report::compare(&ra, &rb));
         return Ok(());
     }
+    let json_to_stdout = a.json.as_deref() == Some(std::path::Path::new("-"));
+    let json_file = a.json.as_ref().filter(|_| !json_to_stdout);
     for (path, what, ext) in [
-        (&a.json, "--json", "json"),
+        (&json_file.cloned(), "--json", "json"),
         (&a.csv, "--csv", "csv"),
         (&a.plot, "--plot", "png"),
     ] {
@@ -76,16 +79,17 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
     let mut step = 0usize;
     let report = bench::run(&ctx, &opts, &mut |what| {
         step += 1;
-        eprint!(
-            "\r[{:>5.1} s] {step:>2}: {what:<40}",
-            start.elapsed().as_secs_f64()
-        );
-        let _ = std::io::stderr().flush();
+        crate::output::step(&format!("{step:>2}: {what}"));
     })?;
-    eprintln!();
+    crate::output::done();
     fail_on_validation_errors(&ctx)?;
-    say!("{}", report.markdown());
-    if let Some(path) = &a.json {
+    if json_to_stdout {
+        say!("{}", report.to_json());
+        log::info!("{}", report.markdown());
+    } else {
+        say!("{}", report.markdown());
+    }
+    if let Some(path) = json_file {
         let json = report.to_json();
         sediment::export::atomic::write_atomically(path, |w| {
             w.write_all(json.as_bytes())
@@ -94,7 +98,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
                     source,
                 })
         })?;
-        say!("wrote {}", path.display());
+        crate::output::wrote(path);
     }
     if let Some(path) = &a.csv {
         let csv = report.csv()?;
@@ -105,12 +109,12 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
                     source,
                 })
         })?;
-        say!("wrote {}", path.display());
+        crate::output::wrote(path);
     }
     if let Some(path) = &a.plot {
         sediment::export::png::write_png(path, &bench::plot::chart(&report))?;
-        say!("wrote {}", path.display());
+        crate::output::wrote(path);
     }
-    say!("bench took {:.0} s", start.elapsed().as_secs_f64());
+    log::info!("bench took {:.0} s", start.elapsed().as_secs_f64());
     Ok(())
 }

@@ -47,7 +47,7 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         let rows = cave::table(&scene.cave, &mut |d| {
             progress(d as usize - 5, 5, "octree depths")
         })?;
-        eprintln!();
+        crate::output::done();
         say!(
             "| depth | triangles before split | after | increase | paper before | paper after | paper increase | octree ms | walls ms | split ms | smooth ms | total ms |"
         );
@@ -89,8 +89,7 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
     let model = Arc::new(cave::build(scene, &|phase, done, total| {
         progress(done as usize, total as usize, phase);
     })?);
-    progress(1, 1, "done");
-    eprintln!();
+    crate::output::done();
     let c = &model.cave;
     say!(
         "octree depth {}: {} nodes; {} -> {} triangles after the crack-free split (+{:.1} %), {} voxels carved for manifoldness; {} speleothem sites ({} columns); generated in {:.0} ms (octree {:.0}, walls {:.0}, split {:.0}, smoothing {:.0})",
@@ -140,10 +139,10 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| PathBuf::from("cave.png"));
     let (image, frame) = &rendered.frames[0];
     sediment::export::png::write_png(&output, image)?;
-    say!("wrote {}", output.display());
+    crate::output::wrote(&output);
     if let (Some(path), Some(gif)) = (&a.flythrough, gif) {
         let frames = gif.finish()?;
-        say!("wrote {} ({frames} frames)", path.display());
+        log::info!("wrote {} ({frames} frames)", path.display());
     }
     if let Some(path) = &a.mesh {
         let title = format!("cave {}", a.scene.preset.as_deref().unwrap_or("scene"));

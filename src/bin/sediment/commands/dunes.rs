@@ -85,7 +85,7 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         progress(d as usize, t as usize, "simulation steps")
     })?;
     let sim_s = sim_start.elapsed().as_secs_f64();
-    eprintln!();
+    crate::output::done();
     let cell_steps = (scene.ripple_size * scene.ripple_size) as f64 * f64::from(scene.ripple_steps)
         + (scene.dune_size * scene.dune_size) as f64 * f64::from(scene.dune_steps);
     say!(
@@ -112,7 +112,7 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("dunes.png"));
     sediment::export::png::write_png(&output, &out.image)?;
-    say!("wrote {}", output.display());
+    crate::output::wrote(&output);
     if let Some(path) = &a.gif {
         // Each frame goes to the encoder as it is rendered: one frame in memory.
         let mut gif = sediment::export::gif::GifStream::create(path, 150)?;
@@ -146,10 +146,10 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
                 },
             )?;
         }
-        eprintln!();
+        crate::output::done();
         fail_on_validation_errors(&ctx)?;
         let written = gif.finish()?;
-        say!("wrote {} ({written} frames)", path.display());
+        log::info!("wrote {} ({written} frames)", path.display());
     }
     if let Some(path) = &a.heightmap {
         use sediment::export::heightmap::write_heightmap;

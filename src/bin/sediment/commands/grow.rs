@@ -138,15 +138,15 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         &mut |done, total| progress(done as usize, total as usize, "passes"),
         &mut |frame| gif.as_mut().map_or(Ok(()), |g| g.push(frame)),
     )?;
-    eprintln!();
+    crate::output::done();
     fail_on_validation_errors(&ctx)?;
     if let Some(path) = &output {
         sediment::export::png::write_png(path, &grown.image)?;
-        say!("wrote {}", path.display());
+        crate::output::wrote(path);
     }
     if let (Some(path), Some(gif)) = (&a.gif, gif) {
         let frames = gif.finish()?;
-        say!("wrote {} ({frames} frames)", path.display());
+        log::info!("wrote {} ({frames} frames)", path.display());
     }
     if let (Some(path), Some(mesh)) = (&a.mesh, &grown.mesh) {
         let title = format!("grow {}", a.scene.preset.as_deref().unwrap_or("scene"));

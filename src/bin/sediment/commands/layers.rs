@@ -170,10 +170,10 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
         }
     }
     section::write(&output, &stalagmite, &style, w, h)?;
-    say!("wrote {}", output.display());
+    crate::output::wrote(&output);
     if let Some(path) = &a.csv {
         section::write_csv(path, &stalagmite, unit.as_deref())?;
-        say!("wrote {}", path.display());
+        crate::output::wrote(path);
     }
     if let Some(path) = &a.gif {
         // Drawn and encoded one frame at a time (a 4096x4096 section of 40 frames held
@@ -194,11 +194,11 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
             gif.push(&frame)?;
         }
         let frames = gif.finish()?;
-        say!("wrote {} ({frames} frames)", path.display());
+        log::info!("wrote {} ({frames} frames)", path.display());
     }
     if let (Some(path), Some(frame)) = (&a.render, render) {
         sediment::export::png::write_png(path, &frame.image)?;
-        say!("wrote {}", path.display());
+        crate::output::wrote(path);
     }
     Ok(())
 }

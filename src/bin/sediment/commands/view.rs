@@ -223,7 +223,7 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
             let model = Arc::new(cave::build(&resolved.scene, &|phase, done, total| {
                 progress(done as usize, total as usize, phase);
             })?);
-            eprintln!();
+            crate::output::done();
             let camera = resolved
                 .camera
                 .over(cave::default_camera(&resolved.scene, &model))?;
@@ -240,7 +240,7 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
             let terrain = dunes::simulate(&resolved.scene, &mut |done, total| {
                 progress(done as usize, total as usize, "simulation steps")
             })?;
-            eprintln!();
+            crate::output::done();
             let camera = resolved
                 .camera
                 .over(dunes::default_camera(&resolved.scene, &terrain))?;

@@ -1,0 +1,156 @@
+//! Where the command line prints what (issue 18 #2, #8): the report on stdout and
+//! nothing else, so `--json` output pipes into jq; progress bars only on a terminal;
+//! `-q`, `-v` and `RUST_LOG`; `info --json`; `--version` with the commit.
+
+mod common;
+
+use std::process::{Command, Output};
+
+use common::cli::{assert_success, scratch};
+
+fn sediment(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sediment"));
+    cmd.args(args).env_remove("RUST_LOG");
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("run the sediment binary")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// A quick dune run writing `d.png` into `dir`, with `extra` global options first.
+fn dunes(dir: &std::path::Path, extra: &[&str], env: &[(&str, &str)]) -> Output {
+    let png = dir.join("d.png").to_string_lossy().into_owned();
+    let mut args: Vec<&str> = extra.to_vec();
+    args.extend([
+        "dunes",
+        "--size",
+        "64x48",
+        "--ripple-size",
+        "32",
+        "--dune-size",
+        "16",
+        "-o",
+        &png,
+    ]);
+    sediment(&args, env)
+}
+
+#[test]
+fn stderr_into_a_file_gets_lines_not_progress_frames() {
+    // A cave run's log held about 4 KB of `\r` progress frames.
+    let dir = scratch("out-pipe");
+    let out = dunes(&dir, &[], &[]);
+    let stdout = assert_success(&out, "dunes");
+    let stderr = text(&out.stderr);
+    assert!(
+        !stderr.contains('\r') && !stderr.contains("[#"),
+        "{stderr:?}"
+    );
+    assert!(stderr.contains("wrote "), "status on stderr: {stderr}");
+    // The report on stdout: the measurements, not the file chatter.
+    assert!(stdout.contains("GPU frame: dunes"), "{stdout}");
+    assert!(!stdout.contains("wrote "), "{stdout}");
+    // -q: nothing on stderr at all when all goes well; the report unchanged.
+    let quiet = dunes(&dir, &["-q"], &[]);
+    let q_stdout = assert_success(&quiet, "dunes -q");
+    assert_eq!(text(&quiet.stderr), "", "quiet");
+    assert!(q_stdout.contains("GPU frame: dunes"), "{q_stdout}");
+    // -v: each stage as a debug line; RUST_LOG does the same without -v.
+    let verbose = dunes(&dir, &["-v"], &[]);
+    assert_success(&verbose, "dunes -v");
+    let v_stderr = text(&verbose.stderr);
+    assert!(
+        v_stderr.contains("simulation steps: 2700 to do") && v_stderr.contains("device: "),
+        "{v_stderr}"
+    );
+    let logged = dunes(&dir, &[], &[("RUST_LOG", "sediment=debug")]);
+    assert!(
+        text(&logged.stderr).contains("simulation steps: 2700 to do"),
+        "RUST_LOG honoured"
+    );
+    let errors_only = dunes(&dir, &[], &[("RUST_LOG", "error")]);
+    assert_eq!(text(&errors_only.stderr), "", "RUST_LOG=error");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn a_terminal_gets_a_progress_bar() {
+    // util-linux's `script` gives the run a pseudo-terminal (bsdutils is essential on
+    // Debian and Ubuntu, so it is there wherever the README's commands run).
+    let dir = scratch("out-tty");
+    let png = dir.join("d.png").to_string_lossy().into_owned();
+    let command = format!(
+        "{} dunes --size 64x48 --ripple-size 32 --dune-size 16 -o {png}",
+        env!("CARGO_BIN_EXE_sediment")
+    );
+    let out = Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .env_remove("RUST_LOG")
+        .output()
+        .expect("util-linux `script` runs (package bsdutils)");
+    let seen = text(&out.stdout);
+    assert!(out.status.success(), "{seen}");
+    assert!(seen.contains("/2700 simulation steps"), "{seen:?}");
+    assert!(seen.contains("[#"), "a bar is drawn: {seen:?}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn json_on_stdout_is_only_json() {
+    let out = sediment(&["info", "--json"], &[]);
+    let stdout = assert_success(&out, "info --json");
+    let devices: serde_json::Value = serde_json::from_str(&stdout).expect("info --json is JSON");
+    let first = &devices[0];
+    assert!(first["name"].is_string(), "{stdout}");
+    assert_eq!(first["usable"], true, "lavapipe can run sediment: {stdout}");
+    assert!(
+        first["capabilities"]
+            .as_array()
+            .is_some_and(|c| c.iter().any(|c| c["name"] == "geometryShader")),
+        "{stdout}"
+    );
+    let out = sediment(
+        &[
+            "bench",
+            "cave",
+            "--variants",
+            "depth-5",
+            "--frames",
+            "2",
+            "--warmup",
+            "0",
+            "--size",
+            "64x48",
+            "--json",
+            "-",
+        ],
+        &[],
+    );
+    let stdout = assert_success(&out, "bench --json -");
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("bench --json - is JSON");
+    assert!(report["series"].is_array(), "{stdout}");
+    assert!(
+        text(&out.stderr).contains("| cave | depth-5 | frame |"),
+        "the tables on stderr"
+    );
+}
+
+#[test]
+fn the_version_names_the_commit() {
+    let out = sediment(&["--version"], &[]);
+    let stdout = assert_success(&out, "--version");
+    let commit = stdout
+        .split("(git ")
+        .nth(1)
+        .and_then(|rest| rest.split(')').next())
+        .unwrap_or_else(|| panic!("no commit in {stdout:?}"));
+    assert!(
+        commit == "unknown" || commit.chars().all(|c| c.is_ascii_hexdigit() || c == '+'),
+        "{stdout}"
+    );
+    assert!(stdout.starts_with(&format!("sediment {}", env!("CARGO_PKG_VERSION"))));
+}
