@@ -76,7 +76,7 @@ fn bad_input_is_named_and_nothing_is_written() {
             vec!["bench", "--frames", "0", "--json", json.as_str()],
             "--frames",
         ),
-        (vec!["bench", "--plot", "chart.svg"], "--plot"),
+        (vec!["bench", "--plot", "chart.jpg"], "--plot"),
         (
             vec!["bench", "--compare", text.as_str(), text.as_str()],
             "not a sediment bench report",

@@ -1,133 +1,539 @@
-//! The bench chart: each series' GPU frame time frame by frame (left) and the medians
-//! as bars (right), drawn with `export::draw` so a person reads the run at a glance.
+//! The bench charts, drawn with plotters as PNG or SVG (by the file's extension) with
+//! the bundled DejaVu Sans, so a chart looks the same on every machine:
+//! - [`write_chart`]: per scene, each variant's GPU frame time against the frame index
+//!   (its own frame count, not stretched) with axes and a legend; below, every
+//!   series' median as a bar with p5-p95 whiskers on a linear axis, the floor marked.
+//! - [`write_compare_chart`]: `--compare`'s ratios b / a per series and pass, 1.0
+//!   marked.
 
-use image::{Rgba, RgbaImage};
+use std::path::Path;
 
-use super::report::Report;
-use crate::export::draw::{segment, text};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::report::{Report, SeriesResult};
+use crate::error::{Error, Result};
 
 const WIDTH: u32 = 1400;
-const ROW: f64 = 18.0;
+const PANEL_HEIGHT: u32 = 340;
+const BAR_ROW: u32 = 26;
+// Registered under its own name, so an SVG asks its viewer for DejaVu Sans too.
+const FONT: &str = "DejaVu Sans";
 
-/// A distinct colour per series.
-fn colour(i: usize) -> [u8; 3] {
-    const P: [[u8; 3]; 10] = [
-        [31, 119, 180],
-        [255, 127, 14],
-        [44, 160, 44],
-        [214, 39, 40],
-        [148, 103, 189],
-        [140, 86, 75],
-        [227, 119, 194],
-        [127, 127, 127],
-        [188, 189, 34],
-        [23, 190, 207],
-    ];
-    P[i % P.len()]
+/// Ten distinct colours (Tableau 10); a scene has at most seven variants, so within a
+/// panel none repeats.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+fn register_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // The bundled font cannot fail to parse (tested in export::font).
+        let _ = plotters::style::register_font(
+            FONT,
+            FontStyle::Normal,
+            crate::export::font::DEJAVU_SANS,
+        );
+    });
 }
 
-/// The chart as an image.
-pub fn chart(report: &Report) -> RgbaImage {
-    let series: Vec<_> = report.floor.iter().chain(&report.series).collect();
-    let height = (120.0 + ROW * series.len() as f64).max(480.0) as u32;
-    let mut img = RgbaImage::from_pixel(WIDTH, height, Rgba([255, 255, 255, 255]));
-    let black = [0, 0, 0];
-    let grey = [200, 200, 200];
+/// A categorical axis of `n` rows, the first at the top (plotters counts upwards).
+fn rows_axis(
+    n: usize,
+) -> plotters::coord::ranged1d::SegmentedCoord<plotters::coord::types::RangedCoordusize> {
+    (0..n.saturating_sub(1)).into_segmented()
+}
+
+/// The axis position of row `i` of `n`, counted from the top.
+fn row(i: usize, n: usize) -> SegmentValue<usize> {
+    SegmentValue::CenterOf(n - 1 - i)
+}
+
+/// Nearest-rank percentile `q` of `v` (sorted copy).
+fn percentile(v: &[f64], q: f64) -> f64 {
+    let mut v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * q).round() as usize]
+}
+
+type DrawResult<T, DB> =
+    std::result::Result<T, DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+/// The series grouped by scene (the floor first), in the report's order.
+fn scenes(report: &Report) -> Vec<(String, Vec<&SeriesResult>)> {
+    let mut out: Vec<(String, Vec<&SeriesResult>)> = Vec::new();
+    for s in report.floor.iter().chain(&report.series) {
+        match out.iter_mut().find(|(name, _)| *name == s.scene) {
+            Some((_, list)) => list.push(s),
+            None => out.push((s.scene.clone(), vec![s])),
+        }
+    }
+    out
+}
+
+fn chart_height(report: &Report) -> u32 {
+    let panels = scenes(report).len() as u32;
+    let rows = panels.div_ceil(2).max(1);
+    let bars = (report.floor.len() + report.series.len()) as u32;
+    60 + rows * PANEL_HEIGHT + 90 + bars * BAR_ROW
+}
+
+fn draw_report<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    report: &Report,
+) -> DrawResult<(), DB> {
+    root.fill(&WHITE)?;
     let m = &report.meta;
-    text(
-        &mut img,
+    let root = root.titled(
         &format!(
-            "sediment bench {} {} - {} {}x{}",
+            "sediment bench {} ({}) on {} at {}x{}: GPU time per frame",
             m.sediment_version, m.git_commit, m.device, m.width, m.height
         ),
-        f64::from(WIDTH) * 0.5,
-        8.0,
-        black,
-    );
-    // Left: per-frame GPU ms, one line per series, on a log scale.
-    let (x0, x1, y0, y1) = (60.0, 640.0, 40.0, f64::from(height) - 40.0);
-    segment(&mut img, [x0, y1], [x1, y1], 1.0, black);
-    segment(&mut img, [x0, y0], [x0, y1], 1.0, black);
-    let all: Vec<f64> = series
-        .iter()
-        .flat_map(|s| s.per_frame_gpu_ms.iter().copied())
-        .filter(|v| *v > 0.0)
-        .collect();
-    let (lo, hi) = all
-        .iter()
-        .fold((f64::MAX, f64::MIN), |(lo, hi), &v| (lo.min(v), hi.max(v)));
-    let (lo, hi) = if all.is_empty() {
-        (0.01, 1.0)
-    } else {
-        (lo.max(1e-3), hi.max(lo * 1.01))
-    };
-    let (llo, lhi) = (lo.log10().floor(), hi.log10().ceil());
-    let y_of = |v: f64| y1 - (v.max(lo).log10() - llo) / (lhi - llo).max(1e-9) * (y1 - y0);
-    let mut decade = llo;
-    while decade <= lhi {
-        let y = y_of(10f64.powf(decade));
-        segment(&mut img, [x0, y], [x1, y], 0.5, grey);
-        text(
-            &mut img,
-            &format!("{}", 10f64.powf(decade)),
-            x0 - 28.0,
-            y - 5.0,
-            black,
-        );
-        decade += 1.0;
-    }
-    text(
-        &mut img,
-        "gpu ms per frame (log)",
-        0.5 * (x0 + x1),
-        y1 + 14.0,
-        black,
-    );
-    for (i, s) in series.iter().enumerate() {
-        let n = s.per_frame_gpu_ms.len().max(2);
-        let pts: Vec<[f64; 2]> = s
-            .per_frame_gpu_ms
+        (FONT, 20),
+    )?;
+    let groups = scenes(report);
+    let rows = (groups.len() as u32).div_ceil(2).max(1);
+    let (top, bottom) = root.split_vertically(rows * PANEL_HEIGHT);
+    let panels = top.split_evenly((rows as usize, 2));
+    for ((scene, series), area) in groups.iter().zip(panels.iter()) {
+        let frames = series
             .iter()
-            .enumerate()
-            .map(|(k, &v)| [x0 + (x1 - x0) * k as f64 / (n - 1) as f64, y_of(v)])
-            .collect();
-        for w in pts.windows(2) {
-            segment(&mut img, w[0], w[1], 1.2, colour(i));
+            .map(|s| s.per_frame_gpu_ms.len())
+            .max()
+            .unwrap_or(1)
+            .max(2);
+        let top_ms = series
+            .iter()
+            .flat_map(|s| s.per_frame_gpu_ms.iter().copied())
+            .filter(|v| v.is_finite())
+            .fold(0.0f64, f64::max)
+            .max(1e-3)
+            * 1.15;
+        let mut chart = ChartBuilder::on(area)
+            .caption(scene, (FONT, 17))
+            .margin(10)
+            .x_label_area_size(34)
+            .y_label_area_size(58)
+            .build_cartesian_2d(0f64..(frames - 1) as f64, 0f64..top_ms)?;
+        chart
+            .configure_mesh()
+            .x_desc("frame")
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_desc("GPU ms")
+            .label_style((FONT, 12))
+            .axis_desc_style((FONT, 13))
+            .light_line_style(WHITE.mix(0.0))
+            .draw()?;
+        for (i, s) in series.iter().enumerate() {
+            let colour = PALETTE[i % PALETTE.len()];
+            let points: Vec<(f64, f64)> = s
+                .per_frame_gpu_ms
+                .iter()
+                .enumerate()
+                .map(|(k, &v)| (k as f64, v))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(points, colour.stroke_width(2)))?
+                .label(format!(
+                    "{} (median {:.2} ms)",
+                    s.variant, s.frame_gpu_ms.median
+                ))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                });
         }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font((FONT, 12))
+            .draw()?;
     }
-    // Right: median bars, log scale, labelled.
-    let (bx0, bx1) = (980.0, f64::from(WIDTH) - 60.0);
-    let x_of = |v: f64| bx0 + (v.max(lo).log10() - llo) / (lhi - llo).max(1e-9) * (bx1 - bx0);
+    draw_medians(&bottom, report)
+}
+
+/// Every series' median GPU frame as a bar, p5..p95 of its frames as a whisker, on a
+/// linear axis; the floor (the trivial full-screen pass) as a dashed line.
+fn draw_medians<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    report: &Report,
+) -> DrawResult<(), DB> {
+    let series: Vec<&SeriesResult> = report.floor.iter().chain(&report.series).collect();
+    let names: Vec<String> = series
+        .iter()
+        .map(|s| format!("{} / {}", s.scene, s.variant))
+        .collect();
+    let n = series.len().max(1);
+    let whiskers: Vec<(f64, f64)> = series
+        .iter()
+        .map(|s| {
+            (
+                percentile(&s.per_frame_gpu_ms, 0.05),
+                percentile(&s.per_frame_gpu_ms, 0.95),
+            )
+        })
+        .collect();
+    let right = whiskers
+        .iter()
+        .map(|w| w.1)
+        .chain(series.iter().map(|s| s.frame_gpu_ms.median))
+        .fold(0.0f64, f64::max)
+        .max(1e-3)
+        * 1.1;
+    let mut chart = ChartBuilder::on(area)
+        .caption(
+            "median GPU frame time (bars), 5th-95th percentile of frames (whiskers)",
+            (FONT, 17),
+        )
+        .margin(10)
+        .x_label_area_size(34)
+        .y_label_area_size(250)
+        .build_cartesian_2d(0f64..right, rows_axis(n))?;
+    chart
+        .configure_mesh()
+        .x_desc("GPU ms per frame")
+        .y_labels(n)
+        .y_label_formatter(&|v| match v {
+            SegmentValue::CenterOf(i) => (n - 1)
+                .checked_sub(*i)
+                .and_then(|k| names.get(k))
+                .cloned()
+                .unwrap_or_default(),
+            _ => String::new(),
+        })
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 13))
+        .disable_y_mesh()
+        .draw()?;
+    let scene_colour = |s: &SeriesResult| {
+        let groups = scenes(report);
+        let (_, list) = groups
+            .iter()
+            .find(|(name, _)| *name == s.scene)
+            .cloned()
+            .unwrap_or_default();
+        let i = list
+            .iter()
+            .position(|x| x.variant == s.variant)
+            .unwrap_or(0);
+        PALETTE[i % PALETTE.len()]
+    };
     for (i, s) in series.iter().enumerate() {
-        let y = 40.0 + ROW * i as f64;
-        let label = format!("{} {}", s.scene, s.variant);
-        text(&mut img, &label, bx0 - 165.0, y, colour(i));
-        let x = x_of(s.frame_gpu_ms.median);
-        for dy in 0..10 {
-            segment(
-                &mut img,
-                [bx0, y + f64::from(dy)],
-                [x, y + f64::from(dy)],
-                1.0,
-                colour(i),
-            );
+        let colour = scene_colour(s);
+        let y = || row(i, n);
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![(0.0, y()), (s.frame_gpu_ms.median, y())],
+            colour.mix(0.85).stroke_width(BAR_ROW - 10),
+        )))?;
+        let (lo, hi) = whiskers[i];
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![(lo, y()), (hi, y())],
+            BLACK.stroke_width(1),
+        )))?;
+        for end in [lo, hi] {
+            chart.draw_series(std::iter::once(
+                EmptyElement::at((end, y()))
+                    + PathElement::new(vec![(0, -5), (0, 5)], BLACK.stroke_width(1)),
+            ))?;
         }
-        let value = format!("{:.2}", s.frame_gpu_ms.median);
-        // `text` centres its label: start it just past the bar.
-        text(
-            &mut img,
-            &value,
-            x + 6.0 + 4.0 * value.len() as f64,
-            y,
-            black,
-        );
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((hi.max(s.frame_gpu_ms.median), y()))
+                + Text::new(
+                    format!(" {:.2}", s.frame_gpu_ms.median),
+                    (4, -7),
+                    (FONT, 12),
+                ),
+        ))?;
     }
-    text(
-        &mut img,
-        "median gpu ms (log)",
-        0.5 * (bx0 + bx1),
-        f64::from(height) - 26.0,
-        black,
-    );
-    img
+    if let Some(floor) = report.floor_ms() {
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(floor, SegmentValue::Exact(0)), (floor, SegmentValue::Last)],
+                6,
+                4,
+                RED.stroke_width(2),
+            ))?
+            .label(format!(
+                "floor: the trivial full-screen pass, {floor:.2} ms"
+            ))
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED.stroke_width(2)));
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font((FONT, 12))
+            .draw()?;
+    }
+    Ok(())
+}
+
+/// One bar per (series, pass) the two reports share: b's median GPU time over a's.
+fn draw_compare<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    a: &Report,
+    b: &Report,
+    rows: &[(String, f64)],
+) -> DrawResult<(), DB> {
+    root.fill(&WHITE)?;
+    let n = rows.len().max(1);
+    let right = rows.iter().map(|r| r.1).fold(1.0f64, f64::max) * 1.15;
+    let mut chart = ChartBuilder::on(root)
+        .caption(
+            format!(
+                "b / a, median GPU time per pass; a: {} ({}), b: {} ({})",
+                a.meta.device, a.meta.git_commit, b.meta.device, b.meta.git_commit
+            ),
+            (FONT, 17),
+        )
+        .margin(12)
+        .x_label_area_size(34)
+        .y_label_area_size(330)
+        .build_cartesian_2d(0f64..right, rows_axis(n))?;
+    chart
+        .configure_mesh()
+        .x_desc("b / a (below 1: b is faster)")
+        .y_labels(n)
+        .y_label_formatter(&|v| match v {
+            SegmentValue::CenterOf(i) => (n - 1)
+                .checked_sub(*i)
+                .and_then(|k| rows.get(k))
+                .map(|r| r.0.clone())
+                .unwrap_or_default(),
+            _ => String::new(),
+        })
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 13))
+        .disable_y_mesh()
+        .draw()?;
+    for (i, (_, ratio)) in rows.iter().enumerate() {
+        let y = || row(i, n);
+        let colour = if *ratio <= 1.0 {
+            PALETTE[2]
+        } else {
+            PALETTE[3]
+        };
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![(0.0, y()), (*ratio, y())],
+            colour.mix(0.85).stroke_width(BAR_ROW - 10),
+        )))?;
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((*ratio, y()))
+                + Text::new(format!(" {ratio:.2}"), (4, -7), (FONT, 12)),
+        ))?;
+    }
+    chart.draw_series(DashedLineSeries::new(
+        vec![(1.0, SegmentValue::Exact(0)), (1.0, SegmentValue::Last)],
+        6,
+        4,
+        BLACK.stroke_width(2),
+    ))?;
+    Ok(())
+}
+
+/// The (series / pass, b / a) rows of a comparison: the frame and every shared pass
+/// whose median in a is above zero.
+pub fn compare_rows(a: &Report, b: &Report) -> Vec<(String, f64)> {
+    let mut rows = Vec::new();
+    for sa in a.floor.iter().chain(&a.series) {
+        let Some(sb) = b
+            .floor
+            .iter()
+            .chain(&b.series)
+            .find(|s| s.scene == sa.scene && s.variant == sa.variant)
+        else {
+            continue;
+        };
+        let name = format!("{} / {}", sa.scene, sa.variant);
+        if sa.frame_gpu_ms.median > 0.0 {
+            rows.push((
+                format!("{name}: frame"),
+                sb.frame_gpu_ms.median / sa.frame_gpu_ms.median,
+            ));
+        }
+        for pa in &sa.passes {
+            if let Some(pb) = sb.passes.iter().find(|p| p.name == pa.name)
+                && pa.gpu_ms.median > 0.0
+            {
+                rows.push((
+                    format!("{name}: {}", pa.name),
+                    pb.gpu_ms.median / pa.gpu_ms.median,
+                ));
+            }
+        }
+    }
+    rows
+}
+
+/// Draws `draw` at `width` x `height` into `path`: `.png` (plotters' bitmap, encoded by
+/// sediment's PNG writer) or `.svg`.
+fn write_with(
+    path: &Path,
+    (width, height): (u32, u32),
+    draw_png: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> std::result::Result<(), String>,
+    draw_svg: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> std::result::Result<(), String>,
+) -> Result<()> {
+    register_font();
+    let failed = |e: String| Error::invalid("--plot", format!("drawing the chart failed: {e}"));
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("svg") => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
+                draw_svg(&root).map_err(failed)?;
+                root.present().map_err(|e| failed(e.to_string()))?;
+            }
+            crate::export::atomic::write_bytes(path, svg.as_bytes())
+        }
+        _ => {
+            let mut rgb = vec![255u8; width as usize * height as usize * 3];
+            {
+                let root =
+                    BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+                draw_png(&root).map_err(failed)?;
+                root.present().map_err(|e| failed(e.to_string()))?;
+            }
+            let rgba = image::RgbaImage::from_fn(width, height, |x, y| {
+                let i = (y as usize * width as usize + x as usize) * 3;
+                image::Rgba([rgb[i], rgb[i + 1], rgb[i + 2], 255])
+            });
+            crate::export::png::write_png(path, &rgba)
+        }
+    }
+}
+
+/// The run's chart into `path` (`.png` or `.svg`).
+pub fn write_chart(path: &Path, report: &Report) -> Result<()> {
+    write_with(
+        path,
+        (WIDTH, chart_height(report)),
+        |root| draw_report(root, report).map_err(|e| e.to_string()),
+        |root| draw_report(root, report).map_err(|e| e.to_string()),
+    )
+}
+
+/// The comparison's chart into `path` (`.png` or `.svg`).
+pub fn write_compare_chart(path: &Path, a: &Report, b: &Report) -> Result<()> {
+    let rows = compare_rows(a, b);
+    let height = 110 + rows.len().max(1) as u32 * BAR_ROW;
+    write_with(
+        path,
+        (WIDTH, height),
+        |root| draw_compare(root, a, b, &rows).map_err(|e| e.to_string()),
+        |root| draw_compare(root, a, b, &rows).map_err(|e| e.to_string()),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeMap;
+
+    use super::*;
+    use crate::bench::report::{Meta, PassResult, Stats};
+
+    fn series(scene: &str, variant: &str, frames: &[f64]) -> SeriesResult {
+        SeriesResult {
+            scene: scene.to_owned(),
+            variant: variant.to_owned(),
+            passes: vec![PassResult {
+                name: scene.to_owned(),
+                gpu_ms: Stats::of(frames),
+            }],
+            frame_gpu_ms: Stats::of(frames),
+            frame_cpu_ms: Stats::of(frames),
+            per_frame_gpu_ms: frames.to_vec(),
+            metrics: BTreeMap::new(),
+        }
+    }
+
+    fn report(scale: f64) -> Report {
+        let ramp: Vec<f64> = (0..130)
+            .map(|i| scale * (1.0 + f64::from(i) * 0.1))
+            .collect();
+        Report {
+            meta: Meta {
+                schema: crate::bench::report::SCHEMA,
+                device: "test device".into(),
+                driver: "test".into(),
+                vulkan: "1.3".into(),
+                sediment_version: "0".into(),
+                git_commit: "abc".into(),
+                width: 64,
+                height: 48,
+                frames: 10,
+                warmup: 0,
+                threads: 1,
+            },
+            floor: vec![series("floor", "fullscreen", &[2.0; 10])],
+            series: vec![
+                series("grow", "xfb-restream", &ramp),
+                series("grow", "xfb-append", &ramp[..40]),
+                series("cave", "depth-5", &[scale * 20.0; 10]),
+            ],
+            paper_ratios: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_chart_has_axes_legends_whiskers_and_the_floor() {
+        let dir = std::env::temp_dir().join(format!("sediment-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let r = report(1.0);
+        write_chart(&dir.join("c.svg"), &r).expect("svg");
+        let svg = std::fs::read_to_string(dir.join("c.svg")).expect("read");
+        for label in [
+            "xfb-restream (median",
+            "xfb-append (median",
+            "depth-5 (median",
+            "grow / xfb-append",
+            "floor: the trivial full-screen pass, 2.00 ms",
+            "\nframe\n",
+            "GPU ms per frame",
+            "font-family=\"DejaVu Sans\"",
+        ] {
+            assert!(svg.contains(label), "{label} missing from the SVG");
+        }
+        write_chart(&dir.join("c.png"), &r).expect("png");
+        let png = image::open(dir.join("c.png")).expect("png").to_rgb8();
+        assert_eq!(png.width(), WIDTH);
+        // Each of a panel's series in its own colour: the first two palette colours
+        // (grow's two variants) both appear as drawn lines.
+        for colour in &PALETTE[..2] {
+            let drawn = png
+                .pixels()
+                .filter(|p| p.0 == [colour.0, colour.1, colour.2])
+                .count();
+            assert!(drawn > 100, "{colour:?}: {drawn} pixels");
+        }
+        // Comparison: one row per series and pass, the b / a values written.
+        let rows = compare_rows(&r, &report(2.0));
+        assert_eq!(rows.len(), 8, "{rows:?}");
+        assert!(
+            rows.iter()
+                .all(|(_, v)| (v - 2.0).abs() < 1e-9 || (v - 1.0).abs() < 1e-9)
+        );
+        write_compare_chart(&dir.join("x.svg"), &r, &report(2.0)).expect("compare");
+        let svg = std::fs::read_to_string(dir.join("x.svg")).expect("read");
+        assert!(svg.contains("grow / xfb-append: frame") && svg.contains(" 2.00"));
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
 }

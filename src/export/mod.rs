@@ -4,6 +4,7 @@
 pub mod asset;
 pub mod atomic;
 pub mod draw;
+pub mod font;
 pub mod gif;
 pub mod gltf;
 pub mod heightmap;

@@ -9,7 +9,8 @@ use std::path::Path;
 use image::{Rgba, RgbaImage};
 
 use super::atomic::write_atomically;
-use super::draw::{segment, text};
+use super::draw::segment;
+use super::font::text;
 use crate::error::{Error, Result};
 use crate::model::layers::Stalagmite;
 
@@ -302,7 +303,7 @@ pub fn png(s: &Stalagmite, style: &SectionStyle, width: u32, height: u32) -> Rgb
         segment(&mut img, [x0, y0], [x1, y0], 1.5, black);
         segment(&mut img, [x0, y0], [x0, y0 - 5.0], 1.5, black);
         segment(&mut img, [x1, y0], [x1, y0 - 5.0], 1.5, black);
-        text(&mut img, &label, 0.5 * (x0 + x1), y0 - 16.0, black);
+        text(&mut img, &label, 0.5 * (x0 + x1), y0 - 20.0, 15.0, black);
     }
     img
 }

@@ -1,10 +1,10 @@
-//! The on-screen panel: lines of text in sediment's 3x5 pixel font (the one the
-//! cross-section labels use), at 2x, light on an opaque dark box, rasterised on the
-//! CPU and copied into the swapchain image after the scene. A text panel is all the
-//! viewer needs; a GUI toolkit (egui with a Vulkan renderer) would be the largest
-//! dependency of the build for it.
-
-use crate::export::draw::glyph;
+//! The on-screen panel: lines of text in a 3x5 pixel font, at 2x, light on an opaque
+//! dark box, rasterised on the CPU and copied into the swapchain image after the
+//! scene. A text panel is all the viewer needs; a GUI toolkit (egui with a Vulkan
+//! renderer) would be the largest dependency of the build for it. The pixel font
+//! earns its place here and only here (every other picture's text is DejaVu Sans,
+//! `export::font`): the panel is redrawn every frame at any window size, and a fixed
+//! pixel grid stays crisp and costs nothing at 1:1, where anti-aliased glyphs blur.
 
 /// Pixels per font pixel, and a glyph cell (3 + 1 spacing columns, 5 + 2 rows).
 const SCALE: u32 = 2;
@@ -69,6 +69,70 @@ pub fn panel(lines: &[String], max_width: u32, max_height: u32, bgra: bool) -> O
         height,
         pixels,
     })
+}
+
+/// A 3x5 pixel font: digits, letters (drawn as capitals' small cousins) and a few
+/// signs; anything else is a space.
+fn glyph(c: char) -> [u8; 5] {
+    // Rows top to bottom, 3 bits each (4 = left column).
+    match c.to_ascii_lowercase() {
+        '0' => [7, 5, 5, 5, 7],
+        '1' => [2, 6, 2, 2, 7],
+        '2' => [7, 1, 7, 4, 7],
+        '3' => [7, 1, 7, 1, 7],
+        '4' => [5, 5, 7, 1, 1],
+        '5' => [7, 4, 7, 1, 7],
+        '6' => [7, 4, 7, 5, 7],
+        '7' => [7, 1, 1, 1, 1],
+        '8' => [7, 5, 7, 5, 7],
+        '9' => [7, 5, 7, 1, 7],
+        'a' => [2, 5, 7, 5, 5],
+        'b' => [6, 5, 6, 5, 6],
+        'c' => [3, 4, 4, 4, 3],
+        'd' => [6, 5, 5, 5, 6],
+        'e' => [7, 4, 6, 4, 7],
+        'f' => [7, 4, 6, 4, 4],
+        'g' => [3, 4, 5, 5, 3],
+        'h' => [5, 5, 7, 5, 5],
+        'i' => [7, 2, 2, 2, 7],
+        'j' => [1, 1, 1, 5, 2],
+        'k' => [5, 5, 6, 5, 5],
+        'l' => [4, 4, 4, 4, 7],
+        'm' => [5, 7, 7, 5, 5],
+        'n' => [6, 5, 5, 5, 5],
+        'o' => [2, 5, 5, 5, 2],
+        'p' => [6, 5, 6, 4, 4],
+        'q' => [2, 5, 5, 6, 3],
+        'r' => [6, 5, 6, 5, 5],
+        's' => [3, 4, 2, 1, 6],
+        't' => [7, 2, 2, 2, 2],
+        'u' => [5, 5, 5, 5, 7],
+        'v' => [5, 5, 5, 5, 2],
+        'w' => [5, 5, 7, 7, 5],
+        'x' => [5, 5, 2, 5, 5],
+        'y' => [5, 5, 2, 2, 2],
+        'z' => [7, 1, 2, 4, 7],
+        '.' => [0, 0, 0, 0, 2],
+        ',' => [0, 0, 0, 2, 4],
+        ':' => [0, 2, 0, 2, 0],
+        '-' => [0, 0, 7, 0, 0],
+        '+' => [0, 2, 7, 2, 0],
+        '/' => [1, 1, 2, 4, 4],
+        '(' => [1, 2, 2, 2, 1],
+        ')' => [4, 2, 2, 2, 4],
+        '%' => [5, 1, 2, 4, 5],
+        '=' => [0, 7, 0, 7, 0],
+        '_' => [0, 0, 0, 0, 7],
+        '[' => [6, 4, 4, 4, 6],
+        ']' => [3, 1, 1, 1, 3],
+        '<' => [1, 2, 4, 2, 1],
+        '>' => [4, 2, 1, 2, 4],
+        '!' => [2, 2, 2, 0, 2],
+        '?' => [7, 1, 2, 0, 2],
+        '\'' => [2, 2, 0, 0, 0],
+        '*' => [5, 2, 7, 2, 5],
+        _ => [0; 5],
+    }
 }
 
 #[cfg(test)]

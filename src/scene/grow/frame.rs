@@ -795,9 +795,11 @@ pub fn grow_streaming(
                 // The calendar year the growth has reached, top left, over a shadow.
                 let year = first + f64::from(frame.passes_done()) * years;
                 let label = crate::model::speleothem::climate::calendar_year(year);
-                let x = 12.0 + 4.0 * label.chars().count() as f64;
-                crate::export::draw::text(&mut shown, &label, x + 1.0, 11.0, [0, 0, 0]);
-                crate::export::draw::text(&mut shown, &label, x, 10.0, [255, 255, 255]);
+                use crate::export::font::{text, text_width};
+                let size = (shown.height() as f32 / 18.0).clamp(12.0, 48.0);
+                let x = 10.0 + 0.5 * f64::from(text_width(&label, size));
+                text(&mut shown, &label, x + 1.0, 9.0, size, [0, 0, 0]);
+                text(&mut shown, &label, x, 8.0, size, [255, 255, 255]);
             }
             on_frame(&shown)?;
         }

@@ -33,8 +33,10 @@ pub struct BenchArgs {
     /// One CSV row per series and pass.
     #[arg(long, value_name = "FILE.csv")]
     csv: Option<PathBuf>,
-    /// A chart: per-frame GPU times and median bars per series, as PNG.
-    #[arg(long, value_name = "FILE.png")]
+    /// A chart as .png or .svg: per scene, each variant's GPU time frame by frame
+    /// (axes, legend); every series' median as a bar with p5-p95 whiskers, the floor
+    /// marked. With --compare: the ratios b / a per series and pass, 1.0 marked.
+    #[arg(long, value_name = "FILE.png|FILE.svg")]
     plot: Option<PathBuf>,
     /// Compare two JSON reports instead of running: per-pass ratios b / a.
     #[arg(long, num_args = 2, value_names = ["A.json", "B.json"])]
@@ -50,9 +52,16 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         })?;
         Report::from_json(&text).with_context(|| format!("reading {}", path.display()))
     };
+    if let Some(p) = &a.plot {
+        check_extension(p, "--plot", &["png", "svg"])?;
+    }
     if let Some(pair) = &a.compare {
         let (ra, rb) = (read(&pair[0])?, read(&pair[1])?);
         say!("{}", bench::report::compare(&ra, &rb));
+        if let Some(path) = &a.plot {
+            bench::plot::write_compare_chart(path, &ra, &rb)?;
+            crate::output::wrote(path);
+        }
         return Ok(());
     }
     let json_to_stdout = a.json.as_deref() == Some(std::path::Path::new("-"));
@@ -60,7 +69,6 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
     for (path, what, ext) in [
         (&json_file.cloned(), "--json", "json"),
         (&a.csv, "--csv", "csv"),
-        (&a.plot, "--plot", "png"),
     ] {
         if let Some(p) = path {
             check_extension(p, what, &[ext])?;
@@ -112,7 +120,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         crate::output::wrote(path);
     }
     if let Some(path) = &a.plot {
-        sediment::export::png::write_png(path, &bench::plot::chart(&report))?;
+        bench::plot::write_chart(path, &report)?;
         crate::output::wrote(path);
     }
     log::info!("bench took {:.0} s", start.elapsed().as_secs_f64());
