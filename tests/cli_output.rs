@@ -154,3 +154,56 @@ fn the_version_names_the_commit() {
     );
     assert!(stdout.starts_with(&format!("sediment {}", env!("CARGO_PKG_VERSION"))));
 }
+
+#[test]
+fn every_option_with_a_value_states_its_default() {
+    // Many options' --help gave no default (grow: --count --passes ...; dunes:
+    // --ripple-steps --sun-elevation ...; output files said nothing).
+    for command in ["grow", "dunes", "cave", "layers", "bench", "view", "demo"] {
+        let out = sediment(&[command, "--help"], &[]);
+        let help = assert_success(&out, command);
+        let mut option: Option<(String, String)> = None;
+        let mut missing = Vec::new();
+        let mut checked = 0;
+        let mut check = |o: Option<(String, String)>| {
+            if let Some((name, text)) = o {
+                checked += 1;
+                if !text.to_lowercase().contains("default") {
+                    missing.push(name);
+                }
+            }
+        };
+        for line in help.lines() {
+            let trimmed = line.trim_start();
+            let indent = line.len() - trimmed.len();
+            let starts_option = (2..=6).contains(&indent)
+                && (trimmed.starts_with("--") || trimmed.starts_with('-'));
+            if starts_option {
+                check(option.take());
+                let name = trimmed
+                    .split([' ', ','])
+                    .find(|w| w.starts_with("--"))
+                    .unwrap_or(trimmed)
+                    .to_owned();
+                // Only options that take a value have a default to state.
+                let takes_value = trimmed.contains(" <");
+                if takes_value && name != "--help" {
+                    option = Some((name, trimmed.to_owned()));
+                }
+            } else if let Some((_, text)) = option.as_mut() {
+                text.push(' ');
+                text.push_str(trimmed);
+            }
+        }
+        check(option.take());
+        // The global options (--device --size --samples --seed) at least were read.
+        assert!(
+            checked >= 4,
+            "{command}: only {checked} options found in\n{help}"
+        );
+        assert!(
+            missing.is_empty(),
+            "{command}: no default stated for {missing:?}"
+        );
+    }
+}

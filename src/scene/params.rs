@@ -94,7 +94,7 @@ pub struct SceneFileArgs {
     /// A TOML scene file: the same parameters as this command's options (the option
     /// names with `_` for `-`, e.g. `ripple_size = 128`), applied over its `preset`;
     /// options given here override it. `--print-scene` writes one. Unknown keys are
-    /// refused with their line.
+    /// refused with their line (default: none, the preset alone).
     #[arg(long, value_name = "FILE.toml")]
     pub scene: Option<PathBuf>,
     /// Write the effective scene (preset, scene file and options together) as TOML to

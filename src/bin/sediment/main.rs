@@ -75,6 +75,11 @@ pub struct Cli {
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
     pub verbose: u8,
 
+    /// Whether --size was given on the command line (layers: its section follows
+    /// --size only then, else keeps its portrait default).
+    #[arg(skip)]
+    pub size_given: bool,
+
     #[command(subcommand)]
     command: Command,
 }
@@ -153,7 +158,16 @@ fn main() -> ExitCode {
         );
         std::process::exit(130);
     });
-    let cli = match Cli::try_parse() {
+    use clap::{CommandFactory, FromArgMatches};
+    let parsed = Cli::command().try_get_matches().and_then(|matches| {
+        let mut cli = Cli::from_arg_matches(&matches)?;
+        let given = |m: &clap::ArgMatches| {
+            m.value_source("size") == Some(clap::parser::ValueSource::CommandLine)
+        };
+        cli.size_given = given(&matches) || matches.subcommand().is_some_and(|(_, m)| given(m));
+        Ok(cli)
+    });
+    let cli = match parsed {
         Ok(cli) => cli,
         Err(e) if !e.use_stderr() => e.exit(), // --help, --version
         Err(e) => {

@@ -27,10 +27,10 @@ pub struct CaveArgs {
     output: Option<PathBuf>,
     /// The cave and its speleothems as .glb (glTF 2.0 binary: the walls, stalactites,
     /// stalagmites and columns as named parts with materials) or .obj (with its .mtl).
-    /// Metres, y up, the origin at the centre of the cave's floor.
+    /// Metres, y up, the origin at the centre of the cave's floor (default: not written).
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
-    /// A fly-through along the passage as an animated GIF.
+    /// A fly-through along the passage as an animated GIF (default: not written).
     #[arg(long, value_name = "FILE.gif")]
     flythrough: Option<PathBuf>,
     /// Fly-through frames, 2..=240 (default 24).
@@ -133,13 +133,16 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         },
     )?;
     fail_on_validation_errors(&ctx)?;
-    let output = a
-        .output
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("cave.png"));
+    // The picture by default only: asked for other outputs, nothing unasked is written.
+    let output = match (&a.output, &a.mesh, &a.flythrough) {
+        (None, None, None) => Some(PathBuf::from("cave.png")),
+        (o, ..) => o.clone(),
+    };
     let (image, frame) = &rendered.frames[0];
-    sediment::export::png::write_png(&output, image)?;
-    crate::output::wrote(&output);
+    if let Some(output) = &output {
+        sediment::export::png::write_png(output, image)?;
+        crate::output::wrote(output);
+    }
     if let (Some(path), Some(gif)) = (&a.flythrough, gif) {
         let frames = gif.finish()?;
         log::info!("wrote {} ({frames} frames)", path.display());

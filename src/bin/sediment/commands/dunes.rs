@@ -21,7 +21,7 @@ pub struct DunesArgs {
     output: Option<PathBuf>,
     /// An animated GIF: with --dust the dust blowing over the dunes (two time steps a
     /// frame), else the ripples and dunes forming over time (each frame renders the
-    /// simulation part of the way through).
+    /// simulation part of the way through) (default: not written).
     #[arg(long, value_name = "FILE.gif")]
     gif: Option<PathBuf>,
     /// GIF frames, 2..=120 (default 12).
@@ -29,13 +29,13 @@ pub struct DunesArgs {
     gif_frames: u32,
     /// The dune field's heights: .png (16-bit greyscale, the metres at 0 and 65535 and
     /// the cell size in its tEXt chunks) or .exr (float metres); the range also goes
-    /// to FILE.json, and the ripple tile beside it as FILE-ripples.png/.exr (+ .json).
+    /// to FILE.json, and the ripple tile beside it as FILE-ripples.png/.exr (+ .json) (default: not written).
     #[arg(long, value_name = "FILE.png|FILE.exr")]
     heightmap: Option<PathBuf>,
     /// The dune field as .glb (one period, tiling seamlessly, with UVs, the ripples as
     /// an embedded normal map and the sand's grain as a base colour map) or .obj (with
     /// its .mtl and the normal map beside it). Metres, y up, the field's centre at the
-    /// origin and its lowest sand at y = 0.
+    /// origin and its lowest sand at y = 0 (default: not written).
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
     /// Render the frame this many more times, 0..=1000, and print the median, minimum
@@ -107,12 +107,15 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         a.timing_frames,
     )?;
     fail_on_validation_errors(&ctx)?;
-    let output = a
-        .output
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("dunes.png"));
-    sediment::export::png::write_png(&output, &out.image)?;
-    crate::output::wrote(&output);
+    // The picture by default only: asked for other outputs, nothing unasked is written.
+    let output = match (&a.output, &a.gif, &a.heightmap, &a.mesh) {
+        (None, None, None, None) => Some(PathBuf::from("dunes.png")),
+        (o, ..) => o.clone(),
+    };
+    if let Some(output) = &output {
+        sediment::export::png::write_png(output, &out.image)?;
+        crate::output::wrote(output);
+    }
     if let Some(path) = &a.gif {
         // Each frame goes to the encoder as it is rendered: one frame in memory.
         let mut gif = sediment::export::gif::GifStream::create(path, 150)?;

@@ -32,7 +32,7 @@ pub struct GrowArgs {
     /// The final frame as PNG (default grow.png when no other output is asked for).
     #[arg(short = 'o', long = "output", value_name = "FILE.png")]
     output: Option<PathBuf>,
-    /// The growth in fast motion as an animated GIF.
+    /// The growth in fast motion as an animated GIF (default: not written).
     #[arg(long, value_name = "FILE.gif")]
     gif: Option<PathBuf>,
     /// One GIF frame every K passes, 1..=512 (default 1).
@@ -41,7 +41,7 @@ pub struct GrowArgs {
     /// The grown mesh read back from the GPU: .glb (glTF 2.0 binary: stalactites,
     /// stalagmites and columns as named parts with materials and the mineral colours)
     /// or .obj (with its .mtl and sRGB vertex colours). Metres, y up, the chamber's floor
-    /// centre at the origin.
+    /// centre at the origin (default: not written).
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
     /// Metres per scene unit in the exported mesh, (0, 1000] (default 1: the chamber is
@@ -49,12 +49,12 @@ pub struct GrowArgs {
     #[arg(long, value_name = "M", default_value_t = 1.0)]
     unit_scale: f32,
     /// Every ring of every speleothem as CSV: speleothem, kind, ring, year (with
-    /// --climate; else the pass), height along the growth and radius in metres.
+    /// --climate; else the pass), height along the growth and radius in metres (default: not written).
     #[arg(long, value_name = "FILE.csv")]
     csv: Option<PathBuf>,
     /// The first stalagmite cut open (a wedge removed), its rings as growth layers in
     /// bands of 10 rings (with --climate, 1000 years at 100 years a pass), rendered
-    /// at --size as `sediment layers --render` draws Franke's layers.
+    /// at --size as `sediment layers --render` draws Franke's layers (default: not written).
     #[arg(long, value_name = "FILE.png")]
     cut_away: Option<PathBuf>,
 }
@@ -161,7 +161,7 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
     }
     if let Some(path) = &a.csv {
         grow::write_rings_csv(path, &grown.plan)?;
-        say!(
+        log::info!(
             "wrote {} (every ring: date, height, radius)",
             path.display()
         );
@@ -170,7 +170,7 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         let image = grow::cut_away_render(&ctx, &grown.plan, cli.size)?;
         fail_on_validation_errors(&ctx)?;
         sediment::export::png::write_png(path, &image)?;
-        say!(
+        log::info!(
             "wrote {} (the first stalagmite's rings as growth layers)",
             path.display()
         );

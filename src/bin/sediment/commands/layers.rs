@@ -17,35 +17,37 @@ pub struct LayersArgs {
     pub scene: layers::Params,
     #[command(flatten)]
     pub file: SceneFileArgs,
-    /// The cross-section as .svg or .png (default section.svg).
+    /// The cross-section as .svg or .png (default section.svg, unless another output
+    /// is asked for: then none).
     #[arg(short = 'o', long = "output", value_name = "FILE.svg|FILE.png")]
     output: Option<PathBuf>,
-    /// Size of the cross-section picture in pixels (default 600x800).
-    #[arg(long, value_name = "WxH", default_value = "600x800", value_parser = parse_size)]
-    section_size: Size,
+    /// Size of the cross-section picture (and its GIF) in pixels, each side
+    /// 1..=16384 (default: --size when given, else 600x800, a portrait page).
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    section_size: Option<Size>,
     /// Emphasise every K-th layer, 0 for none (default 10).
     #[arg(long, value_name = "K", default_value_t = 10)]
     emphasis: usize,
     /// Colour the layers: none, age or supply.
     #[arg(long, value_name = "none|age|supply", default_value = "none")]
     color: String,
-    /// Every layer's points as CSV (layer, time, point, x, y).
+    /// Every layer's points as CSV (layer, time, point, x, y) (default: not written).
     #[arg(long, value_name = "FILE.csv")]
     csv: Option<PathBuf>,
-    /// The stalagmite growing layer by layer as an animated GIF of the section.
+    /// The stalagmite growing layer by layer as an animated GIF of the section (default: not written).
     #[arg(long, value_name = "FILE.gif")]
     gif: Option<PathBuf>,
     /// GIF frames, 2..=200 (default 40).
     #[arg(long, value_name = "N", default_value_t = 40)]
     gif_frames: u32,
     /// A 3D cut-away (a wedge removed, the cut faces banded by layer) rendered on the
-    /// GPU at --size, as PNG.
+    /// GPU at --size, as PNG (default: not written).
     #[arg(long, value_name = "FILE.png")]
     render: Option<PathBuf>,
     /// The cut-away as .glb or .obj (+ .mtl): outer surface, light and dark growth
     /// bands and floor as named parts with materials. Metres, y up, the floor's centre
     /// at the origin (real units are millimetres; one of Franke's units is read as
-    /// 0.05695 m, his r = 1 as Kaufmann's 2 R0 / sqrt(pi) at R0 = 50.47 mm).
+    /// 0.05695 m, his r = 1 as Kaufmann's 2 R0 / sqrt(pi) at R0 = 50.47 mm) (default: not written).
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
     mesh: Option<PathBuf>,
 }
@@ -56,11 +58,21 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
         return Ok(());
     };
     let setup = &resolved.scene;
-    let output = a
-        .output
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("section.svg"));
-    check_extension(&output, "-o", &["svg", "png"])?;
+    // The section by default only: asked for other outputs, nothing unasked is written
+    // (`--mesh` used to write section.svg too).
+    let output = match (&a.output, &a.csv, &a.gif, &a.render, &a.mesh) {
+        (None, None, None, None, None) => Some(PathBuf::from("section.svg")),
+        (o, ..) => o.clone(),
+    };
+    if let Some(output) = &output {
+        check_extension(output, "-o", &["svg", "png"])?;
+    }
+    // --size is the size of every picture this command makes unless --section-size
+    // sets the section's own.
+    let section_size = a
+        .section_size
+        .or(cli.size_given.then_some(cli.size))
+        .unwrap_or(Size::new(600, 800));
     for (path, what, ext) in [
         (&a.csv, "--csv", "csv"),
         (&a.gif, "--gif", "gif"),
@@ -85,7 +97,7 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
         inputs.push(f);
     }
     for (path, what) in [
-        (Some(&output), "-o"),
+        (output.as_ref(), "-o"),
         (a.csv.as_ref(), "--csv"),
         (a.gif.as_ref(), "--gif"),
         (a.render.as_ref(), "--render"),
@@ -148,7 +160,7 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
         unit: unit.clone(),
         upto: None,
     };
-    let (w, h) = (a.section_size.width, a.section_size.height);
+    let (w, h) = (section_size.width, section_size.height);
     let mut render = None;
     if a.render.is_some() || a.mesh.is_some() {
         let band = (layers_grown / 24).max(1);
@@ -169,8 +181,10 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
             );
         }
     }
-    section::write(&output, &stalagmite, &style, w, h)?;
-    crate::output::wrote(&output);
+    if let Some(output) = &output {
+        section::write(output, &stalagmite, &style, w, h)?;
+        crate::output::wrote(output);
+    }
     if let Some(path) = &a.csv {
         section::write_csv(path, &stalagmite, unit.as_deref())?;
         crate::output::wrote(path);

@@ -1,0 +1,116 @@
+//! What `examples/` ships works (issue 18 #4, #5): each subcommand's scene file renders,
+//! and the three library examples (built by `cargo test` with every target) run and
+//! write what they say.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::cli::{assert_success, scratch, sediment};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn every_example_scene_file_renders() {
+    let dir = scratch("examples-scenes");
+    for command in ["grow", "dunes", "cave", "layers"] {
+        let scene = root().join(format!("examples/scenes/{command}.toml"));
+        assert!(scene.is_file(), "{} missing", scene.display());
+        let out = dir.join(format!("{command}.png"));
+        let mut args = vec![
+            command,
+            "--size",
+            "96x64",
+            "--scene",
+            scene.to_str().expect("utf-8 path"),
+            "-o",
+            out.to_str().expect("utf-8 path"),
+        ];
+        if command == "dunes" {
+            // Smaller simulations than the file's, to keep the suite quick.
+            args.extend(["--ripple-steps", "100", "--dune-steps", "100"]);
+        }
+        assert_success(&sediment(&args), command);
+        let image = image::open(&out).expect("the picture");
+        assert!(image.width() > 0, "{command}");
+    }
+    // The shipped climate record drives a growth.
+    let holocene = root().join("examples/holocene.csv");
+    let out = dir.join("holocene.png");
+    assert_success(
+        &sediment(&[
+            "grow",
+            "--size",
+            "96x64",
+            "--climate",
+            holocene.to_str().expect("utf-8 path"),
+            "--years-per-pass",
+            "500",
+            "--count",
+            "2",
+            "-o",
+            out.to_str().expect("utf-8 path"),
+        ]),
+        "grow --climate examples/holocene.csv",
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// The example binary `name`, which `cargo test` built beside the sediment binary.
+fn example(name: &str) -> PathBuf {
+    let path = Path::new(env!("CARGO_BIN_EXE_sediment"))
+        .parent()
+        .expect("the build folder")
+        .join("examples")
+        .join(name);
+    assert!(
+        path.is_file(),
+        "{} was not built (cargo test builds examples with the other targets)",
+        path.display()
+    );
+    path
+}
+
+#[test]
+fn the_library_examples_run() {
+    let dir = scratch("examples-lib");
+    let run = |name: &str, args: &[&str]| {
+        let out = Command::new(example(name))
+            .args(args)
+            .output()
+            .expect("run the example");
+        assert_success(&out, name)
+    };
+    let stdout = run("grow_fig9", &["fig9f", dir.to_str().expect("utf-8")]);
+    assert!(stdout.contains("27648 triangles"), "{stdout}");
+    assert!(image::open(dir.join("fig9f.png")).is_ok());
+    assert!(dir.join("fig9f.glb").is_file());
+
+    let heightmap = dir.join("ripples.png");
+    let stdout = run(
+        "ripples_heightmap",
+        &[heightmap.to_str().expect("utf-8"), "200"],
+    );
+    assert!(stdout.contains("256 x 256 samples"), "{stdout}");
+    let map = image::open(&heightmap).expect("heightmap");
+    assert!(matches!(map, image::DynamicImage::ImageLuma16(_)), "16-bit");
+
+    let stdout = run("time_growth_pass", &["fig9a", "5"]);
+    for path in [
+        "xfb-restream",
+        "xfb-append",
+        "compute-restream",
+        "cpu-upload",
+    ] {
+        assert!(
+            stdout
+                .lines()
+                .any(|l| l.starts_with(path) && l.contains(" ms")),
+            "{path}: {stdout}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
