@@ -14,20 +14,37 @@ pub const INSTALL_HINT: &str = "On Debian/Ubuntu install the Vulkan loader and M
 pub const VALIDATION_HINT: &str =
     "On Debian/Ubuntu install them with `sudo apt-get install -y vulkan-validationlayers`.";
 
+/// Everything the library can fail with; each message says what to do next.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// The system Vulkan loader (`libvulkan`) could not be loaded at all.
     #[error("No Vulkan loader could be opened ({detail}). {INSTALL_HINT}")]
-    NoLoader { detail: String },
+    NoLoader {
+        /// The loader library's own error text.
+        detail: String,
+    },
 
+    /// The loader works but no instance or physical device could be had from it.
     #[error("No Vulkan driver is available ({detail}). {INSTALL_HINT}")]
-    NoDriver { detail: String },
+    NoDriver {
+        /// Which enumeration or creation call failed, and with what result.
+        detail: String,
+    },
 
+    /// `--device` / `SEDIMENT_DEVICE` matched no device name.
     #[error(
         "No Vulkan device name contains \"{wanted}\" (from --device or SEDIMENT_DEVICE). \
          Devices present: {available}. Run `sediment info` to see them and what they support."
     )]
-    NoMatchingDevice { wanted: String, available: String },
+    NoMatchingDevice {
+        /// The requested text, matched case-insensitively against device names.
+        wanted: String,
+        /// Every candidate device's name, quoted and comma-separated.
+        available: String,
+    },
 
+    /// The chosen device (or, with no choice, the most preferred one) lacks something
+    /// sediment needs.
     #[error(
         "The Vulkan device \"{device}\" lacks {feature}, which sediment needs ({why}). \
          Pick another device with --device, or use Mesa's lavapipe, which has it \
@@ -35,33 +52,46 @@ pub enum Error {
          device supports."
     )]
     MissingFeature {
+        /// The device's name as the driver reports it.
         device: String,
+        /// The first missing feature, extension, limit or queue kind.
         feature: &'static str,
+        /// What sediment uses it for.
         why: &'static str,
     },
 
+    /// Validation was asked for but `VK_LAYER_KHRONOS_validation` is not installed.
     #[error(
         "Validation was requested (--validate, SEDIMENT_VALIDATE=1, or a test) but the layer \
          VK_LAYER_KHRONOS_validation is not installed. {VALIDATION_HINT}"
     )]
     NoValidationLayer,
 
+    /// A Vulkan call returned an error code; out-of-memory codes add advice on sizes.
     #[error("The Vulkan call {call} failed with {result:?} ({result}).{}", memory_hint(*result))]
     Vulkan {
+        /// The Vulkan function's name, e.g. `vkCreateBuffer`.
         call: &'static str,
+        /// The code it returned.
         result: vk::Result,
     },
 
+    /// GPU memory for a named buffer or image could not be allocated.
     #[error(
         "Out of GPU memory (or no suitable memory type) allocating \"{name}\" ({bytes} bytes){}",
         memory_hint(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY)
     )]
     Allocation {
+        /// The debug name of the buffer or image being allocated.
         name: String,
+        /// Size the memory requirements asked for, bytes.
         bytes: u64,
+        /// The allocator's own error.
         source: gpu_allocator::AllocationError,
     },
 
+    /// A growth pass's transform-feedback capture ran out of room (counted by the
+    /// stream queries, so nothing was silently lost).
     #[error(
         "The transform-feedback buffer was too small in growth pass {pass}: {needed} \
          triangles needed, {written} written (capacity {capacity_vertices} vertices). \
@@ -69,53 +99,89 @@ pub enum Error {
          an explicit capacity that is too small."
     )]
     CaptureOverflow {
+        /// Index of the growth pass that overflowed, from 0.
         pass: u32,
+        /// Triangles actually written to the capture buffer.
         written: u64,
+        /// Triangles the pass produced (what would have been written with room).
         needed: u64,
+        /// Vertices the overflowing capture buffer holds.
         capacity_vertices: u64,
     },
 
+    /// `sediment view` could not open a window or its Vulkan surface.
     #[error(
         "Cannot show a window: {detail}. `sediment view` needs an X11 display (DISPLAY set; \
          on a machine without one run it under Xvfb: `sudo apt-get install -y xvfb`, then \
          `xvfb-run -s '-screen 0 1280x800x24' sediment view ...`) and a Vulkan driver with \
          window-system support (lavapipe has it). The headless commands need neither."
     )]
-    NoWindow { detail: String },
+    NoWindow {
+        /// What failed: the display, an instance extension, or the surface.
+        detail: String,
+    },
 
+    /// A user-supplied value is out of range or malformed.
     #[error("Invalid value for {argument}: {message}")]
-    InvalidArgument { argument: String, message: String },
+    InvalidArgument {
+        /// The option or setting at fault, e.g. `--preset`.
+        argument: String,
+        /// What is wrong with it, typically the allowed range with units.
+        message: String,
+    },
 
     /// A part of sediment used another wrongly: never the user's input.
     #[error(
         "Internal error in sediment ({place}): {message}. This is a bug in sediment, not in \
          your input or your driver; please report it with the command that caused it."
     )]
-    Internal { place: String, message: String },
+    Internal {
+        /// The function or pass where the misuse was caught.
+        place: String,
+        /// What was used wrongly.
+        message: String,
+    },
 
+    /// An embedded shader module is not valid SPIR-V, fails reflection, or does not
+    /// match the interface the Rust side declares for it.
     #[error("Shader module {path}: {message}")]
-    Shader { path: String, message: String },
+    Shader {
+        /// The module's source path, as embedded.
+        path: String,
+        /// What is wrong with it.
+        message: String,
+    },
 
+    /// A file could not be written.
     // The cause is the error's source: `{:#}` and anyhow's chain print it once.
     #[error("Could not write {}", path.display())]
     Write {
+        /// The file being written.
         path: PathBuf,
+        /// The I/O error.
         source: std::io::Error,
     },
 
+    /// A file could not be read.
     #[error("Could not read {}", path.display())]
     Read {
+        /// The file being read.
         path: PathBuf,
+        /// The I/O error.
         source: std::io::Error,
     },
 
+    /// An image (PNG, GIF or height map) could not be encoded for a file.
     #[error("Could not encode {}", path.display())]
     Encode {
+        /// The file the image was meant for.
         path: PathBuf,
+        /// The encoder's error.
         source: image::ImageError,
     },
 }
 
+/// The library's result type, with [`Error`] as the default error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// What to do when memory ran out, for the messages of the calls that report it.

@@ -4,8 +4,31 @@
 //!
 //! Data flows one way: parameters -> [`model`] (pure CPU) -> [`render`] passes (through
 //! [`gpu`], the only module that touches ash) -> a frame -> [`export`]ed files.
+//!
+//! The models run without a GPU; wind ripples on a small tile, for instance:
+//!
+//! ```
+//! use sediment::model::sand::{Heightfield, SandParams, SandSim};
+//!
+//! let start = Heightfield::random(32, 32, 0.0, 1.0, 7);
+//! let mass: f64 = start.data.iter().sum();
+//! let mut sim = SandSim::new(start, SandParams::paper_ripples())?;
+//! sim.run(20, &mut |_step| {});
+//! // Saltation and creep move sand about; none is made or lost.
+//! let after: f64 = sim.field().data.iter().sum();
+//! assert!((after - mass).abs() < 1e-9 * mass);
+//! # Ok::<(), sediment::Error>(())
+//! ```
+//!
+//! The GPU side starts from a [`gpu::Context`] (lavapipe where there is no GPU); see
+//! `examples/grow_fig9.rs`, `examples/ripples_heightmap.rs` and
+//! `examples/time_growth_pass.rs` for whole programs.
 
-#![warn(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
+#![warn(
+    missing_docs,
+    unsafe_op_in_unsafe_fn,
+    clippy::undocumented_unsafe_blocks
+)]
 
 pub mod bench;
 pub mod budget;
@@ -24,3 +47,9 @@ pub mod text;
 pub mod view;
 
 pub use error::{Error, Result};
+/// The vector maths in sediment's API (cameras, positions: `glam::Vec3`), re-exported
+/// so a user needs no version of their own that must match.
+pub use glam;
+/// The image types in sediment's API (frames are `image::RgbaImage`), re-exported for
+/// the same reason.
+pub use image;

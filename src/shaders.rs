@@ -12,9 +12,13 @@ use crate::error::{Error, Result};
 /// Pipeline stage of a compiled module (from its file extension).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ShaderStageKind {
+    /// `.vert`: runs per vertex; `vk::ShaderStageFlags::VERTEX`.
     Vertex,
+    /// `.geom`: runs per primitive, may emit to XFB streams; naga cannot reflect it.
     Geometry,
+    /// `.frag`: runs per rasterized fragment; `vk::ShaderStageFlags::FRAGMENT`.
     Fragment,
+    /// `.comp`: a compute kernel dispatched outside any render pass.
     Compute,
 }
 
@@ -23,6 +27,7 @@ pub enum ShaderStageKind {
 pub struct ShaderSpirv {
     /// Path under `shaders-glsl/`.
     pub path: &'static str,
+    /// Stage the module was compiled for, taken from the file extension by `build.rs`.
     pub stage: ShaderStageKind,
     /// Little-endian SPIR-V words (not necessarily 4-byte aligned in memory).
     pub bytes: &'static [u8],
@@ -47,22 +52,32 @@ pub mod compiled {
 /// The kind of a descriptor binding.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum DescriptorKind {
+    /// GLSL `uniform` block; `vk::DescriptorType::UNIFORM_BUFFER`.
     UniformBuffer,
+    /// GLSL `buffer` block; `vk::DescriptorType::STORAGE_BUFFER`.
     StorageBuffer,
+    /// `texture2D` and kin, sampled through a separate sampler; `SAMPLED_IMAGE`, not a
+    /// combined image sampler.
     SampledImage,
+    /// Standalone `sampler`; `vk::DescriptorType::SAMPLER`.
     Sampler,
+    /// `image2D` and kin, read or written with `imageLoad`/`imageStore`; `STORAGE_IMAGE`.
     StorageImage,
 }
 
 /// One `layout(set = S, binding = B)` resource.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct DescriptorBinding {
+    /// Descriptor-set index `S`.
     pub set: u32,
+    /// Binding number `B` within the set.
     pub binding: u32,
+    /// Descriptor type the resource needs.
     pub kind: DescriptorKind,
 }
 
 impl DescriptorBinding {
+    /// A binding at (`set`, `binding`) of `kind`; `const` so interfaces can be statics.
     pub const fn new(set: u32, binding: u32, kind: DescriptorKind) -> Self {
         Self { set, binding, kind }
     }
@@ -72,7 +87,9 @@ impl DescriptorBinding {
 /// these declarations, and `check_interface` holds them against the SPIR-V.
 #[derive(Debug)]
 pub struct ShaderInterface {
+    /// The compiled module this declaration describes.
     pub shader: &'static ShaderSpirv,
+    /// Every descriptor binding the module uses, in any order (no unused extras).
     pub bindings: &'static [DescriptorBinding],
     /// Size of the push-constant block in bytes (0: none).
     pub push_constant_bytes: u32,
@@ -81,7 +98,9 @@ pub struct ShaderInterface {
 /// What naga reads from a module.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Reflection {
+    /// Resource bindings the SPIR-V declares, sorted by (set, binding).
     pub bindings: Vec<DescriptorBinding>,
+    /// Size of the push-constant block in bytes as naga lays it out (0: none).
     pub push_constant_bytes: u32,
 }
 

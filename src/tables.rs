@@ -13,7 +13,9 @@ use crate::error::{Error, Result, echo};
 /// counts).
 #[derive(Clone, Debug, PartialEq)]
 pub struct NumberRow {
+    /// The row's line in the input, 1-based, for messages.
     pub line: u64,
+    /// The row's finite numbers, one per column asked for, in column order.
     pub values: Vec<f64>,
 }
 
@@ -92,11 +94,13 @@ pub fn read_numbers(text: &str, what: &str, columns: &[&str]) -> Result<Vec<Numb
 /// One cell of a row being written.
 #[derive(Clone, Copy, Debug)]
 pub enum Cell<'a> {
+    /// A whole number, written in decimal.
     Int(u64),
     /// Shortest text that reads back to the same `f64`.
     Num(f64),
     /// A number with this many decimals.
     Fixed(f64, usize),
+    /// Text as it is, quoted by the csv crate where it holds a comma or a quote.
     Text(&'a str),
 }
 

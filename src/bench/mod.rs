@@ -45,12 +45,16 @@ pub struct BenchOptions {
     pub scenes: Vec<String>,
     /// Only these variants (all when empty).
     pub variants: Vec<String>,
+    /// Measured frames per series, 1..=1000 (the growth scene measures its passes).
     pub frames: u32,
+    /// Unmeasured frames before them, 0..=100 (lavapipe compiles shaders on first use).
     pub warmup: u32,
+    /// Frame size in pixels, the floor's too.
     pub size: Size,
 }
 
 impl BenchOptions {
+    /// Refuses unknown scenes or variants and counts out of range, naming them.
     pub fn validate(&self) -> Result<()> {
         let known = scenes();
         for s in &self.scenes {

@@ -15,9 +15,13 @@ pub const SCHEMA: u32 = 1;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Stats {
+    /// The smallest sample, ms.
     pub min: f64,
+    /// The nearest-rank median, ms.
     pub median: f64,
+    /// The nearest-rank 95th percentile, ms.
     pub p95: f64,
+    /// How many finite samples the numbers are of.
     pub samples: usize,
 }
 
@@ -48,7 +52,9 @@ impl Stats {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PassResult {
+    /// The pass's timestamp span name ("ring growth", "shading", "dunes", ...).
     pub name: String,
+    /// Its GPU time over the measured frames.
     pub gpu_ms: Stats,
 }
 
@@ -56,8 +62,11 @@ pub struct PassResult {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SeriesResult {
+    /// The scene ("floor", "grow", "dunes", "cave").
     pub scene: String,
+    /// The variant within it ("xfb-restream", "cull-on-lod-on", "depth-7", ...).
     pub variant: String,
+    /// Each named GPU pass of the frame.
     pub passes: Vec<PassResult>,
     /// GPU time of the whole frame (sum of its passes).
     pub frame_gpu_ms: Stats,
@@ -73,16 +82,27 @@ pub struct SeriesResult {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Meta {
+    /// The report format's version ([`SCHEMA`]).
     pub schema: u32,
+    /// The Vulkan device's name.
     pub device: String,
+    /// Its driver's name and version.
     pub driver: String,
+    /// The Vulkan version it reports.
     pub vulkan: String,
+    /// sediment's crate version.
     pub sediment_version: String,
+    /// The git commit sediment was built from ("unknown" outside a checkout).
     pub git_commit: String,
+    /// Frame width, pixels.
     pub width: u32,
+    /// Frame height, pixels.
     pub height: u32,
+    /// Measured frames per series asked for.
     pub frames: u32,
+    /// Warm-up frames per series.
     pub warmup: u32,
+    /// CPU threads available (lavapipe's rasteriser and the dune simulation use them).
     pub threads: usize,
 }
 
@@ -90,9 +110,11 @@ pub struct Meta {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Report {
+    /// Where and what was measured.
     pub meta: Meta,
     /// The floor: an empty submission and a trivial full-screen pass at the same size.
     pub floor: Vec<SeriesResult>,
+    /// Every scene and variant measured, in run order.
     pub series: Vec<SeriesResult>,
     /// The papers' timing ratios beside ours: (what, paper, ours).
     pub paper_ratios: Vec<PaperRatio>,
@@ -102,17 +124,23 @@ pub struct Report {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PaperRatio {
+    /// What the ratio compares ("LOD on / off", ...).
     pub what: String,
+    /// Where the paper reports it (paper, table or figure).
     pub paper: String,
+    /// The paper's value.
     pub paper_ratio: f64,
+    /// The same ratio measured in this run.
     pub ours: f64,
 }
 
 impl Report {
+    /// The report as pretty JSON (what `--json` writes and `--compare` reads).
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
     }
 
+    /// Reads a report written by [`Report::to_json`]; refuses other schemas.
     pub fn from_json(text: &str) -> Result<Self> {
         let report: Report = serde_json::from_str(text).map_err(|e| {
             Error::invalid("bench report", format!("not a sediment bench report: {e}"))

@@ -13,21 +13,29 @@ use crate::error::{Error, Result};
 pub struct Asset {
     /// What the file shows ("sediment grow fig9g"), for headers and the glTF scene name.
     pub title: String,
+    /// The parts in file order; [`Asset::push`] leaves out empty meshes.
     pub parts: Vec<Part>,
 }
 
 /// One named part: an indexed mesh and its material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
+    /// The part's name ("cave walls", "dune field"): the glTF node and mesh name, the
+    /// OBJ object name.
     pub name: String,
+    /// Its geometry.
     pub mesh: PartMesh,
+    /// How it is shaded; OBJ writes one MTL entry per material name and mean colour.
     pub material: Material,
 }
 
 /// An indexed triangle list. Colours are linear RGB (glTF's COLOR_0 is linear).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PartMesh {
+    /// Vertex positions: scene units while a scene builds the asset, metres after
+    /// [`Asset::to_metres`].
     pub positions: Vec<[f32; 3]>,
+    /// One normal per position.
     pub normals: Vec<[f32; 3]>,
     /// Per-vertex linear RGB, multiplied into the material's base colour; none: the
     /// material's colour alone.
@@ -35,13 +43,16 @@ pub struct PartMesh {
     /// Texture coordinates of the normal map (TEXCOORD_0) and of the base colour map
     /// (TEXCOORD_1), with the tangent frame of the normal map; only with textures.
     pub surface: Option<SurfaceCoordinates>,
+    /// Three indices into `positions` per triangle.
     pub indices: Vec<u32>,
 }
 
 /// The per-vertex coordinates a textured part needs.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SurfaceCoordinates {
+    /// Per-vertex coordinates into the normal map (glTF's TEXCOORD_0).
     pub normal_uv: Vec<[f32; 2]>,
+    /// Per-vertex coordinates into the base colour map (glTF's TEXCOORD_1).
     pub color_uv: Vec<[f32; 2]>,
     /// glTF's TANGENT: xyz along +u of `normal_uv`, w the handedness, so that the
     /// bitangent `cross(normal, xyz) * w` points toward -v (the image's "up").
@@ -51,11 +62,15 @@ pub struct SurfaceCoordinates {
 /// A PBR metallic-roughness material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// The material's name ("rock"): glTF's material name, the base of OBJ's `newmtl`.
     pub name: String,
     /// Linear RGB; multiplied by the vertex colours and the base colour texture.
     pub base_color: [f32; 3],
+    /// PBR metalness, 0 (dielectric) to 1; glTF's `metallicFactor`, MTL's `Pm`.
     pub metallic: f32,
+    /// PBR roughness, 0 (mirror) to 1; glTF's `roughnessFactor`, MTL's `Pr` (and `Ns`).
     pub roughness: f32,
+    /// Base colour and normal maps; none: untextured.
     pub textures: Option<Textures>,
 }
 
@@ -87,7 +102,9 @@ impl Material {
 pub struct WeldCounts {
     /// Corners of the triangles (what a triangle soup stores).
     pub corners: usize,
+    /// Vertices after welding (what the file stores).
     pub vertices: usize,
+    /// Triangles (a third of the corners).
     pub triangles: usize,
 }
 
@@ -130,6 +147,7 @@ impl PartMesh {
         Self::weld(&corners(&mesh.positions), &corners(&mesh.normals), None)
     }
 
+    /// The number of triangles (a third of the indices).
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
@@ -152,6 +170,7 @@ pub fn floor_centre((lo, hi): (Vec3, Vec3)) -> Vec3 {
 }
 
 impl Asset {
+    /// An asset with this title and no parts yet.
     pub fn new(title: impl Into<String>) -> Self {
         Self {
             title: title.into(),

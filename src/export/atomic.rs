@@ -142,6 +142,9 @@ pub struct AtomicFile {
 }
 
 impl AtomicFile {
+    /// Creates a new temporary sibling of `path` to write to. Refuses a path this run's
+    /// open [`OutputSet`] already holds a finished output for, and never opens a file
+    /// already there under the temporary name.
     pub fn create(path: &Path) -> Result<Self> {
         if pending_for(path) {
             // Two outputs of one run with the same name: the second would silently
@@ -184,7 +187,8 @@ impl AtomicFile {
         &self.path
     }
 
-    pub fn io_error(&self, source: std::io::Error) -> Error {
+    /// An I/O error while writing, as a write error naming the target path.
+    pub(crate) fn io_error(&self, source: std::io::Error) -> Error {
         Error::Write {
             path: self.path.clone(),
             source,

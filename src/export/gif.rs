@@ -33,6 +33,8 @@ pub struct GifStream {
 }
 
 impl GifStream {
+    /// Starts a looping GIF at `path` (through an [`AtomicFile`](super::atomic::AtomicFile)),
+    /// each frame shown for `frame_ms` milliseconds.
     pub fn create(path: &Path, frame_ms: u32) -> Result<Self> {
         let mut file = super::atomic::AtomicFile::create(path)?;
         // The encoder needs its own writer: a second handle on the same temporary file.
@@ -58,6 +60,7 @@ impl GifStream {
         })
     }
 
+    /// Quantises one frame (speed 10 NeuQuant) and appends it, shown for `frame_ms`.
     pub fn push(&mut self, frame: &image::RgbaImage) -> Result<()> {
         let path = self.file.path().to_path_buf();
         let encoder = self

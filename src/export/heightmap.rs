@@ -22,10 +22,13 @@ use crate::error::{Error, Result};
 /// A grid of heights in metres, row-major (`width` samples a row).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Heightmap {
+    /// Samples per row (the image's width in pixels).
     pub width: usize,
+    /// Rows (the image's height in pixels).
     pub height: usize,
     /// Metres between neighbouring samples.
     pub cell_m: f64,
+    /// `width * height` finite heights in metres, row by row.
     pub heights_m: Vec<f64>,
 }
 
@@ -35,12 +38,16 @@ pub struct Heightmap {
 pub struct HeightRange {
     /// The file the range belongs to.
     pub file: String,
+    /// Samples per row, as in the [`Heightmap`].
     pub width: usize,
+    /// Rows, as in the [`Heightmap`].
     pub height: usize,
     /// Metres between neighbouring samples.
     pub cell_m: f64,
     /// Metres at sample value 0 and at 65535 (in the EXR, the heights themselves).
     pub height_at_0_m: f64,
+    /// Metres at sample value 65535: the highest height, or a micrometre above the
+    /// lowest for a flat field, so a reader can divide by the span.
     pub height_at_65535_m: f64,
 }
 

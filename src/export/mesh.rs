@@ -18,8 +18,11 @@ pub fn check_mesh_path(path: &Path, argument: &str) -> Result<()> {
 /// What was written, for the command's report.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Written {
+    /// Every file written: the `.glb`, or the `.obj`, its `.mtl` and any normal maps.
     pub files: Vec<std::path::PathBuf>,
+    /// Corner, vertex and triangle counts over all parts.
     pub counts: WeldCounts,
+    /// The parts' names, in file order.
     pub parts: Vec<String>,
 }
 

@@ -45,6 +45,7 @@ impl std::str::FromStr for Colouring {
 pub struct SectionStyle {
     /// Every `emphasis`-th layer is drawn heavier (0: none).
     pub emphasis: usize,
+    /// How the layers are coloured (`--color`: none, age or supply).
     pub colouring: Colouring,
     /// The unit of the coordinates for the scale bar ("mm"), or `None` for Franke's
     /// dimensionless units.

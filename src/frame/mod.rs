@@ -103,12 +103,15 @@ pub fn spans_line(spans: &[Span]) -> String {
 /// A gallery picture, optionally an animation written beside it as a GIF, and more
 /// pictures written as `NAME-SUFFIX.png`.
 pub struct Shot {
+    /// The picture, written as `NAME.png`.
     pub image: image::RgbaImage,
     /// GPU time of each named pass of the picture's frame.
     pub gpu_spans: Vec<Span>,
     /// Wall-clock milliseconds of the whole render (set-up included).
     pub wall_ms: f64,
+    /// Frames of an animation, written as `NAME.gif` (none: no GIF).
     pub animation: Vec<image::RgbaImage>,
+    /// More pictures, each with the suffix of its file name `NAME-SUFFIX.png`.
     pub extras: Vec<(&'static str, image::RgbaImage)>,
 }
 
@@ -132,7 +135,9 @@ pub type RenderFn = Box<dyn Fn(&Arc<Context>, Size, u64) -> Result<Shot>>;
 pub struct GalleryEntry {
     /// File stem of the PNG.
     pub name: &'static str,
+    /// One line on what the picture shows.
     pub description: &'static str,
+    /// Renders the picture at the demo's `--size` and `--seed`.
     pub render: RenderFn,
 }
 
@@ -168,6 +173,8 @@ pub trait BenchScene {
 /// What a scene offers the instruments: its presets, its gallery pictures and how the
 /// bench times it. One line of `scene::registry` per scene.
 pub trait SceneKind: Sync {
+    /// The scene's name ("rock", "grow", "dunes", "cave", "layers"): what `sediment bench`
+    /// selects scenes by and its report names them by.
     fn name(&self) -> &'static str;
     /// Presets (name, what it shows).
     fn presets(&self) -> &'static [(&'static str, &'static str)];

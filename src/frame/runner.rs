@@ -47,10 +47,12 @@ impl FrameRunner {
         })
     }
 
+    /// The target's size in pixels.
     pub fn size(&self) -> Size {
         Size::new(self.target.width(), self.target.height())
     }
 
+    /// The offscreen target frames are drawn into (replaced by [`FrameRunner::resize`]).
     pub fn target(&self) -> &OffscreenTarget {
         &self.target
     }

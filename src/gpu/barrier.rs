@@ -59,9 +59,13 @@ pub fn memories(ctx: &Context, cmd: vk::CommandBuffer, scopes: &[(Scope, Scope)]
 
 /// One image layout transition with its scopes.
 pub struct ImageTransition {
+    /// Image whose layout changes; the caller keeps it alive until the barrier has run.
     pub image: vk::Image,
+    /// Mip levels, array layers and aspects that change layout.
     pub range: vk::ImageSubresourceRange,
+    /// Old layout, and the stages and accesses that must finish before the transition.
     pub from: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+    /// New layout, and the stages and accesses that wait for the transition.
     pub to: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
 }
 

@@ -13,8 +13,11 @@ use crate::pod::{Pod, as_bytes, from_bytes};
 /// What a buffer is for and where its memory lives.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct BufferDesc {
+    /// Size in bytes; must be at least 1.
     pub size: u64,
+    /// Every way the buffer will be used (vertex, storage, transfer source, XFB...).
     pub usage: vk::BufferUsageFlags,
+    /// gpu-allocator memory class: device-local, upload or readback.
     pub location: MemoryLocation,
 }
 
@@ -57,6 +60,9 @@ pub struct Buffer {
 }
 
 impl Buffer {
+    /// Creates an exclusive-sharing `VkBuffer` of `desc`, binds fresh memory from the
+    /// context's allocator and gives the buffer the debug name `name`; a zero size is
+    /// an error.
     pub fn new(ctx: &Arc<Context>, name: &str, desc: BufferDesc) -> Result<Self> {
         if desc.size == 0 {
             return Err(Error::internal(
@@ -121,14 +127,17 @@ impl Buffer {
         Ok(buffer)
     }
 
+    /// The `VkBuffer` handle; valid while `self` lives.
     pub fn raw(&self) -> vk::Buffer {
         self.raw
     }
 
+    /// Size in bytes as requested (the allocation may be larger).
     pub fn size(&self) -> u64 {
         self.desc.size
     }
 
+    /// The description the buffer was created from.
     pub fn desc(&self) -> &BufferDesc {
         &self.desc
     }

@@ -14,14 +14,18 @@ pub struct Commands<'a> {
 }
 
 impl Commands<'_> {
+    /// The `vk::CommandBuffer` being recorded; owned by the context, valid only for the
+    /// recording closure.
     pub fn raw(&self) -> vk::CommandBuffer {
         self.raw
     }
 
+    /// The context whose device and queue the commands are recorded for.
     pub fn context(&self) -> &Context {
         self.ctx
     }
 
+    /// Binds `pipeline` at its bind point and `sets` from set 0 against `layout`.
     pub fn bind_pipeline(
         &self,
         pipeline: &Pipeline,
@@ -31,6 +35,8 @@ impl Commands<'_> {
         pipeline.bind(self.raw, layout, sets);
     }
 
+    /// Pushes `value` as the layout's whole push-constant block; its size must equal the
+    /// declared block's, else an internal error and nothing is recorded.
     pub fn push_constants<T: Pod>(&self, layout: &PipelineLayout, value: &T) -> Result<()> {
         layout.push(self.raw, value)
     }
@@ -56,6 +62,8 @@ impl Commands<'_> {
         }
     }
 
+    /// Binds `buffer` from byte `offset` as vertex binding 0; it needs `VERTEX_BUFFER`
+    /// usage.
     pub fn bind_vertex_buffer(&self, buffer: &Buffer, offset: u64) {
         // SAFETY: `raw` is recording; the buffer has VERTEX_BUFFER usage by construction.
         unsafe {
@@ -65,6 +73,7 @@ impl Commands<'_> {
         };
     }
 
+    /// Binds the whole of `buffer` as `u32` indices; it needs `INDEX_BUFFER` usage.
     pub fn bind_index_buffer(&self, buffer: &Buffer) {
         // SAFETY: `raw` is recording; the buffer holds u32 indices.
         unsafe {
@@ -74,6 +83,8 @@ impl Commands<'_> {
         };
     }
 
+    /// Non-indexed draw from vertex 0 and instance 0; needs an open rendering scope and
+    /// a bound graphics pipeline.
     pub fn draw(&self, vertex_count: u32, instance_count: u32) {
         // SAFETY: `raw` is recording inside a rendering scope with a bound pipeline.
         unsafe {
@@ -83,6 +94,8 @@ impl Commands<'_> {
         };
     }
 
+    /// Indexed draw from index 0 with no vertex offset; needs an open rendering scope and
+    /// bound pipeline, vertex and index buffers.
     pub fn draw_indexed(&self, index_count: u32, instance_count: u32) {
         // SAFETY: `raw` is recording inside a rendering scope with bound pipeline/buffers.
         unsafe {
@@ -92,6 +105,8 @@ impl Commands<'_> {
         };
     }
 
+    /// Dispatches `x` x `y` x `z` workgroups (not invocations) of the bound compute
+    /// pipeline, with no barrier after it.
     pub fn dispatch(&self, x: u32, y: u32, z: u32) {
         // SAFETY: `raw` is recording with a bound compute pipeline.
         unsafe { self.ctx.device.cmd_dispatch(self.raw, x, y, z) };
@@ -220,6 +235,7 @@ impl Commands<'_> {
         self.set_viewport(width, height);
     }
 
+    /// Ends the dynamic-rendering scope begun on this command buffer.
     pub fn end_rendering(&self) {
         // SAFETY: a rendering scope begun on `raw` is open.
         unsafe { self.ctx.device.cmd_end_rendering(self.raw) };

@@ -51,13 +51,21 @@ impl ContextOptions {
 /// Names and numbers of the chosen device that reports and tests print.
 #[derive(Clone, Debug)]
 pub struct DeviceInfo {
+    /// The device's `deviceName`.
     pub name: String,
+    /// The driver's `driverName` (empty if the driver gives none).
     pub driver_name: String,
+    /// The driver's `driverInfo`, usually its version.
     pub driver_info: String,
+    /// Highest Vulkan version the device supports, "major.minor.patch".
     pub api_version: String,
+    /// Nanoseconds per timestamp-query tick (`timestampPeriod`).
     pub timestamp_period_ns: f32,
+    /// Largest width or height of a 2D image in pixels (`maxImageDimension2D`).
     pub max_image_dimension_2d: u32,
+    /// Most vertices one geometry-shader invocation may emit.
     pub max_geometry_output_vertices: u32,
+    /// Most output components, over all emitted vertices, of one geometry invocation.
     pub max_geometry_total_output_components: u32,
     /// The largest device-local memory heap, bytes (what GPU buffers are budgeted
     /// against).

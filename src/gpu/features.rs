@@ -24,11 +24,17 @@ pub struct Capability {
 /// `usable`).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct DeviceReport {
+    /// `deviceName` from the device properties (`<unnamed device>` if unreadable).
     pub name: String,
+    /// Kind of device in words: "discrete GPU", "integrated GPU", "CPU (software)"...
     pub device_type: String,
+    /// `driverName` from `VkPhysicalDeviceDriverProperties` (empty if unreadable).
     pub driver_name: String,
+    /// `driverInfo` from `VkPhysicalDeviceDriverProperties`, usually the driver version.
     pub driver_info: String,
+    /// Highest Vulkan version the device supports, as "major.minor.patch".
     pub api_version: String,
+    /// Every required and reported capability, in a fixed order.
     pub capabilities: Vec<Capability>,
 }
 

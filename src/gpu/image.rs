@@ -12,10 +12,15 @@ use crate::error::{Error, Result, VkContext};
 /// What a 2D image is: size, format, mip levels and usage.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ImageDesc {
+    /// Width of mip level 0 in texels (1 up to the device's `maxImageDimension2D`).
     pub width: u32,
+    /// Height of mip level 0 in texels (1 up to the device's `maxImageDimension2D`).
     pub height: u32,
+    /// Texel format of the image and of its view.
     pub format: vk::Format,
+    /// Number of mip levels, level `k` being `max(1, size >> k)` per side.
     pub mip_levels: u32,
+    /// Every way the image will be used (sampled, attachment, transfer...).
     pub usage: vk::ImageUsageFlags,
     /// Samples per texel (multisampled attachments).
     pub samples: vk::SampleCountFlags,
@@ -24,6 +29,7 @@ pub struct ImageDesc {
 }
 
 impl ImageDesc {
+    /// One 2D layer of `width` x `height` texels, one mip level, one sample.
     pub fn new_2d(width: u32, height: u32, format: vk::Format, usage: vk::ImageUsageFlags) -> Self {
         Self {
             width,
@@ -49,11 +55,13 @@ impl ImageDesc {
         if self.cube { 6 } else { 1 }
     }
 
+    /// Sets the number of mip levels; the caller keeps it within the full chain.
     pub fn mip_levels(mut self, levels: u32) -> Self {
         self.mip_levels = levels;
         self
     }
 
+    /// Sets the samples per texel (above one only for multisampled attachments).
     pub fn samples(mut self, samples: vk::SampleCountFlags) -> Self {
         self.samples = samples;
         self
@@ -83,6 +91,9 @@ pub struct Image {
 }
 
 impl Image {
+    /// Creates an optimal-tiling image of `desc` in device-local memory, in layout
+    /// UNDEFINED, with one 2D (or cube) view of all levels and layers; a side of 0 or
+    /// above the device's limit is an error.
     pub fn new(ctx: &Arc<Context>, name: &str, desc: ImageDesc) -> Result<Self> {
         let max = ctx.info().max_image_dimension_2d;
         if desc.width == 0 || desc.height == 0 || desc.width > max || desc.height > max {
@@ -457,14 +468,17 @@ impl Image {
         Ok(readback.mapped()?.to_vec())
     }
 
+    /// The `VkImage` handle; destroyed with `self`.
     pub fn raw(&self) -> vk::Image {
         self.raw
     }
 
+    /// The view of every level and layer (2D or cube); destroyed with `self`.
     pub fn view(&self) -> vk::ImageView {
         self.view
     }
 
+    /// The description the image was created from (after any usage or mip additions).
     pub fn desc(&self) -> &ImageDesc {
         &self.desc
     }

@@ -33,6 +33,9 @@ pub struct PipelineLayout {
 }
 
 impl PipelineLayout {
+    /// Merges the interfaces of a pipeline's modules into one set layout per set index
+    /// (0 to the highest used, gaps left empty) and one push-constant range over the
+    /// stages that push; fails if two stages give one binding different kinds.
     pub fn new(ctx: &Arc<Context>, name: &str, interfaces: &[&ShaderInterface]) -> Result<Self> {
         // set -> binding -> (kind, stages)
         let mut sets: BTreeMap<u32, BTreeMap<u32, (DescriptorKind, vk::ShaderStageFlags)>> =
@@ -114,10 +117,12 @@ impl PipelineLayout {
         Ok(layout)
     }
 
+    /// The `vk::PipelineLayout` handle; owned by `self` and destroyed on drop.
     pub fn raw(&self) -> vk::PipelineLayout {
         self.raw
     }
 
+    /// Size in bytes of the push-constant range: the largest any stage declared (0: none).
     pub fn push_constant_bytes(&self) -> u32 {
         self.push_constant_bytes
     }
@@ -224,6 +229,7 @@ pub struct DescriptorSet {
 }
 
 impl DescriptorSet {
+    /// The `vk::DescriptorSet` handle; freed with its pool when `self` drops.
     pub fn raw(&self) -> vk::DescriptorSet {
         self.raw
     }
@@ -313,6 +319,7 @@ impl Drop for DescriptorSet {
 /// Vertex input: one interleaved binding.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
 pub struct VertexLayout {
+    /// Bytes from one vertex to the next in binding 0 (per-vertex input rate).
     pub stride: u32,
     /// (location, format, byte offset)
     pub attributes: Vec<(u32, vk::Format, u32)>,
@@ -320,21 +327,36 @@ pub struct VertexLayout {
 
 /// A graphics pipeline, described as plain data and built with `build`.
 pub struct GraphicsPipelineDesc<'a> {
+    /// Debug-utils name given to the created `vk::Pipeline`.
     pub name: &'a str,
+    /// Vertex-stage module (entry point `main`).
     pub vertex: &'a ShaderSpirv,
+    /// Optional geometry-stage module, e.g. one that emits to XFB streams.
     pub geometry: Option<&'a ShaderSpirv>,
+    /// Optional fragment-stage module; `None` for depth-only or XFB-only passes.
     pub fragment: Option<&'a ShaderSpirv>,
+    /// Vertex input on binding 0; no attributes means no vertex input state at all.
     pub vertex_layout: VertexLayout,
+    /// Primitive topology for input assembly (default triangle list).
     pub topology: vk::PrimitiveTopology,
+    /// Faces culled by the rasterizer (default back faces).
     pub cull_mode: vk::CullModeFlags,
+    /// Winding that counts as front-facing (default counter-clockwise).
     pub front_face: vk::FrontFace,
+    /// Fill, line or point rasterization (default fill; line width is fixed at 1).
     pub polygon_mode: vk::PolygonMode,
     /// For transform-feedback-only passes: nothing is rasterized.
     pub rasterizer_discard: bool,
+    /// Formats of the dynamic-rendering colour attachments, one blend state each.
     pub color_formats: Vec<vk::Format>,
+    /// Format of the depth attachment, or `None` (which also disables depth test/write).
     pub depth_format: Option<vk::Format>,
+    /// Depth test with `LESS_OR_EQUAL`; ignored without a depth format.
     pub depth_test: bool,
+    /// Whether passing fragments write depth; ignored without a depth format.
     pub depth_write: bool,
+    /// Straight-alpha "over" blending (`SRC_ALPHA`, `ONE_MINUS_SRC_ALPHA`) on every colour
+    /// attachment; off writes RGBA unblended.
     pub alpha_blend: bool,
     /// Constant and slope depth bias (pushes filled faces back behind lines drawn
     /// over them), or none.
@@ -368,21 +390,25 @@ impl<'a> GraphicsPipelineDesc<'a> {
         }
     }
 
+    /// Adds a geometry stage (needs the device's `geometryShader` feature).
     pub fn geometry(mut self, shader: &'a ShaderSpirv) -> Self {
         self.geometry = Some(shader);
         self
     }
 
+    /// Adds a fragment stage.
     pub fn fragment(mut self, shader: &'a ShaderSpirv) -> Self {
         self.fragment = Some(shader);
         self
     }
 
+    /// Sets the vertex input read from binding 0.
     pub fn vertex_layout(mut self, layout: VertexLayout) -> Self {
         self.vertex_layout = layout;
         self
     }
 
+    /// Sets the dynamic-rendering attachment formats; leaves the sample count alone.
     pub fn targets(mut self, color: &[vk::Format], depth: Option<vk::Format>) -> Self {
         self.color_formats = color.to_vec();
         self.depth_format = depth;
@@ -397,11 +423,15 @@ impl<'a> GraphicsPipelineDesc<'a> {
         self
     }
 
+    /// Turns rasterization off (`on`) for passes whose only output is transform feedback.
     pub fn rasterizer_discard(mut self, on: bool) -> Self {
         self.rasterizer_discard = on;
         self
     }
 
+    /// Creates the pipeline for dynamic rendering (no render pass) with dynamic viewport
+    /// and scissor; the shader modules are created for the call and destroyed after it.
+    /// `layout` should be built from the interfaces of these same modules.
     pub fn build(&self, ctx: &Arc<Context>, layout: &PipelineLayout) -> Result<Pipeline> {
         let mut modules = vec![ShaderModule::new(ctx, self.vertex)?];
         if let Some(g) = self.geometry {
@@ -562,6 +592,7 @@ impl Pipeline {
         })
     }
 
+    /// The `vk::Pipeline` handle; owned by `self` and destroyed on drop.
     pub fn raw(&self) -> vk::Pipeline {
         self.raw
     }

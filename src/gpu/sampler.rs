@@ -77,6 +77,7 @@ impl Sampler {
         })
     }
 
+    /// The `VkSampler` handle; destroyed with `self`.
     pub fn raw(&self) -> vk::Sampler {
         self.raw
     }

@@ -16,6 +16,8 @@ pub struct ShaderModule {
 }
 
 impl ShaderModule {
+    /// Creates a `VkShaderModule` from the embedded SPIR-V, debug-named by its path;
+    /// fails if the bytes are not SPIR-V (length not a multiple of 4, or no magic number).
     pub fn new(ctx: &Arc<Context>, spirv: &ShaderSpirv) -> Result<Self> {
         let words = spirv.words()?;
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
@@ -30,10 +32,13 @@ impl ShaderModule {
         })
     }
 
+    /// The `VkShaderModule` handle; destroyed with `self` (needed only while pipelines
+    /// are created).
     pub fn raw(&self) -> vk::ShaderModule {
         self.raw
     }
 
+    /// The single stage flag of the module's stage, for pipeline stage create infos.
     pub fn stage(&self) -> vk::ShaderStageFlags {
         stage_flags(self.stage)
     }

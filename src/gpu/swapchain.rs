@@ -68,6 +68,7 @@ impl Drop for Surface {
 /// What `Swapchain::present` found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Presented {
+    /// The image was queued for presentation and the swapchain still fits the window.
     Ok,
     /// The window changed: recreate the swapchain before the next frame.
     Stale,

@@ -12,13 +12,19 @@ use crate::error::{Error, Result};
 /// sRGB colour: shaders write linear values and the hardware encodes them, so the PNG
 /// bytes read back are display-ready.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+/// 32-bit float depth with no stencil; cleared to 1.0 by `OffscreenTarget::begin` and
+/// tested `LESS_OR_EQUAL` by the graphics pipelines.
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// What a pass draws into: the formats and sample count of an offscreen target.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct TargetFormat {
+    /// Format of the colour attachment and its resolved image (4 or, for RGBA16F, 8 bytes
+    /// a texel).
     pub color: vk::Format,
+    /// Format of the depth attachment (depth aspect only).
     pub depth: vk::Format,
+    /// Samples per pixel of the colour and depth attachments (1: no resolve).
     pub samples: vk::SampleCountFlags,
 }
 
@@ -193,14 +199,18 @@ impl OffscreenTarget {
         })
     }
 
+    /// Formats and sample count the target was made with; pipelines drawing into it
+    /// must match (`GraphicsPipelineDesc::target`).
     pub fn format(&self) -> TargetFormat {
         self.format
     }
 
+    /// Width in pixels.
     pub fn width(&self) -> u32 {
         self.width
     }
 
+    /// Height in pixels.
     pub fn height(&self) -> u32 {
         self.height
     }

@@ -20,7 +20,10 @@ pub struct SpanId(usize);
 /// One finished span.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Span {
+    /// Name given to `GpuTimer::begin`.
     pub name: String,
+    /// GPU time from start stamp to end stamp in ms, barriers included; 0 if the end
+    /// stamp is not after the start.
     pub milliseconds: f64,
 }
 
@@ -34,6 +37,8 @@ pub struct GpuTimer {
 }
 
 impl GpuTimer {
+    /// Creates a timestamp query pool of two queries per span for `capacity` spans (at
+    /// least one), debug-named `name`; ticks convert with the device's timestamp period.
     pub fn new(ctx: &Arc<Context>, name: &str, capacity: u32) -> Result<Self> {
         let capacity = capacity.max(1);
         let info = vk::QueryPoolCreateInfo::default()

@@ -353,7 +353,9 @@ fn readable_barrier(cmd: &Commands<'_>) {
 /// Primitives a capture wrote, and how many it would have written with room enough.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StreamCounts {
+    /// Primitives actually written to the capture buffer(s) of stream 0.
     pub written: u64,
+    /// Primitives emitted to stream 0, whether or not they fitted in the buffer(s).
     pub needed: u64,
 }
 
@@ -372,6 +374,8 @@ pub struct StreamQueries {
 }
 
 impl StreamQueries {
+    /// Creates a pool of `count` stream queries (at least one), debug-named `name`; they
+    /// must be reset (`reset`, `reset_range`) before first use.
     pub fn new(ctx: &Arc<Context>, name: &str, count: u32) -> Result<Self> {
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TRANSFORM_FEEDBACK_STREAM_EXT)
@@ -433,6 +437,7 @@ impl StreamQueries {
         Ok(())
     }
 
+    /// Stops counting stream 0 into query `index`, begun on the same command buffer.
     pub fn end(&self, cmd: &Commands<'_>, index: u32) -> Result<()> {
         self.check(index)?;
         // SAFETY: the query was begun on this command buffer.

@@ -1,7 +1,7 @@
 //! One atmosphere for the desert's sky, sun and haze: Nishita et al.'s (1993) single
 //! scattering — Rayleigh and Mie scattering by air whose density falls exponentially
 //! with altitude, optical depths integrated along rays through a spherical shell — the
-//! model behind the "fast sky" of Onoue & Nishita's refs [14][15] (Dobashi, Nishita et
+//! model behind the "fast sky" of Onoue & Nishita's refs \[14\]\[15\] (Dobashi, Nishita et
 //! al., who integrate it once and look it up; here a sky-view table, Hillaire 2020's
 //! parameterisation). This is the CPU reference of `shaders-glsl/dunes/sky_view.comp`
 //! (same sample counts, same order of operations); `tests/atmosphere.rs` compares them.
@@ -16,17 +16,23 @@ use glam::Vec3;
 /// The air: a planet, a shell of atmosphere, and its two kinds of scatterers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Atmosphere {
+    /// Radius of the planet's surface (altitude 0), metres.
     pub ground_radius_m: f32,
+    /// Radius of the top of the atmosphere's shell, where rays leave it, metres.
     pub top_radius_m: f32,
     /// Rayleigh scattering coefficients at sea level, per metre (RGB at 680, 550,
-    /// 440 nm) and their scale height.
+    /// 440 nm); Rayleigh scatterers do not absorb, so this is also their extinction.
     pub rayleigh: Vec3,
+    /// Scale height of the air's exponential density fall-off, metres.
     pub rayleigh_height_m: f32,
-    /// Mie (aerosol) scattering and extinction per metre at the ground, scale height,
-    /// and the phase function's asymmetry g.
+    /// Mie (aerosol) scattering coefficient at the ground, per metre (grey).
     pub mie_scattering: f32,
+    /// Mie extinction (scattering plus absorption) at the ground, per metre.
     pub mie_extinction: f32,
+    /// Scale height of the aerosols' exponential density fall-off, metres.
     pub mie_height_m: f32,
+    /// Asymmetry g of the Cornette-Shanks phase function ([`mie_phase`]), -1 to 1;
+    /// positive scatters forward.
     pub mie_g: f32,
     /// The ground's Lambertian albedo (RGB), seen below the horizon.
     pub ground_albedo: Vec3,
@@ -38,8 +44,9 @@ pub struct Atmosphere {
 /// clean days measure 0.1-0.2, dusty ones 0.5 and more).
 pub const DESERT_AEROSOL_DEPTH: f32 = 0.1;
 
-/// Samples along a view ray, and along each ray toward the sun.
+/// Samples along a view ray (the sky-view shader uses the same count).
 pub const VIEW_SAMPLES: u32 = 32;
+/// Samples along each ray toward the sun, for the transmittance to space.
 pub const SUN_SAMPLES: u32 = 12;
 
 impl Atmosphere {
@@ -281,16 +288,19 @@ pub struct SkyLight<'a> {
     pub ground_sky: Vec3,
 }
 
-/// Side of the multiple-scattering table (altitudes by sun cosines), directions per
-/// side of its sphere stratification, and samples along each direction.
+/// Side of the multiple-scattering table (altitudes by sun cosines), texels.
 pub const MS_SIZE: u32 = 32;
+/// Directions per side of the multiple-scattering table's sphere stratification
+/// (`MS_DIRECTIONS`² directions per texel).
 pub const MS_DIRECTIONS: u32 = 8;
+/// Samples along each of those directions.
 pub const MS_SAMPLES: u32 = 20;
 
 /// Hillaire's Psi_ms per altitude (rows, 0 to the top of the air) and sun cosine
 /// (columns, -1 to 1), in units of the sun's irradiance; row-major.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MultipleScattering {
+    /// `MS_SIZE` × `MS_SIZE` texels, row-major, row 0 at the ground.
     pub table: Vec<Vec3>,
 }
 

@@ -11,7 +11,9 @@
 /// A periodic dune heightfield as the renderer sees it: `n` x `n` samples repeating
 /// every `n` cells (the simulation's boundary condition), heights in cell units.
 pub struct DuneGrid<'a> {
+    /// Samples a side, and the period in cells.
     pub n: usize,
+    /// `n * n` heights in cell units, row-major (index `z * n + x`).
     pub heights: &'a [f32],
 }
 

@@ -46,7 +46,9 @@ impl Default for DustParams {
 /// One dust blob: centre and radius.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DustBlob {
+    /// Centre in world metres, y up, x and z inside `[0, period)`.
     pub position: Vec3,
+    /// Radius, metres: `size_per_height` times the ripple height where it was released.
     pub radius: f32,
 }
 
@@ -54,9 +56,13 @@ pub struct DustBlob {
 /// (`tile` metres a side, turned by `wind_radians`), and the field's period.
 #[derive(Clone, Copy)]
 pub struct DustGround<'a> {
+    /// The ripple heightfield the shading tiles over the dunes.
     pub ripples: &'a Heightfield,
+    /// Side of one ripple tile in the world, metres.
     pub tile: f32,
+    /// The tile's turn about the vertical (the wind direction), radians.
     pub wind_radians: f32,
+    /// Side of the periodic dune field, metres; blobs wrap around it in x and z.
     pub period: f32,
     /// The dune surface's height at world (x, z).
     pub dune_height: &'a dyn Fn(f32, f32) -> f32,
@@ -135,6 +141,7 @@ impl DustCloud {
         self.steps += steps;
     }
 
+    /// The blobs where they are now, in release order.
     pub fn blobs(&self) -> &[DustBlob] {
         &self.blobs
     }

@@ -19,8 +19,9 @@ pub struct FootprintParams {
     pub path: Vec<[f32; 2]>,
     /// Distance between successive prints along the path (a half stride), metres.
     pub step: f32,
-    /// Sole length and width, metres.
+    /// Sole length along the path, metres.
     pub length: f32,
+    /// Sole width across the path, metres.
     pub width: f32,
     /// Feet apart across the path (each print's offset to its side), metres.
     pub gait: f32,
@@ -60,10 +61,16 @@ impl FootprintParams {
 /// `origin` (world x, z).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DetailField {
+    /// World (x, z) of cell (0, 0)'s corner, metres.
     pub origin: [f32; 2],
+    /// Side of a cell, metres.
     pub cell: f32,
+    /// Cells along x.
     pub width: usize,
+    /// Cells along z.
     pub height: usize,
+    /// `width * height` height offsets from the dune surface, metres, index
+    /// `j * width + i`.
     pub data: Vec<f64>,
     /// Volume (m^3 per cell area, i.e. metres summed over cells) compacted under soles.
     pub compacted: f64,
@@ -370,9 +377,10 @@ pub fn detail_texture(field: &DetailField, sun: [f32; 3]) -> Vec<u8> {
     out
 }
 
-/// Largest side of a walk's bounding box (its detail field's 2048 cells at 5 cm) and
-/// longest walk, metres.
+/// Largest side of a walk's bounding box (its detail field's 2048 cells at 5 cm),
+/// metres.
 pub const MAX_WALK_EXTENT: f32 = 100.0;
+/// Longest walk, summed along the path's segments, metres.
 pub const MAX_WALK_LENGTH: f32 = 1000.0;
 
 /// Why `path` cannot be walked, if it cannot: fewer than two points, a point not

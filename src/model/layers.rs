@@ -44,6 +44,7 @@ pub enum Decay {
 }
 
 impl Decay {
+    /// The deposit's fraction f(u) at `u = s / r` (1 at the apex, u = 0).
     pub fn at(self, u: f64) -> f64 {
         match self {
             Decay::Gaussian => (-u * u).exp(),
@@ -97,11 +98,13 @@ impl std::str::FromStr for Decay {
 /// One layer's deposit: the thickness at the apex and the decay length r.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LayerStep {
+    /// Thickness deposited at the apex, in the profile's length units.
     pub dic: f64,
+    /// Decay length r of this layer, in the same units.
     pub r: f64,
-    /// When the layer formed (layer index, or years), and the supply then (relative,
-    /// or the drip rate), for colouring and dating.
+    /// When the layer formed (layer index from 1, or years), for colouring and dating.
     pub time: f64,
+    /// The supply then (the relative factor, or the drip rate), for colouring.
     pub supply: f64,
 }
 
@@ -109,10 +112,13 @@ pub struct LayerStep {
 /// diameter follows the supply).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Supply {
+    /// Factor 1 on every layer: the stationary shape.
     Constant,
     /// From `from` to `to`, linearly over the layers.
     Linear {
+        /// Factor on the first layer, 0.05..=20.
         from: f64,
+        /// Factor on the last layer, 0.05..=20.
         to: f64,
     },
     /// Equal runs of layers at each level (graduated supply).
@@ -139,6 +145,8 @@ impl Supply {
         }
     }
 
+    /// Checks that every factor is finite and in 0.05..=20 and that `Steps` has 1 to
+    /// 1000 of them.
     pub fn validate(&self) -> Result<()> {
         if let Supply::Steps(v) = self
             && v.len() > 1000
@@ -219,7 +227,9 @@ pub struct FrankeParams {
     pub rep: usize,
     /// Decay length r, > 0.
     pub r: f64,
+    /// How the deposit thins away from the apex.
     pub decay: Decay,
+    /// The water supply over the layers, scaling r.
     pub supply: Supply,
 }
 
@@ -237,6 +247,7 @@ impl Default for FrankeParams {
 }
 
 impl FrankeParams {
+    /// Checks every field against the range in its doc, naming the option at fault.
     pub fn validate(&self) -> Result<()> {
         let check = crate::error::ensure_in_range;
         check(self.dic.is_finite() && self.dic > 0.0, "--dic", "(0, inf)")?;
@@ -265,6 +276,7 @@ impl FrankeParams {
 /// The base the stalagmite grows on: support points from the axis outwards.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Base {
+    /// `[x, y]` pairs, x from 0 (the axis) increasing, y never rising.
     pub points: Vec<[f64; 2]>,
 }
 
@@ -342,6 +354,7 @@ impl Base {
 pub struct Overhang {
     /// The layer that would have overhung (0-based among the deposited layers).
     pub layer: usize,
+    /// That layer's [`LayerStep::time`].
     pub time: f64,
     /// Where along the profile.
     pub at: [f64; 2],
@@ -352,9 +365,11 @@ pub struct Overhang {
 /// A grown stalagmite: layer 0 is the base, layer k the surface after k deposits.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stalagmite {
+    /// Each layer's profile, `[x, y]` from the axis outwards, `pz` points.
     pub layers: Vec<Vec<[f64; 2]>>,
     /// The step of each deposited layer (`layers[k + 1]` came from `steps[k]`).
     pub steps: Vec<LayerStep>,
+    /// Set when growth stopped early on an overhang.
     pub overhang: Option<Overhang>,
 }
 

@@ -7,16 +7,21 @@ use glam::Vec3;
 /// An indexed triangle mesh; triangles wind counter-clockwise seen from outside.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// Vertex positions, in the units of whoever built the mesh (metres for caves).
     pub positions: Vec<Vec3>,
+    /// Unit vertex normals, one per position once computed (may be empty before).
     pub normals: Vec<Vec3>,
+    /// Three indices into `positions` per triangle.
     pub indices: Vec<u32>,
 }
 
 impl Mesh {
+    /// Triangles in the mesh (`indices.len() / 3`).
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
 
+    /// Each triangle's three vertex indices, in winding order.
     pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
         self.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]])
     }

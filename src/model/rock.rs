@@ -44,6 +44,7 @@ impl Default for RockParams {
 }
 
 impl RockParams {
+    /// Checks every field against the range in its doc.
     pub fn validate(&self) -> Result<()> {
         let check = crate::error::ensure_in_range;
         check(self.subdivisions <= 7, "rock subdivisions", "0..=7")?;

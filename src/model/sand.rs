@@ -44,8 +44,11 @@ use crate::error::{Error, Result};
 /// A periodic heightfield, row-major (`data[y * width + x]`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Heightfield {
+    /// Cells along x (the wind's direction); the period in x.
     pub width: usize,
+    /// Cells along y (across the wind); the period in y.
     pub height: usize,
+    /// `width * height` sand amounts `H`, one per cell, in the model's units.
     pub data: Vec<f64>,
 }
 
@@ -62,6 +65,7 @@ impl Heightfield {
         }
     }
 
+    /// Height of cell (x, y), any integers: wrapped into the field (periodic).
     pub fn at(&self, x: isize, y: isize) -> f64 {
         let xi = x.rem_euclid(self.width as isize) as usize;
         let yi = y.rem_euclid(self.height as isize) as usize;
@@ -88,18 +92,32 @@ impl Heightfield {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Saltation {
     /// Ripples (eqs. 1–3): `L = L0 + b H`, constant `q`.
-    Ripple { l0: f64, q: f64, b: f64 },
+    Ripple {
+        /// Base hop length L0, cells, >= 0.
+        l0: f64,
+        /// Sand lifted from every cell per step, in units of `H`, >= 0.
+        q: f64,
+        /// Hop growth per unit of `H`, cells.
+        b: f64,
+    },
     /// Dunes (eqs. 5–6): `q = q0 + b' tanh(slope)`, `L = L0 - b tanh(slope)`, plus
     /// two additions from the dune literature (see the module docs): the hop grows by
     /// `speedup * (H - mean H)` over crests (wind speed-up), and cells in the lee
     /// shadow zone below `shadow_degrees` behind a crest are not eroded and trap the
     /// grains that fly into them (`None` for the paper's law alone).
     Dune {
+        /// Base hop length L0 on flat ground, cells, >= 0.
         l0: f64,
+        /// Sand lifted per cell and step on flat ground, in units of `H`, >= 0.
         q0: f64,
+        /// Hop shortening per unit of `tanh(slope)`, cells.
         b: f64,
+        /// Extra sand lifted per unit of `tanh(slope)` (the paper's b'), units of `H`.
         b_prime: f64,
+        /// Hop lengthening per unit of `H` above the mean, cells, >= 0.
         speedup: f64,
+        /// Angle of the shadow line falling downwind from crests, degrees in (0, 90),
+        /// measured on the surface `vertical_scale * H`; `None`: no shadow zone.
         shadow_degrees: Option<f64>,
     },
 }
@@ -107,6 +125,7 @@ pub enum Saltation {
 /// Parameters of a sand simulation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SandParams {
+    /// The saltation law and its constants (ripples or dunes).
     pub saltation: Saltation,
     /// Creep diffusion coefficient `D`, 0..=1.
     pub diffusion: f64,
@@ -153,6 +172,8 @@ impl SandParams {
         }
     }
 
+    /// Checks D in 0..=1, a positive finite vertical scale, angles in (0, 90) degrees,
+    /// and finite saltation constants with hop lengths, lifts and speed-up >= 0.
     pub fn validate(&self) -> Result<()> {
         let check = crate::error::ensure_in_range;
         check(
@@ -222,6 +243,8 @@ pub const DUNE_SHADOW_DEGREES: f64 = 15.0;
 const MAX_AVALANCHE_SWEEPS: usize = 64;
 
 impl SandSim {
+    /// A simulation starting from `field`; fails on invalid `params` or a field under
+    /// 4x4 cells or whose data does not match its size.
     pub fn new(field: Heightfield, params: SandParams) -> Result<Self> {
         params.validate()?;
         if field.width < 4 || field.height < 4 || field.data.len() != field.width * field.height {
@@ -239,10 +262,12 @@ impl SandSim {
         })
     }
 
+    /// The heightfield after the steps run so far.
     pub fn field(&self) -> &Heightfield {
         &self.field
     }
 
+    /// Ends the simulation, giving up its heightfield.
     pub fn into_field(self) -> Heightfield {
         self.field
     }
@@ -502,17 +527,23 @@ fn saltate_row(src: &[f64], out: &mut [f64], shadow: &mut [f64], law: &RowLaw) {
 /// (straight transverse dunes across a field: its side over the dune spacing).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CrestLines {
+    /// Length-weighted mean extent of a crest line across the wind, cells.
     pub crest_length: f64,
+    /// Mean distance between crests along the wind, cells (the field's width if none).
     pub spacing: f64,
+    /// Crest lines found.
     pub lines: usize,
 }
 
 impl CrestLines {
+    /// `crest_length / spacing`: about 1 for isolated mounds, larger for ridges.
     pub fn ratio(&self) -> f64 {
         self.crest_length / self.spacing.max(1e-9)
     }
 }
 
+/// The [`CrestLines`] of `field`, its surface being `vertical_scale * H` in cell
+/// widths.
 pub fn crest_lines(field: &Heightfield, vertical_scale: f64) -> CrestLines {
     let (w, h) = (field.width, field.height);
     let drop = 2.0 * 15f64.to_radians().tan() / vertical_scale.max(1e-9);

@@ -50,21 +50,28 @@ pub struct RingVertex {
 unsafe impl Pod for RingVertex {}
 
 impl RingVertex {
+    /// The vertex position, scene units.
     pub fn position(&self) -> Vec3 {
         Vec3::new(self.pos_id[0], self.pos_id[1], self.pos_id[2])
     }
+    /// The paper's vertex ID: 0 on the front's base ring, -1 on its tip ring, raised by
+    /// 2 each pass the front moves on.
     pub fn id(&self) -> f32 {
         self.pos_id[3]
     }
+    /// The radial unit normal N (zero at a cone apex).
     pub fn normal(&self) -> Vec3 {
         Vec3::new(self.normal_sp[0], self.normal_sp[1], self.normal_sp[2])
     }
+    /// Index of the speleothem in the plan's `speleothems` it belongs to.
     pub fn speleothem(&self) -> usize {
         self.normal_sp[3] as usize
     }
+    /// Index of the vertex's segment around the axis, 0 to the plan's `segments - 1`.
     pub fn segment(&self) -> u32 {
         self.extra[0] as u32
     }
+    /// Ring number from the base (the paper's arID).
     pub fn ring(&self) -> u32 {
         self.extra[3] as u32
     }

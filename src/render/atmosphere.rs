@@ -18,15 +18,21 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 /// The table's size: azimuths from the sun's (0..pi, the sky is symmetric about the
 /// sun's vertical plane) by elevations (-pi/2..pi/2).
 pub const SKY_VIEW_WIDTH: u32 = 64;
+/// Rows of the sky-view table, one per elevation from the nadir (-pi/2) up to the zenith.
 pub const SKY_VIEW_HEIGHT: u32 = 64;
 
 /// `Air` of `atmosphere.glsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AirPush {
+    /// rgb Rayleigh scattering per metre at the ground, w its scale height (m).
     pub rayleigh: Vec4,
+    /// x Mie scattering and y extinction per metre at the ground, z scale height (m),
+    /// w the phase asymmetry g.
     pub mie: Vec4,
+    /// rgb ground albedo, w the ground's radius (m).
     pub ground: Vec4,
+    /// rgb solar irradiance above the air, w the radius of the top of the air (m).
     pub sun: Vec4,
 }
 // SAFETY: repr(C), four Vec4.
@@ -58,6 +64,8 @@ struct SkyViewPush {
 // SAFETY: repr(C), six Vec4 and four u32, no padding.
 unsafe impl Pod for SkyViewPush {}
 
+/// `sky_view.comp`: the table buffer (0), the Psi_ms buffer (1), the half-float storage
+/// image (2) and `SkyViewPush`.
 pub static SKY_VIEW_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SKY_VIEW_COMP,
     bindings: &[
@@ -74,7 +82,10 @@ pub static SKY_VIEW_INTERFACE: ShaderInterface = ShaderInterface {
 /// the GENERAL layout, that the sky samples with bilinear filtering.
 pub struct SkyViewPass {
     set: DescriptorSet,
+    /// Host-readable storage buffer of `SKY_VIEW_WIDTH` x `SKY_VIEW_HEIGHT` RGBA f32
+    /// texels (16 bytes each), rows from the nadir up.
     pub table: Buffer,
+    /// The same table as an RGBA16F storage + sampled image, always in GENERAL.
     pub image: Image,
     /// Hillaire's Psi_ms table (zeros when multiple scattering is off).
     _multiple: Buffer,
@@ -206,6 +217,7 @@ impl SkyViewPass {
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct AtmosphereSkyPush {
+    /// Clip space to world, to turn each pixel into a view ray.
     pub inverse_view_proj: Mat4,
     /// xyz unit direction toward the sun, w the sun's azimuth (radians from +x to +z).
     pub sun: Vec4,
@@ -219,6 +231,8 @@ pub struct AtmosphereSkyPush {
 // SAFETY: repr(C), Mat4 + four Vec4.
 unsafe impl Pod for AtmosphereSkyPush {}
 
+/// `atmosphere_sky.frag`: the sky-view image (0), its sampler (1) and
+/// `AtmosphereSkyPush`.
 pub static SKY_FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_ATMOSPHERE_SKY_FRAG,
     bindings: &[
@@ -237,6 +251,9 @@ pub struct AtmosphereSkyPass {
 }
 
 impl AtmosphereSkyPass {
+    /// Builds the full-screen-triangle pipeline for `target` (no culling, depth tested
+    /// but not written) and binds `table`'s image with a linear clamping sampler; the
+    /// caller keeps `table` alive as long as this pass.
     pub fn new(ctx: &Arc<Context>, target: TargetFormat, table: &SkyViewPass) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,

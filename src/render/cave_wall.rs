@@ -18,6 +18,7 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CaveFrame {
+    /// Camera, sun and sky/ground ambient shared with `lit_mesh.frag`.
     pub base: FrameUniforms,
     /// rgb: the camera lamp's radiance at 1 m.
     pub lamp: Vec4,
@@ -30,6 +31,7 @@ unsafe impl Pod for CaveFrame {}
 const FRAME_BINDING: DescriptorBinding =
     DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
 
+/// `cave_wall.frag`: the `CaveFrame` uniform buffer (set 0, binding 0) and `ObjectPush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::CAVE_CAVE_WALL_FRAG,
     bindings: &[FRAME_BINDING],
@@ -51,8 +53,11 @@ pub struct CaveWallPass {
 pub enum Style {
     /// Lit faces with the given albedo, shininess and specular weight.
     Lit {
+        /// Linear RGB albedo.
         albedo: Vec3,
+        /// Blinn-Phong exponent of the sun and lamp highlights.
         shininess: f32,
+        /// Scale of the normalised Blinn-Phong lobe added to the albedo.
         specular: f32,
     },
     /// Faces in a flat colour, pushed back in depth so lines drawn after win.
@@ -62,6 +67,8 @@ pub enum Style {
 }
 
 impl CaveWallPass {
+    /// Builds the three pipelines for `target` over `lit_mesh.vert` and the host-visible
+    /// `CaveFrame` uniform buffer they share.
     pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,

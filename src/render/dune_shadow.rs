@@ -17,13 +17,18 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 pub struct ShadowPush {
     /// xy: horizontal unit direction toward the sun (x, z); z: rise per unit distance.
     pub sun: Vec4,
+    /// Height-grid vertices per side (the field is periodic with this period).
     pub n: u32,
+    /// Shadow-map texels per side.
     pub res: u32,
+    /// Padding to a 16-byte multiple; write zeros.
     pub unused: [u32; 2],
 }
 // SAFETY: repr(C), a Vec4 and four u32, no padding.
 unsafe impl Pod for ShadowPush {}
 
+/// `dune_shadow.comp`: heights (binding 0) and visibilities (binding 1) as storage
+/// buffers, and `ShadowPush`.
 pub static INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUNE_SHADOW_COMP,
     bindings: &[
@@ -44,6 +49,7 @@ pub struct DuneShadowPass {
     layout: PipelineLayout,
     /// Grid side (vertices per period) and shadow-map side.
     pub n: u32,
+    /// Shadow-map side in texels (`visibility` holds `res` x `res` f32).
     pub res: u32,
 }
 

@@ -56,12 +56,15 @@ const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::
 const DETAIL: DescriptorBinding = DescriptorBinding::new(0, 8, DescriptorKind::SampledImage);
 const LEVELS: DescriptorBinding = DescriptorBinding::new(0, 9, DescriptorKind::StorageBuffer);
 
+/// `dunes/surface.vert`: the `FrameUniforms` buffer (binding 0) and `DunePush`.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_VERT,
     bindings: &[FRAME],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
 
+/// `dunes/surface.frag`: the frame buffer, the `DuneTextures` images and their repeating
+/// sampler (bindings 0-8), the per-quad levels storage buffer (9) and `DunePush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_FRAG,
     bindings: &[
@@ -72,10 +75,15 @@ pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
 
 /// What the pass samples, made once per scene (and per light for the shadow map).
 pub struct DuneTextures {
+    /// The ripple tile's normal chain, RGBA8 UNORM (`n * 0.5 + 0.5`), every level given.
     pub normals: Image,
+    /// Horizon slopes of the ripple tile for directions 0-3, RGBA32F.
     pub horizon_a: Image,
+    /// Horizon slopes of the ripple tile for directions 4-7, RGBA32F.
     pub horizon_b: Image,
+    /// The dune shadow map, R32F visibilities (1 lit, 0 shadow), `res` x `res`.
     pub shadow: Image,
+    /// The sand-grain tile, RGBA8 UNORM with a blitted mip chain.
     pub grain: Image,
     /// One period of dune heights in cell units (the per-pixel shadow march reads it).
     pub heights: Image,
@@ -86,8 +94,11 @@ pub struct DuneTextures {
 
 /// The footprints' detail texture: RGBA8 texels, width, height.
 pub struct DetailTexels {
+    /// Row-major RGBA8 texels, 4 bytes each, `width` x `height` of them.
     pub rgba: Vec<u8>,
+    /// Texels per row.
     pub width: u32,
+    /// Rows.
     pub height: u32,
 }
 
@@ -213,6 +224,8 @@ pub struct DuneGeometry {
 }
 
 impl DuneGeometry {
+    /// Uploads `mesh`'s vertices and makes a host-visible index buffer the size of all
+    /// its indices; nothing is visible until `set_visible`.
     pub fn new(ctx: &Arc<Context>, mesh: &Mesh) -> Result<Self> {
         let vertices = lit_vertices(mesh);
         Ok(Self {
@@ -243,11 +256,14 @@ impl DuneGeometry {
         Ok(())
     }
 
+    /// Triangles the last `set_visible` selected (indices / 3).
     pub fn visible_triangles(&self) -> u32 {
         self.index_count / 3
     }
 }
 
+/// The dune surface pipeline (no culling), its frame uniforms and per-quad levels, and
+/// one descriptor set over a `DuneTextures`.
 pub struct DuneSurfacePass {
     set: DescriptorSet,
     _sampler: Sampler,
@@ -321,6 +337,7 @@ impl DuneSurfacePass {
         })
     }
 
+    /// Sets the camera and lights for the next submission (call between frames).
     pub fn set_frame(&mut self, frame: &FrameUniforms) -> Result<()> {
         self.frame.write(0, std::slice::from_ref(frame))
     }

@@ -18,8 +18,11 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct DustPush {
+    /// World to clip space for the quads' corners.
     pub view_proj: Mat4,
+    /// xyz the camera's unit right vector in world space; the quads' horizontal axis.
     pub right: Vec4,
+    /// xyz the camera's unit up vector in world space; the quads' vertical axis.
     pub up: Vec4,
 }
 // SAFETY: repr(C), Mat4 + two Vec4.
@@ -49,6 +52,7 @@ const LIGHT: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::Un
 const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 1, DescriptorKind::SampledImage);
 const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 2, DescriptorKind::Sampler);
 
+/// `dust.vert`: no resources; passes each blob's centre and radius (one vec4) through.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUST_VERT,
     bindings: &[],
@@ -62,12 +66,16 @@ pub static GEOMETRY_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<DustPush>() as u32,
 };
 
+/// `dust.frag`: the `DustLight` buffer (0), the dune heights image (1) and its repeating
+/// sampler (2), for the fade where blobs meet the sand.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUST_FRAG,
     bindings: &[LIGHT, HEIGHTS, REPEAT],
     push_constant_bytes: 0,
 };
 
+/// The dust pipeline (points to blended billboards; depth tested, not written), the
+/// blobs' vertex buffer, the light uniforms and a sampled copy of the dune heights.
 pub struct DustPass {
     /// The blobs' centres and radii, rewritten when the dust moves.
     blobs: Option<Buffer>,

@@ -104,10 +104,13 @@ impl EnvironmentMap {
         self.cube.desc().mip_levels
     }
 
+    /// The cube view of every face and level, in SHADER_READ_ONLY_OPTIMAL after `render`;
+    /// owned by the map.
     pub fn view(&self) -> vk::ImageView {
         self.cube.view()
     }
 
+    /// The trilinear, edge-clamped sampler to read the cube with (level by roughness).
     pub fn sampler(&self) -> &Sampler {
         &self.sampler
     }

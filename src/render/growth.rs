@@ -21,14 +21,21 @@ use crate::model::speleothem::{GrowthPlan, RingVertex};
 pub enum MeshSource<'a> {
     /// A buffer with a known vertex count (the base primitives, the compute and CPU
     /// paths' output).
-    Counted { buffer: &'a Buffer, vertices: u32 },
+    Counted {
+        /// Vertex buffer of `RingVertex`es, `VERTEX_STRIDE` bytes apart.
+        buffer: &'a Buffer,
+        /// Vertices to draw from the start of `buffer`.
+        vertices: u32,
+    },
     /// A capture, drawn with the byte count its counter holds (DrawAuto).
     Captured(&'a XfbStream),
     /// The append-only path: the vertices frozen so far (drawn shifted by each
     /// speleothem's accumulated thickening, see `model::speleothem::unfreeze`) and
     /// the current front band.
     Appended {
+        /// Every band appended so far, drawn shifted by the thickening since it froze.
         frozen: &'a XfbStream,
+        /// The current growth front, drawn as is (and the only part that gets caps).
         front: &'a XfbStream,
     },
 }
@@ -47,6 +54,7 @@ pub struct GrowthCounts {
 pub trait Growth {
     /// Which path this is.
     fn path(&self) -> GrowthPath;
+    /// Passes grown so far by `record` (at most the plan's); 0 at the start.
     fn passes_done(&self) -> u32;
     /// Records the next `passes` passes (clamped to the plan) into `cmd` and leaves
     /// the mesh ready to draw; the CPU path generates and uploads them here, before the
@@ -79,6 +87,7 @@ pub enum GrowthPath {
 }
 
 impl GrowthPath {
+    /// Every path, the default first; the bench's variants and the names `FromStr` takes.
     pub const ALL: [GrowthPath; 4] = [
         GrowthPath::XfbRestream,
         GrowthPath::XfbAppend,

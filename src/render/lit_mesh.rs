@@ -17,7 +17,9 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LitVertex {
+    /// Model-space position (location 0, bytes 0..12).
     pub position: [f32; 3],
+    /// Model-space normal, unit length (location 1, bytes 12..24).
     pub normal: [f32; 3],
 }
 // SAFETY: repr(C), six f32, no padding.
@@ -27,12 +29,17 @@ unsafe impl Pod for LitVertex {}
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameUniforms {
+    /// World to clip space.
     pub view_proj: Mat4,
+    /// xyz the eye's world position (for view vectors and fog distance).
     pub camera_pos: Vec4,
     /// Unit vector toward the sun.
     pub sun_dir: Vec4,
+    /// rgb the sun's linear radiance.
     pub sun_color: Vec4,
+    /// rgb hemispherical ambient from above (normals pointing up get all of it).
     pub sky_color: Vec4,
+    /// rgb hemispherical ambient from below (normals pointing down get all of it).
     pub ground_color: Vec4,
     /// x: exposure.
     pub params: Vec4,
@@ -44,6 +51,8 @@ unsafe impl Pod for FrameUniforms {}
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ObjectPush {
+    /// Model to world: rotation, uniform scale and translation only (normals use its
+    /// upper 3x3).
     pub model: Mat4,
     /// rgb: linear albedo.
     pub albedo: Vec4,
@@ -57,12 +66,15 @@ unsafe impl Pod for ObjectPush {}
 const FRAME_BINDING: DescriptorBinding =
     DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
 
+/// `lit_mesh.vert`: the `FrameUniforms` buffer (set 0, binding 0) and `ObjectPush`; also
+/// the vertex stage of the cave pass.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::LIT_MESH_LIT_MESH_VERT,
     bindings: &[FRAME_BINDING],
     push_constant_bytes: size_of::<ObjectPush>() as u32,
 };
 
+/// `lit_mesh.frag`: the same `FrameUniforms` buffer and `ObjectPush` as the vertex stage.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::LIT_MESH_LIT_MESH_FRAG,
     bindings: &[FRAME_BINDING],
@@ -100,6 +112,8 @@ pub struct GpuMesh {
 }
 
 impl GpuMesh {
+    /// The mesh's triangles: host-visible vertex (`LitVertex`) and `u32` index buffers
+    /// named after `name`; a mesh without vertices or indices is an error.
     pub fn upload(ctx: &Arc<Context>, name: &str, mesh: &Mesh) -> Result<Self> {
         Self::upload_indexed(ctx, name, mesh, &mesh.indices)
     }
@@ -150,6 +164,7 @@ pub struct LitMeshPass {
 }
 
 impl LitMeshPass {
+    /// Back faces culled (counter-clockwise front faces), drawing into `target`.
     pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
         Self::with_culling(ctx, target, vk::CullModeFlags::BACK)
     }

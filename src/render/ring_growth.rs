@@ -27,8 +27,11 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PassPush {
+    /// The pass being grown, from 0; selects the plan's steps for this pass.
     pub pass_index: u32,
+    /// Speleothems in the plan (its steps are `pass_index * speleothem_count + sp`).
     pub speleothem_count: u32,
+    /// Segments around each axis (the plan's); segment indices wrap modulo it.
     pub segments: u32,
     /// An [`EmitMode`].
     pub mode: u32,
@@ -36,6 +39,7 @@ pub struct PassPush {
 // SAFETY: repr(C), four u32.
 unsafe impl Pod for PassPush {}
 
+/// `ring_growth.vert`: no resources; hands each captured vertex to the geometry shader.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_RING_GROWTH_VERT,
     bindings: &[],
@@ -277,6 +281,7 @@ impl RingGrowth {
         })
     }
 
+    /// Vertices each of the two capture buffers holds (at least 3).
     pub fn capacity_vertices(&self) -> u64 {
         self.capacity_vertices
     }

@@ -34,6 +34,8 @@ const fn storage(binding: u32) -> DescriptorBinding {
     DescriptorBinding::new(0, binding, DescriptorKind::StorageBuffer)
 }
 
+/// `ring_growth.comp`: five storage buffers (plan, input mesh, output mesh, per-run
+/// sums, the indirect draw command) and the private `ComputePush`.
 pub static INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_RING_GROWTH_COMP,
     bindings: &[storage(0), storage(1), storage(2), storage(3), storage(4)],
@@ -66,6 +68,9 @@ pub struct ComputeGrowth {
 }
 
 impl ComputeGrowth {
+    /// Uploads the plan and the base rings into the first of two host-visible mesh
+    /// buffers, each sized for the plan's largest predicted mesh, and builds the pipeline
+    /// with one descriptor set per ping-pong direction.
     pub fn new(ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Self> {
         let base = initial_rings(plan);
         let counts = vertex_counts(plan);

@@ -25,6 +25,8 @@ pub struct CpuGrowth {
 }
 
 impl CpuGrowth {
+    /// Generates the base rings and uploads them into a host-visible vertex buffer
+    /// sized for the plan's largest predicted mesh; no pass is grown yet.
     pub fn new(ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Self> {
         let counts = vertex_counts(plan);
         let mesh = initial_rings(plan);

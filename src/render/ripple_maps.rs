@@ -15,9 +15,13 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct MipPush {
+    /// Texel offset in the chain buffer of the level read (twice `dst_size` a side).
     pub src_offset: u32,
+    /// Texel offset in the chain buffer of the level written.
     pub dst_offset: u32,
+    /// Side in texels of the level written.
     pub dst_size: u32,
+    /// Padding to 16 bytes; write zero.
     pub unused: u32,
 }
 // SAFETY: repr(C), four u32.
@@ -27,20 +31,27 @@ unsafe impl Pod for MipPush {}
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct HorizonPush {
+    /// Side of the periodic ripple tile in texels.
     pub size: u32,
+    /// Texels marched along each of the 8 directions.
     pub steps: u32,
+    /// Factor on the stored heights before slopes are taken.
     pub height_scale: f32,
+    /// Padding to 16 bytes; write zero.
     pub unused: u32,
 }
 // SAFETY: repr(C), four 4-byte fields.
 unsafe impl Pod for HorizonPush {}
 
+/// `normal_mip.comp`: the whole chain as one storage buffer (binding 0) and `MipPush`.
 pub static NORMAL_MIP_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_NORMAL_MIP_COMP,
     bindings: &[DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer)],
     push_constant_bytes: size_of::<MipPush>() as u32,
 };
 
+/// `horizon.comp`: heights (binding 0) and the two-plane horizon map (binding 1) as
+/// storage buffers, and `HorizonPush`.
 pub static HORIZON_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_HORIZON_COMP,
     bindings: &[
@@ -57,6 +68,7 @@ pub struct RippleMaps {
     pub levels: Buffer,
     /// Horizon slopes of level 0: a plane of vec4 (directions 0–3), then another (4–7).
     pub horizon: Buffer,
+    /// Side of level 0 in texels (a power of two, at least 2).
     pub size: u32,
     /// Texel offset of each level in `levels`.
     pub level_offsets: Vec<u32>,

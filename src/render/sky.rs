@@ -15,6 +15,7 @@ use crate::shaders::{ShaderInterface, compiled};
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct SkyPush {
+    /// Clip space to world, to turn each pixel into a view ray.
     pub inverse_view_proj: Mat4,
     /// xyz: unit direction toward the sun.
     pub sun: Vec4,
@@ -24,24 +25,30 @@ pub struct SkyPush {
 // SAFETY: repr(C), Mat4 + two Vec4.
 unsafe impl Pod for SkyPush {}
 
+/// `dunes/sky.vert`: no resources; a full-screen triangle at the far plane from
+/// `gl_VertexIndex` (draw 3 vertices, no vertex buffer). Shared by the atmosphere sky.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SKY_VERT,
     bindings: &[],
     push_constant_bytes: 0,
 };
 
+/// `dunes/sky.frag`: no descriptors, only `SkyPush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SKY_FRAG,
     bindings: &[],
     push_constant_bytes: size_of::<SkyPush>() as u32,
 };
 
+/// The analytic sky's pipeline and layout; it owns no buffers or images.
 pub struct SkyPass {
     pipeline: Pipeline,
     layout: PipelineLayout,
 }
 
 impl SkyPass {
+    /// Builds the full-screen pipeline for `target`: no culling, depth tested against
+    /// the cleared 1.0 but not written.
     pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
         let layout =
             PipelineLayout::new(ctx, "sky layout", &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE])?;

@@ -42,6 +42,8 @@ const ENVIRONMENT: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKi
 const ENVIRONMENT_SAMPLER: DescriptorBinding =
     DescriptorBinding::new(0, 5, DescriptorKind::Sampler);
 
+/// `speleothem/surface.vert`: the `FrameUniforms` buffer (0), the per-speleothem info
+/// storage buffer (1, see `speleothem_info`) and `SurfacePush`.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_SURFACE_VERT,
     bindings: &[FRAME, SPELEOTHEMS],
@@ -56,6 +58,8 @@ pub static CAP_GEOMETRY_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: 0,
 };
 
+/// `speleothem/surface.frag`: the frame buffer (0), the calcite normal map and its
+/// repeating sampler (2, 3), the environment cube and its sampler (4, 5), `SurfacePush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_SURFACE_FRAG,
     bindings: &[
@@ -107,6 +111,9 @@ pub struct SpeleothemSurfacePass {
 }
 
 impl SpeleothemSurfacePass {
+    /// Builds the surface pipeline and its caps variant (no culling) for `target`, a
+    /// 128² calcite normal map from `seed`, and the info buffer for `plan`'s whole
+    /// growth; binds `environment`'s cube, which must outlive the pass.
     pub fn new(
         ctx: &Arc<Context>,
         target: TargetFormat,

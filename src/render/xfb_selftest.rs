@@ -15,6 +15,8 @@ use crate::gpu::{
 };
 use crate::shaders::{ShaderInterface, compiled};
 
+/// `xfb_copy.vert`: no resources; hands each vertex (xyz position, w id) to the
+/// geometry stage unchanged.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SELFTEST_XFB_COPY_VERT,
     bindings: &[],

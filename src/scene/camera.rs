@@ -77,12 +77,18 @@ impl CameraOptions {
 /// A perspective camera looking at a point.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
+    /// The camera's position, in the scene's units.
     pub eye: Vec3,
+    /// The point it looks at; must differ from `eye`.
     pub target: Vec3,
+    /// The world's up direction for the view (not necessarily normalised; +Y in every
+    /// scene's own cameras).
     pub up: Vec3,
     /// Vertical field of view in degrees, (0, 180).
     pub fov_y_degrees: f32,
+    /// Distance to the near clipping plane, in the scene's units (> 0).
     pub near: f32,
+    /// Distance to the far clipping plane, in the scene's units (> `near`).
     pub far: f32,
 }
 
@@ -127,6 +133,8 @@ impl ToneMap {
         }
     }
 
+    /// The operators users may choose (`--tonemap`; not `Linear`), in the order the
+    /// viewer's key cycles through them.
     pub const ALL: [ToneMap; 3] = [ToneMap::Ashikhmin, ToneMap::Aces, ToneMap::Reinhard];
 }
 
@@ -167,10 +175,15 @@ pub struct Lighting {
     /// A point light at `sun_direction` with inverse-square falloff (`sun_color` is its
     /// radiance at distance 1) instead of a directional sun.
     pub point: bool,
+    /// The sun's linear RGB radiance (the lamp's at distance 1 when `point` is set).
     pub sun_color: Vec3,
+    /// Linear RGB ambient from above: the sky half of the hemisphere light.
     pub sky_color: Vec3,
+    /// Linear RGB ambient from below: the ground half of the hemisphere light.
     pub ground_color: Vec3,
+    /// Multiplier on the radiance before tone mapping (0.9 in `Lighting::default`).
     pub exposure: f32,
+    /// The operator from radiance to display values.
     pub tonemap: ToneMap,
 }
 

@@ -1,5 +1,5 @@
 //! The cave scene's parameters (Cui, Chow & Zhang 2011; declared once: options and
-//! scene file), the presets for the paper's Figs. 5 and 8 and the cameras down the
+//! scene file), the presets for the paper's Figs. 2, 5, 7 and 8 and the cameras down the
 //! passage. The cave's generation is `build`; its frame — walls, Short-profile or
 //! GPU-grown speleothems, lamp and fog — is `frame`.
 
@@ -21,6 +21,7 @@ pub use frame::{CaveFrame, CaveRender, FLYTHROUGH_FRAMES, export, render, render
 /// Which speleothems the cave gets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Speleothems {
+    /// A bare cave (the presets of the paper's Figs. 2 and 5).
     None,
     /// Cui et al.'s: Short et al.'s profile, revolved.
     Short,
@@ -58,16 +59,20 @@ impl std::str::FromStr for Speleothems {
 /// Everything that fixes a cave picture.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CaveScene {
+    /// The cave itself: density field, octree depth, cube side (24 m by default here),
+    /// smoothing.
     pub cave: crate::model::cave::CaveParams,
+    /// Which speleothems it gets (`--speleothems`; default Short et al.'s profiles).
     pub speleothems: Speleothems,
     /// Stalactite sites, 0..=200.
     pub speleothem_count: u32,
-    /// Metres per unit of the paper's speleothem radius r, > 0.
+    /// Metres per unit of the paper's speleothem radius r, (0, 1].
     pub unit_m: f32,
     /// Stalagmite growth relative to its stalactite, 0.1..=10 (paper 1.5).
     pub growth_ratio: f32,
     /// Growth passes for `Speleothems::Grown`, 1..=512.
     pub grown_passes: u32,
+    /// Draw the wall as wireframe (the paper's Fig. 5a/c).
     pub wireframe: bool,
     /// Show the smoothed wall (false: the blocky wall before smoothing).
     pub smooth: bool,
@@ -123,6 +128,7 @@ pub const PRESETS: &[(&str, &str)] = &[
     ),
 ];
 
+/// The scene of one of [`PRESETS`] (`--preset`); an unknown name is refused, listing them.
 pub fn preset(name: &str) -> Result<CaveScene> {
     let bare = CaveScene {
         speleothems: Speleothems::None,
@@ -174,6 +180,8 @@ pub fn preset(name: &str) -> Result<CaveScene> {
 }
 
 impl CaveScene {
+    /// Checks every value's range, naming the option; voxel speleothems need
+    /// `--speleothems short`.
     pub fn validate(&self) -> Result<()> {
         self.cave.validate()?;
         let check = crate::error::ensure_in_range;
@@ -299,6 +307,7 @@ pub struct Params {
     /// Fog density per metre, 0..=1 (default 0.04).
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub fog: Option<f32>,
+    /// Where the camera goes, over the view down the passage.
     // --eye/--target in metres (the cave spans 0..cave-size on each axis; the passage
     // runs along x with its floor at y = cave-size / 4); a scene file's `[camera]`.
     #[command(flatten)]

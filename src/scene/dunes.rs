@@ -24,8 +24,12 @@ pub use frame::{
 /// Which shadows are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Shadows {
+    /// No shadows (`none`; the paper's Figs. 12–14).
     None,
+    /// Shadows cast by the dunes only (`dune`; Figs. 15 and 16).
     Dune,
+    /// Dune shadows and the ripples' own, from their horizon map (`dune+ripple`;
+    /// Fig. 17).
     DuneAndRipple,
 }
 
@@ -155,14 +159,23 @@ impl std::str::FromStr for Shadows {
 /// Everything that fixes a desert frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DunesScene {
+    /// Seed of the initial sand, the grain texture and the dust (`--seed`; a scene
+    /// file's `seed`).
     pub seed: u64,
     /// Ripple tile side in texels (power of two, 16..=1024) and simulation steps.
     pub ripple_size: usize,
+    /// Ripple simulation steps, 0..=100000 (`--ripple-steps`).
     pub ripple_steps: u32,
+    /// The ripple simulation's saltation and creep (`--ripple-l0`, `--ripple-q`,
+    /// `--ripple-b`, `--ripple-diffusion`).
     pub ripple: SandParams,
     /// Dune grid side in vertices (8..=512) and simulation steps.
     pub dune_size: usize,
+    /// Dune simulation steps, 0..=100000 (`--dune-steps`).
     pub dune_steps: u32,
+    /// The dune simulation's saltation, creep and avalanching (`--dune-l0`, `--dune-q0`,
+    /// `--dune-b`, `--dune-b-prime`, `--dune-speedup`, `--shadow-zone`, `--repose`,
+    /// `--dune-diffusion`).
     pub dune: SandParams,
     /// Initial sand thickness of the dune field (model units).
     pub dune_sand: f64,
@@ -176,6 +189,8 @@ pub struct DunesScene {
     pub ripple_strength: f32,
     /// Ripple orientation relative to the dune field's wind (+x), degrees.
     pub wind_degrees: f32,
+    /// Sun elevation above the horizon, -2..=90 degrees (`--sun-elevation`; below 0 the
+    /// sun has set).
     pub sun_elevation_degrees: f32,
     /// Degrees from +x toward +z.
     pub sun_azimuth_degrees: f32,
@@ -185,11 +200,14 @@ pub struct DunesScene {
     pub multiple_scattering: bool,
     /// Exposure relative to the automatic one (which adapts to the sun and sky).
     pub exposure: f32,
+    /// Level of detail over the ripple normal chain (`--lod`; off: level 0 everywhere).
     pub lod: bool,
     /// With LOD: the level per quad from its projected area (the paper's) instead of
     /// per pixel from the sampler's derivatives.
     pub lod_per_quad: bool,
+    /// Back-face and frustum culling of dune quads (`--cull`).
     pub cull: bool,
+    /// Which shadows are drawn (`--shadows`).
     pub shadows: Shadows,
     /// Bump mapping of ripples at all (the paper's Fig. 12 has none).
     pub ripples: bool,
@@ -201,6 +219,8 @@ pub struct DunesScene {
     pub footprints: Option<Vec<[f32; 2]>>,
     /// Sand dust blobs, and the time step they are shown at.
     pub dust: Option<DustParams>,
+    /// The dust's time step for a still frame, 0..=100000 (`--dust-step`); frame n of an
+    /// animation shows step `dust_step + n`.
     pub dust_step: u32,
 }
 
@@ -262,6 +282,7 @@ pub const PRESETS: &[(&str, &str)] = &[
     ),
 ];
 
+/// The scene of one of [`PRESETS`] (`--preset`); an unknown name is refused, listing them.
 pub fn preset(name: &str) -> Result<DunesScene> {
     // The paper gives no sun positions, only that Figs. 14 and 15 lower the sun. A
     // sun 16 degrees high brings out these dunes' relief (at 30 degrees their gentle
@@ -450,6 +471,7 @@ pub struct Params {
     /// flying into it, which makes the steep slip face.
     #[arg(long, value_name = "DEG|off")]
     pub shadow_zone: Option<Degrees>,
+    /// Where the camera goes, over the view across the field (or along the walk).
     // --eye/--target in metres (the field spans 0..(dune-size - 1) x cell); a scene
     // file's `[camera]`.
     #[command(flatten)]
@@ -556,6 +578,8 @@ impl DunesScene {
         self.ripple_height_scale * self.ripple_strength
     }
 
+    /// Checks every value's range, naming the option, the footprints' walk and both
+    /// simulations' parameters.
     pub fn validate(&self) -> Result<()> {
         let check = crate::error::ensure_in_range;
         check(

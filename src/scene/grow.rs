@@ -218,6 +218,7 @@ crate::serde_as_text!(ColorBy);
 /// mapping, all three changeable while growing), and the lamp.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Look {
+    /// The tone-mapping operator (`--tonemap`; default Ashikhmin's, as the paper cites).
     pub tonemap: ToneMap,
     /// Exposure before tone mapping, (0, 64].
     pub exposure: f32,
@@ -225,7 +226,9 @@ pub struct Look {
     pub bump: f32,
     /// Strength of the environment-mapped reflection (the wet film), 0..=4.
     pub environment: f32,
+    /// The lamp's colour (`--lamp`).
     pub lamp: Lamp,
+    /// What colours the speleothems (`--color`).
     pub color: ColorBy,
 }
 
@@ -243,6 +246,7 @@ impl Default for Look {
 }
 
 impl Look {
+    /// Checks the exposure, bump and environment ranges, naming the option.
     pub fn validate(&self) -> Result<()> {
         let check = crate::error::ensure_in_range;
         check(
@@ -262,7 +266,9 @@ impl Look {
 /// The speleothem scene: the growth and how it is shaded.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SpeleothemScene {
+    /// The chamber, the sites and the growth's parameters, passes and changes.
     pub growth: GrowthScene,
+    /// Tone mapping, exposure, bump, reflection, lamp and colouring.
     pub look: Look,
 }
 
@@ -301,7 +307,9 @@ pub fn lamp_lighting(scene: &GrowthScene, look: &Look) -> Lighting {
 /// Manual or random steps (`--mode`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ModeName {
+    /// Exactly the Table 2 row of `--pil`/`--drip`/`--co2` every pass.
     Manual,
+    /// Each pass draws the row at random and jitters the steps by `--jitter`.
     Random,
 }
 
@@ -360,12 +368,15 @@ pub struct Params {
     /// (9 stalactites, manual mode, PIL 1, standard drip, normal CO2, calcareous).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
+    /// Sites, passes, Table 2's parameters, wind, mineral and climate (`[growth]`).
     #[command(flatten)]
     #[serde(default)]
     pub growth: GrowthOptions,
+    /// Table 2's steps in scene units (`[units]`).
     #[command(flatten)]
     #[serde(default)]
     pub units: UnitsOptions,
+    /// How the speleothems are shaded (`[look]`).
     #[command(flatten)]
     #[serde(default)]
     pub look: LookOptions,
@@ -373,6 +384,8 @@ pub struct Params {
     #[arg(skip)]
     #[serde(default, rename = "change", skip_serializing_if = "Vec::is_empty")]
     pub changes: Vec<ChangeOptions>,
+    /// Where the camera goes (`--eye`/`--target`, `[camera]`), in scene units with the
+    /// chamber's floor at y = 0, over the scene's own view.
     #[command(flatten)]
     #[serde(default, skip_serializing_if = "CameraOptions::is_unset")]
     pub camera: CameraOptions,
@@ -506,11 +519,17 @@ pub struct LookOptions {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ChangeOptions {
+    /// The first pass the change applies to, counted from 0, below `passes`.
     pub pass: u32,
+    /// The pluviometric index level from then on (0, 1, 2); none: unchanged.
     pub pil: Option<Pil>,
+    /// The drip interval from then on (dry, standard, wet); none: unchanged.
     pub drip: Option<DripInterval>,
+    /// The CO2 concentration from then on (low, normal, high); none: unchanged.
     pub co2: Option<Co2>,
+    /// The wind intensity wi from then on, 0..=1; none: unchanged.
     pub wind: Option<f32>,
+    /// The wind direction from then on, degrees from +x toward +z; none: unchanged.
     pub wind_direction: Option<f32>,
 }
 

@@ -20,15 +20,20 @@ pub use frame::{CutAwayFrame, FRANKE_UNIT_M, export, metres_per_unit, render};
 /// Real units for Franke's model (the Dreybrodt/Kaufmann growth law).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhysicalSetup {
+    /// The cave's conditions over time: rows of year, temperature C, drip interval s
+    /// and excess Ca mol/m^3 (`--supply timeline:FILE.csv`, `[[timeline]]`, or two
+    /// equal rows for `--physical`).
     pub timeline: Vec<TimelineRow>,
     /// Water-film thickness, mm (0.1, 0.075 or 0.05).
     pub film_mm: f64,
+    /// Years of growth per layer, > 0 (`--years-per-layer`; default 40).
     pub years_per_layer: f64,
 }
 
 /// Everything that decides a layered stalagmite.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LayersSetup {
+    /// Franke's model: thickness at the apex, support points, layers, decay and supply.
     pub franke: crate::model::layers::FrankeParams,
     /// A user base, or `None` for a flat floor out to `extent`.
     pub base: Option<crate::model::layers::Base>,
@@ -88,6 +93,7 @@ pub fn example_timeline() -> Vec<TimelineRow> {
     ]
 }
 
+/// The setup of one of [`PRESETS`] (`--preset`); an unknown name is refused, listing them.
 pub fn preset(name: &str) -> Result<LayersSetup> {
     let d = LayersSetup::default();
     Ok(match name {
@@ -184,6 +190,8 @@ pub fn default_camera(c: &CutAway) -> Camera {
 /// `--supply`: Franke's relative supply, or a climate timeline file in real units.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SupplySpec {
+    /// Franke's relative supply, a factor on the stationary radius: `constant`,
+    /// `linear:A..B` or `steps:A,B,...`.
     Relative(Supply),
     /// `timeline:FILE.csv`: rows of years, temperature C, drip interval s, excess Ca
     /// mol/m^3.
@@ -215,7 +223,10 @@ crate::serde_as_text!(SupplySpec);
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum BaseSpec {
+    /// A CSV file of `x,y` support points, read when the scene is resolved.
     File(PathBuf),
+    /// The `[x, y]` support points themselves (scene files; `--print-scene` writes the
+    /// base so).
     Points(Vec<[f64; 2]>),
 }
 
@@ -313,6 +324,7 @@ pub struct Params {
     #[arg(skip)]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub timeline: Option<Vec<TimelineRow>>,
+    /// Where the camera goes, over the view into the cut-away.
     // --eye/--target in the stalagmite's units (its axis is x = z = 0, its base at
     // y = 0); a scene file's `[camera]`.
     #[command(flatten)]

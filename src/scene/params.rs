@@ -41,6 +41,7 @@ pub trait SceneParams: Default + Clone + Serialize + DeserializeOwned {
     type Scene: Clone;
     /// The preset named, if any.
     fn preset(&self) -> Option<&str>;
+    /// Names the preset (`--preset`, a scene file's `preset`), or none.
     fn set_preset(&mut self, name: Option<String>);
     /// The scene a preset starts from (`None`: the defaults).
     fn base(preset: Option<&str>) -> Result<Self::Scene>;
@@ -53,6 +54,7 @@ pub trait SceneParams: Default + Clone + Serialize + DeserializeOwned {
     fn validate(scene: &Self::Scene) -> Result<()>;
     /// The camera's `eye`/`target`.
     fn camera(&self) -> &CameraOptions;
+    /// The camera's `eye`/`target`, to set (capturing a resolved scene).
     fn camera_mut(&mut self) -> &mut CameraOptions;
 }
 
@@ -82,9 +84,11 @@ pub(crate) use preset_and_camera_fields;
 /// The effective scene: preset, then scene file, then options.
 #[derive(Clone, Debug)]
 pub struct Resolved<S> {
+    /// The scene with preset, scene file and options applied, and validated.
     pub scene: S,
     /// Where the camera goes, over the scene's default camera.
     pub camera: CameraOptions,
+    /// The preset it started from (the options' over the scene file's); none: defaults.
     pub preset: Option<String>,
 }
 

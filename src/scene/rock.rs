@@ -12,8 +12,11 @@ pub use frame::{RockFrame, render};
 /// Everything that fixes the rock frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RockScene {
+    /// The rock's shape: seed, subdivisions, radius and displacement noise.
     pub rock: RockParams,
+    /// The view, in scene units (the default looks from (2.6, 1.5, 3.1) at the rock).
     pub camera: Camera,
+    /// Sun, sky and ground light, exposure and tone mapping.
     pub lighting: Lighting,
     /// Linear albedo of the rock.
     pub albedo: Vec3,

@@ -11,15 +11,19 @@ pub const MAX_SIDE: u32 = 16384;
 /// An output image size in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Size {
+    /// Width in pixels (1..=[`MAX_SIDE`] when parsed).
     pub width: u32,
+    /// Height in pixels (1..=[`MAX_SIDE`] when parsed).
     pub height: u32,
 }
 
 impl Size {
+    /// A size of `width` x `height` pixels, unchecked.
     pub const fn new(width: u32, height: u32) -> Self {
         Self { width, height }
     }
 
+    /// Width over height, the camera's aspect ratio.
     pub fn aspect(&self) -> f32 {
         self.width as f32 / self.height as f32
     }

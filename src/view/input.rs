@@ -9,13 +9,21 @@ use crate::error::{Error, Result};
 pub enum Key {
     /// A printable character (letters lower-case).
     Char(char),
+    /// The space bar (pause and resume the growth).
     Space,
+    /// Tab (the orbit / fly camera).
     Tab,
+    /// Return.
     Enter,
+    /// Escape (quit).
     Escape,
+    /// The left arrow.
     Left,
+    /// The right arrow.
     Right,
+    /// The up arrow.
     Up,
+    /// The down arrow.
     Down,
     /// F1..F12.
     F(u8),
@@ -55,6 +63,7 @@ impl std::str::FromStr for Key {
 /// A synthesised input.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Scripted {
+    /// A key press (and release) as the user would type it.
     Key(Key),
     /// Ask the window system for this inner size (as a user dragging the border).
     Resize(u32, u32),
@@ -63,7 +72,9 @@ pub enum Scripted {
 /// One synthesised input before frame `frame` (0-based).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ScriptedKey {
+    /// The frame it comes before, counted from 0.
     pub frame: u32,
+    /// What happens then.
     pub input: Scripted,
 }
 

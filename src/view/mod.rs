@@ -7,9 +7,9 @@
 //! feeds synthesised key presses through the same handler as real ones: that is how
 //! the tests drive it under Xvfb.
 
-pub mod camera_control;
+mod camera_control;
 pub mod input;
-pub mod overlay;
+mod overlay;
 
 use std::collections::HashSet;
 use std::path::PathBuf;
@@ -39,6 +39,7 @@ pub type SceneBuilder = Box<dyn FnOnce(&Arc<Context>) -> Result<Box<dyn Scene>>>
 
 /// How to show it.
 pub struct ViewOptions {
+    /// The device, validation and samples of the window's context.
     pub context: ContextOptions,
     /// The window's initial inner size.
     pub size: Size,
@@ -51,21 +52,25 @@ pub struct ViewOptions {
     pub screenshot: Option<PathBuf>,
     /// Synthesised key presses and resizes.
     pub script: Vec<ScriptedKey>,
+    /// Show the text panel (the scene's state and the keys) over the frame.
     pub overlay: bool,
 }
 
 /// What a viewing session did.
 pub struct ViewReport {
+    /// Frames rendered.
     pub frames: u32,
     /// Per frame: wall-clock milliseconds from the start of one frame to the next.
     pub frame_ms: Vec<f64>,
     /// Per frame: GPU milliseconds of the growth pass(es) and of everything else.
     pub growth_gpu_ms: Vec<f64>,
+    /// Per frame: GPU milliseconds of everything but the growth (the shading).
     pub shading_gpu_ms: Vec<f64>,
     /// Final size of the window's image.
     pub size: Size,
     /// The plan and the mesh of grown speleothems at the end (grow, cave).
     pub grown: Option<(GrowthPlan, Vec<RingVertex>)>,
+    /// What the validation layer reported as errors (empty without validation).
     pub validation_errors: Vec<String>,
 }
 

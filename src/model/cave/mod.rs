@@ -38,6 +38,7 @@ use volume::VolumeParams;
 /// Everything that decides a cave.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CaveParams {
+    /// The density field: passage shape, noise and the rock/cave threshold.
     pub volume: VolumeParams,
     /// Maximum octree depth, 5..=9 (the paper's Table 1 range): 2^depth voxels a side.
     pub depth: u32,
@@ -66,6 +67,8 @@ impl Default for CaveParams {
 }
 
 impl CaveParams {
+    /// Checks every parameter against the ranges documented on its field (and the
+    /// volume's own), naming the offending option.
     pub fn validate(&self) -> Result<()> {
         self.volume.validate()?;
         ensure_in_range((5..=9).contains(&self.depth), "--depth", "5..=9")?;
@@ -87,13 +90,18 @@ impl CaveParams {
 /// Milliseconds per phase.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Timings {
+    /// Building the octree from the density (plus filling in rock, for [`with_rock`]).
     pub build_ms: f64,
+    /// Extracting the blocky wall and carving away non-manifold configurations.
     pub extract_ms: f64,
+    /// The T-junction split (near 0 when the split is off).
     pub split_ms: f64,
+    /// Laplacian smoothing and the normals after it.
     pub smooth_ms: f64,
 }
 
 impl Timings {
+    /// The four phases together, ms.
     pub fn total_ms(&self) -> f64 {
         self.build_ms + self.extract_ms + self.split_ms + self.smooth_ms
     }
@@ -101,7 +109,9 @@ impl Timings {
 
 /// A generated cave.
 pub struct Cave {
+    /// The parameters it was generated from.
     pub params: CaveParams,
+    /// The voxel octree after carving, in voxels of the finest level.
     pub tree: Octree,
     /// The wall on the voxel lattice after the split (crack-free, not yet smoothed).
     pub lattice: LatticeMesh,
@@ -111,6 +121,7 @@ pub struct Cave {
     pub carved_voxels: usize,
     /// The smoothed wall in metres, winding counter-clockwise seen from the cave.
     pub mesh: Mesh,
+    /// How long each phase took.
     pub timings: Timings,
 }
 
@@ -131,11 +142,16 @@ impl Cave {
 pub enum Phase {
     /// Subtrees of the octree built so far, of `total`.
     Octree {
+        /// Subtrees finished.
         done: u32,
+        /// Subtrees in all.
         total: u32,
     },
+    /// Extracting the walls and carving non-manifold voxel configurations.
     Walls,
+    /// The crack-free T-junction split (reported even when the split is off).
     Split,
+    /// Laplacian smoothing of the wall.
     Smooth,
 }
 
@@ -166,6 +182,7 @@ pub fn generate(params: &CaveParams, progress: &(dyn Fn(Phase) + Sync)) -> Resul
 pub trait Solid {
     /// A box (min, max) around it.
     fn bounds(&self) -> (Vec3, Vec3);
+    /// Whether the point `p` (metres, the cave's frame) is inside the rock.
     fn contains(&self, p: Vec3) -> bool;
 }
 

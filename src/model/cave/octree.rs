@@ -1,4 +1,4 @@
-//! The cave stored in a voxel octree (the paper's previous work, [8]): the unit cube
+//! The cave stored in a voxel octree (the paper's previous work, \[8\]): the unit cube
 //! split to a maximum depth, every voxel of the finest level classified by the
 //! density at its centre, and every node whose voxels all agree collapsed into one
 //! leaf — so leaves of different sizes meet along the cave wall.
@@ -21,8 +21,11 @@ use super::volume::VolumeParams;
 /// `c >> 2` in z).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Node {
+    /// A uniform leaf of rock.
     Solid,
+    /// A uniform leaf of cave (air).
     Empty,
+    /// A branch; the index of its first child in the node array.
     Branch(u32),
 }
 
@@ -30,8 +33,11 @@ pub enum Node {
 /// finest level, and whether it is rock.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Leaf {
+    /// Depth of the leaf, 0 (the whole cube) to the tree's `depth` (one voxel).
     pub level: u32,
+    /// Its minimum corner (x, y, z), in voxels of the finest level.
     pub origin: [u32; 3],
+    /// True for rock, false for cave.
     pub solid: bool,
 }
 
@@ -42,8 +48,11 @@ impl Leaf {
     }
 }
 
+/// The cave's voxel octree, nodes stored breadth-first so siblings are contiguous;
+/// node 0 is the root covering the whole cube.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Octree {
+    /// Maximum depth: the finest level has 2^depth voxels a side.
     pub depth: u32,
     nodes: Vec<Node>,
 }
@@ -126,6 +135,7 @@ impl Octree {
         1 << self.depth
     }
 
+    /// Nodes stored, branches and leaves together (the tree's size, as reported).
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }

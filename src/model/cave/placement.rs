@@ -25,6 +25,8 @@ pub struct VerticalRays<'a> {
 }
 
 impl<'a> VerticalRays<'a> {
+    /// Buckets `mesh`'s triangles on an x-z grid of `cell`-sized squares (the mesh's
+    /// units, metres for a cave) over its bounding box.
     pub fn new(mesh: &'a Mesh, cell: f32) -> Self {
         let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
         for p in &mesh.positions {
@@ -108,6 +110,7 @@ impl<'a> VerticalRays<'a> {
 /// How many speleothems and how they look.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlacementParams {
+    /// Seed of the sites, their shapes and their order of trial.
     pub seed: u64,
     /// Stalactite sites, 0..=200.
     pub count: u32,
@@ -118,6 +121,7 @@ pub struct PlacementParams {
     /// A walkway kept free: no site within `clear_radius_m` (horizontally) of this
     /// polyline, so a camera can travel the passage.
     pub clear_path: Vec<Vec3>,
+    /// Horizontal clearance around `clear_path`, metres (plus each site's base radius).
     pub clear_radius_m: f32,
 }
 
@@ -145,12 +149,16 @@ pub const SHAPE_CLASSES: [((f32, f32), f32); 3] = [
 /// One site: a stalactite on the ceiling and its stalagmite on the floor below.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Site {
-    /// Where the axis meets the ceiling and the floor (the wall surface).
+    /// Where the axis meets the ceiling (the wall surface), metres.
     pub ceiling: Vec3,
+    /// Where the axis meets the floor straight below, metres.
     pub floor: Vec3,
+    /// The stalactite's shape (r, s); r also sets the stalagmite's base radius.
     pub shape: ShortShape,
-    /// Visible lengths below the ceiling and above the floor, metres.
+    /// Visible length of the stalactite below the ceiling, metres.
     pub stalactite_m: f32,
+    /// Visible length of the stalagmite above the floor, metres (in a column, past
+    /// the meeting point into the stalactite's end).
     pub stalagmite_m: f32,
     /// How far each base continues into the rock, metres.
     pub sink_m: f32,
@@ -338,6 +346,7 @@ pub struct SiteSolid {
 }
 
 impl SiteSolid {
+    /// The solids of `site`, with `unit_m` metres per unit of the paper's r.
     pub fn new(site: &Site, unit_m: f32) -> Self {
         let [a, b] = site_profiles(site, unit_m);
         let [(ta, ua), (tb, ub)] = tips_and_ups(site);

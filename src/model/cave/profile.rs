@@ -12,6 +12,7 @@ use crate::model::mesh::Mesh;
 /// distance increasing. The first point is the tip: radius 0 (a point) or a flat end.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Profile {
+    /// `[radius, distance from the tip]` pairs, metres, tip first.
     pub points: Vec<[f32; 2]>,
 }
 

@@ -24,10 +24,14 @@ use crate::model::mesh::Mesh;
 /// The smallest slope the law allows (30 degrees) and the radius there.
 pub const P_MIN: f64 = 0.577_350_269_189_625_8; // 1 / sqrt(3)
 
+/// Scaled radius rho = r / a of the exact profile at slope `p` (tan theta):
+/// `(1 + p^2)^2 / p`.
 pub fn rho(p: f64) -> f64 {
     (1.0 + p * p).powi(2) / p
 }
 
+/// Scaled height zeta = z / a of the exact profile at slope `p`: `3/4 p^4 + p^2 - ln p`
+/// (up from an arbitrary origin; [`drop_cap`] gives the tip's).
 pub fn zeta(p: f64) -> f64 {
     0.75 * p.powi(4) + p * p - p.ln()
 }
@@ -81,7 +85,9 @@ pub fn height_above_tip(rho_at: f64) -> f64 {
 /// One speleothem's shape: base radius r and scale s of Cui et al., in their units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShortShape {
+    /// Base radius r in scaled units (rho at the base ring; Fig. 6 uses 5 to 50).
     pub r: f32,
+    /// Scale s on zeta: larger is more slender (Fig. 6: 10, 1 or 0.5).
     pub s: f32,
 }
 

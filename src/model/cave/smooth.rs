@@ -11,6 +11,7 @@ pub struct Neighbours {
 }
 
 impl Neighbours {
+    /// The neighbours of vertices `0..vertex_count` along the edges of `triangles`.
     pub fn of(vertex_count: usize, triangles: &[[u32; 3]]) -> Self {
         let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(triangles.len() * 6);
         for t in triangles {
@@ -34,6 +35,7 @@ impl Neighbours {
         }
     }
 
+    /// Vertex `v`'s edge-neighbours, ascending (empty for a vertex on no triangle).
     pub fn of_vertex(&self, v: usize) -> &[u32] {
         &self.list[self.start[v] as usize..self.start[v + 1] as usize]
     }

@@ -16,7 +16,7 @@ const VERTICAL: f64 = 1e-3;
 
 /// The stationary shape of flank radius `radius_m`, `length_m` from the apex to the
 /// base ring (shorter than the cap: a dome, cut there), on a foot: over the last
-/// [`FOOT`] radii (at most a third of the length) the flank widens to
+/// `FOOT` radii (at most a third of the length) the flank widens to
 /// `1 + FOOT_FLARE` times the radius, as the first layers, deposited before the
 /// shape became stationary, spread onto the floor (the candlestick `sediment layers`
 /// grows has the same foot).

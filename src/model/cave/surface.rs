@@ -12,7 +12,9 @@ use super::octree::{Leaf, Node, Octree};
 /// Triangles wind counter-clockwise seen from the cave (the empty side).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LatticeMesh {
+    /// Lattice points (x, y, z), each once, in voxels of the finest level.
     pub vertices: Vec<[u32; 3]>,
+    /// Vertex indices of each triangle, counter-clockwise seen from the cave.
     pub triangles: Vec<[u32; 3]>,
 }
 

@@ -12,6 +12,7 @@ use crate::model::noise::{fbm, gradient_noise};
 /// Parameters of the cave volume, in units of the cube's side unless stated.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VolumeParams {
+    /// Seed of the wall noise and of the passage's meander.
     pub seed: u64,
     /// Noise frequency: wall features per cube side, 1..=64.
     pub noise_scale: f32,
@@ -21,8 +22,9 @@ pub struct VolumeParams {
     pub roughness: f32,
     /// Carving threshold, -0.1..=0.1: higher carves a wider cave.
     pub threshold: f32,
-    /// Passage half-height and half-width, 0.04..=0.3.
+    /// Passage half-height (along y), 0.04..=0.3.
     pub half_height: f32,
+    /// Passage half-width (along z), 0.04..=0.3.
     pub half_width: f32,
     /// How far the passage winds sideways, 0..=0.2.
     pub meander: f32,
@@ -48,6 +50,8 @@ impl Default for VolumeParams {
 /// large leaves — where the paper's T-junctions come from.
 const X_START: f32 = 0.08;
 const X_END: f32 = 0.92;
+/// Height of the passage's flat floor, in units of the cube's side: a quarter up, a
+/// face of every octree cell of level 2 and finer.
 pub const FLOOR_Y: f32 = 0.25;
 /// The tube's axis sits this far above the floor, so the floor cuts its lower part.
 const AXIS_ABOVE_FLOOR: f32 = 0.07;
@@ -58,6 +62,7 @@ const MEANDER_FREQUENCY: f32 = 2.0;
 pub const NOISE_GRADIENT_BOUND: f32 = 4.0;
 
 impl VolumeParams {
+    /// Checks every field against the range in its doc.
     pub fn validate(&self) -> Result<()> {
         ensure_in_range(
             (1.0..=64.0).contains(&self.noise_scale),

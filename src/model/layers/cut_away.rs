@@ -15,13 +15,20 @@ const SEGMENTS: u32 = 96;
 /// The meshes of the cut-away: outer surface, light and dark bands of the cut faces,
 /// and the floor disk.
 pub struct CutAway {
+    /// The outer surface over the kept three quarters, facing outwards.
     pub surface: Mesh,
+    /// Ribbons of the light bands on both cut planes, facing into the wedge.
     pub light: Mesh,
+    /// Ribbons of the dark bands, likewise.
     pub dark: Mesh,
+    /// A disk at the base, four times the stalagmite's radius, facing up.
     pub floor: Mesh,
-    /// Height and radius of the whole stalagmite (for the camera).
+    /// Height of the whole stalagmite, lowest to highest layer point (for the camera).
     pub height: f32,
+    /// Radius of the whole stalagmite: how far out the surface stands clear of the
+    /// floor (for the camera).
     pub radius: f32,
+    /// Height of the lowest layer point, where the floor lies.
     pub base_y: f32,
 }
 

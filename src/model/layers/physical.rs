@@ -19,12 +19,15 @@ pub const CALCITE_MOLAR_MASS: f64 = 0.1001;
 pub const CALCITE_DENSITY: f64 = 2700.0;
 /// Drop volume, m^3 (0.1 ml).
 pub const DROP_VOLUME: f64 = 0.1e-6;
+/// Seconds in a Julian year (365.25 days).
 pub const SECONDS_PER_YEAR: f64 = 365.25 * 86400.0;
 
 /// The cave at one time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Conditions {
+    /// Cave temperature, degrees Celsius, 0..=40 (sets the rate constant alpha).
     pub temperature_c: f64,
+    /// Time between drops, tau, seconds, 0.1..=1e6.
     pub drip_interval_s: f64,
     /// `c_in - c_eq`, mol/m^3.
     pub excess_ca: f64,
@@ -33,6 +36,8 @@ pub struct Conditions {
 }
 
 impl Conditions {
+    /// Checks the ranges in the fields' docs, and that the film thickness is one with
+    /// a published rate constant.
     pub fn validate(&self) -> Result<()> {
         let check = crate::error::ensure_in_range;
         check(
@@ -105,9 +110,13 @@ pub fn alpha(temperature_c: f64, film_m: f64) -> Result<f64> {
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimelineRow {
+    /// Year the row takes effect; rows' years increase.
     pub year: f64,
+    /// Cave temperature from then, degrees Celsius, 0..=40.
     pub temperature_c: f64,
+    /// Time between drops from then, seconds, 0.1..=1e6.
     pub drip_interval_s: f64,
+    /// Excess calcium `c_in - c_eq` from then, mol/m^3, 0..=10.
     pub excess_ca: f64,
 }
 

@@ -46,6 +46,8 @@ pub struct ClimateGrowth {
 }
 
 impl ClimateGrowth {
+    /// Checks at least two rows, each row's conditions in range, excess calcium > 0 in
+    /// every row but the last (the end marker), and 1 to 512 passes over the span.
     pub fn validate(&self) -> Result<()> {
         if self.rows.len() < 2 {
             return Err(Error::invalid(
@@ -106,6 +108,7 @@ impl ClimateGrowth {
         self.rows.first().map_or(0.0, |r| r.year)
     }
 
+    /// The last row's year, where the record (and growth) ends.
     pub fn end(&self) -> f64 {
         self.rows.last().map_or(0.0, |r| r.year)
     }

@@ -37,13 +37,17 @@ impl Kind {
 /// The Table 2 inputs and the user's controls that may change between passes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GrowthParams {
+    /// Pluviometric index: which kinds grow.
     pub pil: Pil,
+    /// Drip interval: the stalagmites' radius step (manual mode).
     pub drip: DripInterval,
+    /// Calcium / CO2 concentration: the height step (manual mode).
     pub co2: Co2,
     /// Wind direction in the horizontal plane, degrees from +x toward +z.
     pub wind_direction_degrees: f32,
     /// Wind intensity `wi`, 0..=1.
     pub wind_intensity: f32,
+    /// Mineral colouring the calcite (fixed for the whole growth).
     pub mineral: Mineral,
     /// How strongly the mineral colours the calcite, 0..=1.
     pub mineral_intensity: f32,
@@ -66,11 +70,17 @@ impl Default for GrowthParams {
 /// A change of parameters taking effect at a pass (the paper changes them during growth).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ParamChange {
+    /// The first pass the change applies to, 0..passes.
     pub pass: u32,
+    /// New pluviometric index, if it changes.
     pub pil: Option<Pil>,
+    /// New drip interval, if it changes.
     pub drip: Option<DripInterval>,
+    /// New CO2 concentration, if it changes.
     pub co2: Option<Co2>,
+    /// New wind direction, degrees from +x toward +z, if it changes.
     pub wind_direction_degrees: Option<f32>,
+    /// New wind intensity, 0..=1, if it changes.
     pub wind_intensity: Option<f32>,
 }
 
@@ -81,7 +91,10 @@ pub enum StepMode {
     Manual,
     /// Each pass each speleothem draws its CO2 level and drip interval at random and
     /// jitters the steps by up to ±`jitter` (a fraction), fixed by the seed.
-    Random { jitter: f32 },
+    Random {
+        /// Largest relative change of a step, 0..=0.9.
+        jitter: f32,
+    },
 }
 
 /// Scale of the scene: lengths in scene units (1 unit ≈ 1 m).
@@ -123,6 +136,7 @@ impl Default for GrowthUnits {
 /// Everything that fixes a growth.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GrowthScene {
+    /// Seed of the site positions and of every random step.
     pub seed: u64,
     /// Sites: each has a stalactite, and at PIL 2 a stalagmite below it. 1..=256.
     pub count: u32,
@@ -130,11 +144,18 @@ pub struct GrowthScene {
     pub passes: u32,
     /// Segments per ring, 3..=128.
     pub segments: u32,
+    /// Table 2 rows exactly, or drawn at random each pass.
     pub mode: StepMode,
+    /// The parameters at pass 0.
     pub params: GrowthParams,
+    /// Changes of the parameters at later passes, applied in order.
     pub changes: Vec<ParamChange>,
+    /// The scene's lengths and rates.
     pub units: GrowthUnits,
+    /// Height of the chamber's floor, where stalagmites stand, scene units.
     pub floor_y: f32,
+    /// Height of the chamber's roof, where stalactites hang, scene units; above
+    /// `floor_y` by more than four ring thicknesses.
     pub ceiling_y: f32,
     /// Sites are spread over [-extent, extent] in x and z.
     pub extent: f32,
@@ -152,10 +173,16 @@ pub struct GrowthScene {
 /// at `floor_y` below it, and their initial radius.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GrowthSite {
+    /// Horizontal position of the shared axis, x, scene units.
     pub x: f32,
+    /// Horizontal position of the shared axis, z, scene units.
     pub z: f32,
+    /// Height of the stalactite's base ring (the ceiling there), scene units.
     pub ceiling_y: f32,
+    /// Height of the stalagmite's base ring (the floor there), scene units.
     pub floor_y: f32,
+    /// Initial ring radius of both, scene units, > 0 (random mode scales it by 0.8 to
+    /// 1.2; a climate record sets its own).
     pub radius: f32,
 }
 
@@ -206,6 +233,7 @@ pub enum PassAction {
 /// One speleothem's step in one pass.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GrowthStep {
+    /// What the geometry shader does with the front this pass.
     pub action: PassAction,
     /// Translation of the new band along the growth direction.
     pub height: f32,
@@ -217,11 +245,13 @@ pub struct GrowthStep {
     pub wind: Vec3,
     /// Flank deposit `vd` on the old tip ring (0: none this pass).
     pub flank: f32,
-    /// Angle (radians, from +x toward +z) and half-width (radians) of the deposit.
+    /// Angle of the deposit's centre about the axis, radians from +x toward +z.
     pub flank_angle: f32,
+    /// Half-width of the deposit about the axis, radians.
     pub flank_width: f32,
     /// Cone apex (Close) or meeting-ring centre (Join).
     pub target: Vec3,
+    /// Radius of the meeting ring (Join), scene units; unused otherwise.
     pub target_radius: f32,
 }
 
@@ -245,6 +275,7 @@ impl GrowthStep {
 /// One speleothem of the plan.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Speleothem {
+    /// Stalactite or stalagmite: which way it grows.
     pub kind: Kind,
     /// The site it grows at (a stalactite and its stalagmite share one). Its random
     /// draws are keyed by (site, kind, pass), so adding stalagmites mid-growth leaves
@@ -252,35 +283,47 @@ pub struct Speleothem {
     pub site: u32,
     /// Centre of the base ring (on the roof or the floor).
     pub base: Vec3,
+    /// Radius of the base ring, scene units (`irr`).
     pub initial_radius: f32,
+    /// Mineral colouring its calcite.
     pub mineral: Mineral,
+    /// How strongly the mineral colours it, 0..=1.
     pub mineral_intensity: f32,
     /// Rings grown (base band = ring 0).
     pub rings: u32,
+    /// The pass in which it stopped growing vertically, and why; `None` while growing.
     pub stop: Option<(u32, StopReason)>,
 }
 
 /// The plan the GPU and the CPU reference both follow.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GrowthPlan {
+    /// Every speleothem, a site's stalactite followed by its stalagmite (if any).
     pub speleothems: Vec<Speleothem>,
     /// With a climate record: the year of ring 0 and the years per pass (ring `k` is
     /// complete in year `start + k x years_per_pass`).
     pub dates: Option<(f64, f64)>,
     /// Pass-major: `steps[pass * speleothems.len() + index]`.
     pub steps: Vec<GrowthStep>,
+    /// Growth passes planned.
     pub passes: u32,
+    /// Segments around every ring.
     pub segments: u32,
+    /// Height of each band of the base primitive, scene units (with a climate record
+    /// at most half its smallest height step).
     pub ring_thickness: f32,
 }
 
 /// One ring of a grown speleothem (`GrowthPlan::rings`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RingRow {
+    /// Ring number from the base, 0 for the base band.
     pub ring: u32,
+    /// The pass that grew it; `None` for the base band.
     pub pass: Option<u32>,
     /// Distance along the growth from the base, scene units.
     pub height: f32,
+    /// Ring radius, scene units.
     pub radius: f32,
 }
 
@@ -288,11 +331,11 @@ pub struct RingRow {
 pub const STEP_VEC4S: usize = 4;
 
 impl GrowthPlan {
+    /// Speleothem `index`'s step in pass `pass` (panics out of range).
     pub fn step(&self, pass: u32, index: usize) -> &GrowthStep {
         &self.steps[pass as usize * self.speleothems.len() + index]
     }
 
-    /// The buffer the growth shaders read (layout documented in `ring_growth.glsl`).
     /// The centre of speleothem `index`'s tip ring (the open end of its growth front)
     /// after `passes` passes: the base ring's centre, one ring thickness along the
     /// growth, and every grown band's height and wind. Flank deposits and thickening
@@ -342,6 +385,8 @@ impl GrowthPlan {
         out
     }
 
+    /// The buffer the growth shaders read (layout documented in `ring_growth.glsl`):
+    /// `STEP_VEC4S` vec4s per step, in the order of `steps`.
     pub fn gpu_steps(&self) -> Vec<Vec4> {
         let mut out = Vec::with_capacity(self.steps.len() * STEP_VEC4S);
         // Per speleothem, the thickening accumulated through the current pass.
@@ -376,6 +421,8 @@ struct Front {
 }
 
 impl GrowthScene {
+    /// Checks every field against the range in its doc, the changes and sites, and the
+    /// climate record if any, naming the option at fault.
     pub fn validate(&self) -> Result<()> {
         let check = crate::error::ensure_in_range;
         check((1..=256).contains(&self.count), "--count", "1..=256")?;

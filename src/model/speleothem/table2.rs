@@ -31,18 +31,27 @@ pub enum DripInterval {
 /// Calcium / CO2 concentration of the drop: drives the height step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Co2 {
+    /// Height step x1; stalactite rings narrow by 2 radius units; drops may solidify
+    /// on the flank.
     Low,
+    /// Height step x2; stalactite rings narrow by 1 radius unit.
     Normal,
+    /// Height step x3; stalactite rings keep their radius.
     High,
 }
 
 /// Mineral mixed into the solution (Table 1 colours).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Mineral {
+    /// Plain calcite: light grey (0.8, 0.8, 0.8).
     Calcareous,
+    /// Iron: ochre brown.
     Iron,
+    /// Manganese: slate blue-grey.
     Manganese,
+    /// Copper: turquoise.
     Copper,
+    /// Malachite: pale green.
     Malachite,
 }
 
@@ -70,6 +79,7 @@ impl Mineral {
         self.color().map(|c| (decode(c) * scale).min(1.0))
     }
 
+    /// Every mineral, in declaration order (for listing them).
     pub const ALL: [Mineral; 5] = [
         Mineral::Calcareous,
         Mineral::Iron,
@@ -83,7 +93,9 @@ impl Mineral {
 /// (negative radius: the new ring is narrower).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepMultiples {
+    /// Change of the ring radius, in radius units (-2 to 1).
     pub radius: f32,
+    /// Height of the new band along the growth, in height units (1 to 3).
     pub height: f32,
 }
 

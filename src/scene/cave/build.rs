@@ -15,7 +15,10 @@ use crate::model::speleothem::table2::Pil;
 
 /// The generated cave and its speleothem sites.
 pub struct CaveModel {
+    /// The cave: octree, blocky and smoothed walls (metres), Table 1 counts, timings.
     pub cave: Cave,
+    /// The stalactite/stalagmite sites placed on ceiling and floor (empty with
+    /// `Speleothems::None`).
     pub sites: Vec<Site>,
     /// The Short-profile speleothems, world space (empty unless `Speleothems::Short`).
     pub short_mesh: Mesh,
@@ -149,9 +152,13 @@ pub(crate) fn shown_wall(smooth: bool, model: &CaveModel) -> std::borrow::Cow<'_
 /// One row of the Table 1 counterpart.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TableRow {
+    /// Maximum octree depth, 5..=9.
     pub depth: u32,
+    /// Triangles of the blocky wall before the crack-free split.
     pub before: usize,
+    /// Triangles after the split.
     pub after: usize,
+    /// Milliseconds of each phase at this depth.
     pub timings: cave::Timings,
 }
 

@@ -115,6 +115,9 @@ pub struct CaveFrame {
 }
 
 impl CaveFrame {
+    /// Uploads the shown wall and the Short-profile speleothems, and for
+    /// `Speleothems::Grown` starts their growth (all passes in the first frame); the
+    /// camera's lamp is scaled with the square of the cube's side.
     pub fn new(ctx: &Arc<Context>, scene: &CaveScene, model: Arc<CaveModel>) -> Result<Self> {
         let short = if model.short_mesh.indices.is_empty() {
             None
@@ -163,6 +166,7 @@ impl CaveFrame {
         Ok(frame)
     }
 
+    /// The generated cave and sites this frame draws.
     pub fn model(&self) -> &CaveModel {
         &self.model
     }

@@ -35,8 +35,12 @@ use crate::view::input::Key;
 
 /// The simulated terrain: dune heights (world metres) and the ripple tile.
 pub struct Terrain {
+    /// One period of dune heights in metres, lowest at 0: `dune_size` squared, row by
+    /// row.
     pub dune_heights: Vec<f32>,
+    /// The simulated ripple tile, `ripple_size` texels a side, in model units.
     pub ripples: Heightfield,
+    /// The simulated dune field as the simulation left it, in model units.
     pub dune_field: Heightfield,
 }
 
@@ -164,6 +168,8 @@ pub(super) fn sand_grain(scene: &DunesScene) -> Vec<u8> {
 const SHADOW_RES: u32 = 256;
 
 impl DunesFrame {
+    /// Builds the ripple maps, the dune shadow map for the scene's sun, the textures,
+    /// the sky and the dust (released and advanced to `dust_step`) from `terrain`.
     pub fn new(ctx: &Arc<Context>, scene: DunesScene, terrain: &Terrain) -> Result<Self> {
         scene.validate()?;
         let n = scene.dune_size;
@@ -253,12 +259,12 @@ impl DunesFrame {
         )
     }
 
-    /// GPU time of the precomputations (ripple maps, the latest dune shadow map).
     /// The ripple tile's normal chain and horizon map.
     pub fn ripple_maps(&self) -> &RippleMaps {
         &self.maps
     }
 
+    /// GPU time of the precomputations: the ripple maps and the latest dune shadow map.
     pub fn precompute(&self) -> &[Span] {
         &self.precompute
     }
@@ -689,6 +695,7 @@ fn shadow_map(ctx: &Arc<Context>, shadow: &DuneShadowPass, sun: Vec3) -> Result<
 
 /// A rendered desert frame and what it cost.
 pub struct DunesRender {
+    /// The picture at the requested size.
     pub image: image::RgbaImage,
     /// GPU time of each pass of the frame.
     pub gpu_spans: Vec<Span>,
@@ -699,7 +706,9 @@ pub struct DunesRender {
     pub timed_ms: Vec<f64>,
     /// GPU time of the precomputations (ripple maps, dune shadow map).
     pub precompute: Vec<Span>,
+    /// Triangles drawn after back-face and frustum culling.
     pub visible_triangles: u32,
+    /// Triangles of the tiled dune mesh before culling.
     pub total_triangles: u32,
     /// One period of the dune field with its wrap edge, so copies tile seamlessly (for
     /// export).

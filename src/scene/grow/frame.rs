@@ -281,10 +281,12 @@ impl GrowthFrame {
         &self.look
     }
 
+    /// The plan being grown: every speleothem's steps, pass by pass.
     pub fn plan(&self) -> &GrowthPlan {
         &self.plan
     }
 
+    /// Passes grown so far (at most the plan's).
     pub fn passes_done(&self) -> u32 {
         self.growth.passes_done()
     }
@@ -704,6 +706,8 @@ impl Scene for GrowthFrame {
 /// What to produce besides the final frame, and how to grow.
 #[derive(Clone, Debug, Default)]
 pub struct GrowOutputs {
+    /// Which of the four growth paths grows the rings (`--growth`; default the paper's
+    /// re-streaming transform feedback).
     pub path: GrowthPath,
     /// How the speleothems are shaded.
     pub look: Look,
@@ -717,6 +721,7 @@ pub struct GrowOutputs {
 
 /// The result of a growth.
 pub struct Grown {
+    /// The plan that was grown (for the rings CSV and mesh export).
     pub plan: GrowthPlan,
     /// The final frame.
     pub image: image::RgbaImage,
@@ -726,6 +731,7 @@ pub struct Grown {
     pub wall_ms: f64,
     /// Frames of the growth (when requested), the last one equal to `image`.
     pub frames: Vec<image::RgbaImage>,
+    /// The grown mesh's vertices, read back when `GrowOutputs::mesh` asked for them.
     pub mesh: Option<Vec<RingVertex>>,
 }
 

@@ -102,7 +102,9 @@ impl Scene for CutAwayFrame {
 
 /// A rendered cut-away and what it cost.
 pub struct CutAwayRender {
+    /// The picture at the requested size.
     pub image: image::RgbaImage,
+    /// GPU time of each pass of the frame.
     pub gpu_spans: Vec<Span>,
     /// Wall-clock milliseconds of the whole render (set-up included).
     pub wall_ms: f64,

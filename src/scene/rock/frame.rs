@@ -40,6 +40,8 @@ pub struct RockFrame {
 }
 
 impl RockFrame {
+    /// Builds the rock's mesh and uploads it with a 40-unit ground square set 0.08
+    /// above the rock's lowest point, so the rock sits in the ground.
     pub fn new(ctx: &Arc<Context>, scene: &RockScene) -> Result<Self> {
         let rock = rock_mesh(&scene.rock)?;
         let floor_y = rock
