@@ -59,6 +59,51 @@ fn row(i: usize, n: usize) -> SegmentValue<usize> {
     SegmentValue::CenterOf(n - 1 - i)
 }
 
+/// A chart of one horizontal bar per row: `labels` down the left (`label_width`
+/// pixels), the first at the top, a linear x axis from 0 to `right`.
+type RowsChart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<
+        plotters::coord::types::RangedCoordf64,
+        plotters::coord::ranged1d::SegmentedCoord<plotters::coord::types::RangedCoordusize>,
+    >,
+>;
+
+fn rows_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    x_desc: &str,
+    labels: &[String],
+    right: f64,
+    label_width: u32,
+) -> DrawResult<RowsChart<'a, DB>, DB> {
+    let n = labels.len().max(1);
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 17))
+        .margin(10)
+        .x_label_area_size(34)
+        .y_label_area_size(label_width)
+        .build_cartesian_2d(0f64..right, rows_axis(n))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_labels(n)
+        .y_label_formatter(&|v| match v {
+            SegmentValue::CenterOf(i) => (n - 1)
+                .checked_sub(*i)
+                .and_then(|k| labels.get(k))
+                .cloned()
+                .unwrap_or_default(),
+            _ => String::new(),
+        })
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 13))
+        .disable_y_mesh()
+        .draw()?;
+    Ok(chart)
+}
+
 /// Nearest-rank percentile `q` of `v` (sorted copy).
 fn percentile(v: &[f64], q: f64) -> f64 {
     let mut v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
@@ -194,31 +239,14 @@ fn draw_medians<DB: DrawingBackend>(
         .fold(0.0f64, f64::max)
         .max(1e-3)
         * 1.1;
-    let mut chart = ChartBuilder::on(area)
-        .caption(
-            "median GPU frame time (bars), 5th-95th percentile of frames (whiskers)",
-            (FONT, 17),
-        )
-        .margin(10)
-        .x_label_area_size(34)
-        .y_label_area_size(250)
-        .build_cartesian_2d(0f64..right, rows_axis(n))?;
-    chart
-        .configure_mesh()
-        .x_desc("GPU ms per frame")
-        .y_labels(n)
-        .y_label_formatter(&|v| match v {
-            SegmentValue::CenterOf(i) => (n - 1)
-                .checked_sub(*i)
-                .and_then(|k| names.get(k))
-                .cloned()
-                .unwrap_or_default(),
-            _ => String::new(),
-        })
-        .label_style((FONT, 12))
-        .axis_desc_style((FONT, 13))
-        .disable_y_mesh()
-        .draw()?;
+    let mut chart = rows_chart(
+        area,
+        "median GPU frame time (bars), 5th-95th percentile of frames (whiskers)",
+        "GPU ms per frame",
+        &names,
+        right,
+        250,
+    )?;
     let scene_colour = |s: &SeriesResult| {
         let groups = scenes(report);
         let (_, list) = groups
@@ -292,34 +320,19 @@ fn draw_compare<DB: DrawingBackend>(
     root.fill(&WHITE)?;
     let n = rows.len().max(1);
     let right = rows.iter().map(|r| r.1).fold(1.0f64, f64::max) * 1.15;
-    let mut chart = ChartBuilder::on(root)
-        .caption(
-            format!(
-                "b / a, median GPU time per pass; a: {} ({}), b: {} ({})",
-                a.meta.device, a.meta.git_commit, b.meta.device, b.meta.git_commit
-            ),
-            (FONT, 17),
-        )
-        .margin(12)
-        .x_label_area_size(34)
-        .y_label_area_size(330)
-        .build_cartesian_2d(0f64..right, rows_axis(n))?;
-    chart
-        .configure_mesh()
-        .x_desc("b / a (below 1: b is faster)")
-        .y_labels(n)
-        .y_label_formatter(&|v| match v {
-            SegmentValue::CenterOf(i) => (n - 1)
-                .checked_sub(*i)
-                .and_then(|k| rows.get(k))
-                .map(|r| r.0.clone())
-                .unwrap_or_default(),
-            _ => String::new(),
-        })
-        .label_style((FONT, 12))
-        .axis_desc_style((FONT, 13))
-        .disable_y_mesh()
-        .draw()?;
+    let names: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
+    let caption = format!(
+        "b / a, median GPU time per pass; a: {} ({}), b: {} ({})",
+        a.meta.device, a.meta.git_commit, b.meta.device, b.meta.git_commit
+    );
+    let mut chart = rows_chart(
+        root,
+        &caption,
+        "b / a (below 1: b is faster)",
+        &names,
+        right,
+        330,
+    )?;
     for (i, (_, ratio)) in rows.iter().enumerate() {
         let y = || row(i, n);
         let colour = if *ratio <= 1.0 {
