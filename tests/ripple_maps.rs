@@ -5,7 +5,7 @@ mod common;
 
 use sediment::model::ripple_maps::{horizon_map, normal_level0, normal_mip_chain};
 use sediment::model::sand::{Heightfield, SandParams, SandSim};
-use sediment::render::ripple_maps::RippleMaps;
+use sediment::render::ripple_maps::{HorizonWalk, RippleMaps};
 
 fn ripples(size: usize) -> Heightfield {
     let mut sim = SandSim::new(
@@ -22,7 +22,8 @@ fn normal_chain_and_horizon_match_the_cpu_reference() {
     common::with_gpu(|ctx| {
         let field = ripples(64);
         let scale = 0.4;
-        let maps = RippleMaps::build(ctx, &field, scale, scale, 63).expect("build");
+        let maps = RippleMaps::build(ctx, &field, scale, scale, HorizonWalk::Brute { steps: 63 })
+            .expect("build");
         let cpu_chain = normal_mip_chain(&normal_level0(&field, scale), 64);
         assert_eq!(maps.level_offsets.len(), cpu_chain.len());
         for (k, cpu) in cpu_chain.iter().enumerate() {
@@ -53,6 +54,51 @@ fn normal_chain_and_horizon_match_the_cpu_reference() {
             cpu.len()
         );
         assert!(maps.spans.iter().all(|s| s.milliseconds > 0.0));
+    });
+}
+
+#[test]
+fn the_linear_horizon_pass_equals_the_brute_walk() {
+    // Issue 19 item 1: Timonen & Westerholm's convex-hull sweep (horizon_linear.comp)
+    // against the brute walk over the whole periodic row (the paper's horizon.comp and
+    // the CPU reference), on a simulated ripple tile and on noise (a strict highest
+    // texel on most lines: the case the sweep walks directly).
+    use sediment::model::ripple_maps::horizon_map_linear;
+    common::with_gpu(|ctx| {
+        for (name, field, scale) in [
+            ("ripples", ripples(64), 0.4f32),
+            ("noise", Heightfield::random(32, 32, 0.0, 1.0, 9), 1.0),
+        ] {
+            let n = field.width as u32;
+            let brute = RippleMaps::build(
+                ctx,
+                &field,
+                scale,
+                scale,
+                HorizonWalk::Brute { steps: n - 1 },
+            )
+            .expect("brute")
+            .horizon_slopes()
+            .expect("read");
+            let linear = RippleMaps::build(ctx, &field, scale, scale, HorizonWalk::Linear)
+                .expect("linear")
+                .horizon_slopes()
+                .expect("read");
+            let cpu = horizon_map(&field, scale, field.width - 1);
+            let cpu_linear = horizon_map_linear(&field, scale);
+            for (what, other) in [
+                ("GPU brute", &brute),
+                ("CPU brute", &cpu),
+                ("CPU linear", &cpu_linear),
+            ] {
+                let worst = linear
+                    .iter()
+                    .zip(other)
+                    .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+                    .fold(0.0f32, f32::max);
+                assert!(worst <= 1e-5, "{name}: GPU linear vs {what}: {worst}");
+            }
+        }
     });
 }
 

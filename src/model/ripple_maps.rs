@@ -96,6 +96,91 @@ pub fn horizon_map(field: &Heightfield, height_scale: f32, steps: usize) -> Vec<
     first
 }
 
+/// The same horizon map as [`horizon_map`] over the whole periodic row (`steps = size -
+/// 1`, as the paper walks), in time linear in the tile's size (Timonen & Westerholm
+/// 2010, "Scalable Height Field Self-Shadowing"): every line of texels along a direction
+/// is a cycle of the periodic tile; it is swept once backwards (twice round, so every
+/// texel has the whole cycle ahead of it) keeping the upper convex hull of the heights
+/// ahead on a stack, whose top after popping the points a new texel sees past is the
+/// texel's horizon. Each texel is pushed and popped at most twice: O(texels) per
+/// direction instead of O(texels x size).
+///
+/// Where the two walks differ, and how that is undone: the second lap also shows each
+/// texel its own copy one cycle ahead (slope 0). Where the brute walk's horizon is >= 0
+/// that changes nothing (copies farther away are never steeper upwards); only the
+/// strict highest texel of a cycle has a negative horizon (all else is below it), and
+/// its slopes are walked directly, one O(size) walk per cycle: still linear. The
+/// remaining difference is rounding among near-equal slopes (tested within 1e-5).
+pub fn horizon_map_linear(field: &Heightfield, height_scale: f32) -> Vec<[f32; 4]> {
+    let (w, h) = (field.width, field.height);
+    let n = w * h;
+    let mut slopes = vec![[f32::MIN; 8]; n];
+    let mut cycle: Vec<usize> = Vec::with_capacity(w.max(h));
+    let mut heights: Vec<f32> = Vec::with_capacity(2 * w.max(h));
+    let mut hull: Vec<usize> = Vec::with_capacity(2 * w.max(h));
+    let mut visited = vec![false; n];
+    for (slot, &(dx, dy)) in HORIZON_DIRECTIONS.iter().enumerate() {
+        let step_len = ((dx * dx + dy * dy) as f32).sqrt();
+        visited.iter_mut().for_each(|v| *v = false);
+        for start in 0..n {
+            if visited[start] {
+                continue;
+            }
+            cycle.clear();
+            let (mut x, mut y) = ((start % w) as isize, (start / w) as isize);
+            loop {
+                let i = y as usize * w + x as usize;
+                if visited[i] {
+                    break;
+                }
+                visited[i] = true;
+                cycle.push(i);
+                x = (x + dx as isize).rem_euclid(w as isize);
+                y = (y + dy as isize).rem_euclid(h as isize);
+            }
+            let l = cycle.len();
+            // The cycle's heights twice round, in sweep order.
+            heights.clear();
+            heights.extend(cycle.iter().map(|&i| field.data[i] as f32));
+            heights.extend_from_within(..);
+            let height = |t: usize| heights[t];
+            // Slope from position t to position s > t along the doubled cycle, as the
+            // brute walk computes it for k = s - t.
+            let slope = |t: usize, s: usize| {
+                (height(s) - height(t)) * height_scale / ((s - t) as f32 * step_len)
+            };
+            hull.clear();
+            for t in (0..2 * l).rev() {
+                while let [.., second, top] = hull[..] {
+                    if slope(t, top) <= slope(t, second) {
+                        hull.pop();
+                    } else {
+                        break;
+                    }
+                }
+                if t < l {
+                    if let Some(&top) = hull.last() {
+                        slopes[cycle[t]][slot] = slope(t, top);
+                    }
+                }
+                hull.push(t);
+            }
+            // The strict highest texel of the cycle: walk it (see above).
+            let top = (0..l).max_by(|&a, &b| height(a).total_cmp(&height(b)));
+            if let Some(top) = top {
+                let peak = height(top);
+                if (0..l).filter(|&t| height(t) >= peak).count() == 1 {
+                    slopes[cycle[top]][slot] =
+                        (1..l).map(|k| slope(top, top + k)).fold(f32::MIN, f32::max);
+                }
+            }
+        }
+    }
+    let mut planes: Vec<[f32; 4]> = slopes.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect();
+    planes.extend(slopes.iter().map(|s| [s[4], s[5], s[6], s[7]]));
+    planes
+}
+
 /// The horizon slope toward azimuth `phi` (radians, counter-clockwise from +x), linearly
 /// interpolated between the two nearest of the 8 directions (paper 3.5.2).
 pub fn horizon_toward(slopes: &[f32; 8], phi: f32) -> f32 {
@@ -175,5 +260,41 @@ mod tests {
         let s = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
         assert!((horizon_toward(&s, std::f32::consts::TAU / 16.0) - 0.5).abs() < 1e-5);
         assert!((horizon_toward(&s, -std::f32::consts::TAU / 16.0) - 3.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn the_linear_horizon_map_equals_the_brute_walk() {
+        // Issue 19 item 1: the convex-hull sweep against the brute walk over the whole
+        // periodic row, on noise (many strict maxima per cycle direction), ridges
+        // (ties), a flat tile and a simulated ripple tile.
+        let noise = Heightfield::random(64, 64, 0.0, 1.0, 5);
+        let ridges = sine_ridges(32, 8.0);
+        let flat = Heightfield {
+            width: 16,
+            height: 16,
+            data: vec![0.25; 256],
+        };
+        let mut sim = crate::model::sand::SandSim::new(
+            Heightfield::random(128, 128, 0.0, 1.0, 3),
+            crate::model::sand::SandParams::paper_ripples(),
+        )
+        .expect("sim");
+        sim.run(200, &mut |_| {});
+        for (name, field, scale) in [
+            ("noise", &noise, 1.0),
+            ("ridges", &ridges, 0.3),
+            ("flat", &flat, 1.0),
+            ("ripples", sim.field(), 0.1),
+        ] {
+            let brute = horizon_map(field, scale, field.width - 1);
+            let linear = horizon_map_linear(field, scale);
+            assert_eq!(brute.len(), linear.len());
+            let worst = brute
+                .iter()
+                .zip(&linear)
+                .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+                .fold(0.0f32, f32::max);
+            assert!(worst <= 1e-5, "{name}: largest difference {worst}");
+        }
     }
 }

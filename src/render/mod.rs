@@ -39,6 +39,7 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &lit_mesh::FRAGMENT_INTERFACE,
         &ripple_maps::NORMAL_MIP_INTERFACE,
         &ripple_maps::HORIZON_INTERFACE,
+        &ripple_maps::HORIZON_LINEAR_INTERFACE,
         &ring_growth::VERTEX_INTERFACE,
         &ring_growth_compute::INTERFACE,
         &ring_growth::GEOMETRY_INTERFACE,

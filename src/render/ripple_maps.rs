@@ -61,6 +61,34 @@ pub static HORIZON_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<HorizonPush>() as u32,
 };
 
+/// `horizon_linear.comp`: heights (binding 0), the two-plane horizon map (binding 1)
+/// and the hull stacks (binding 2, 2 x size vec2 per line and direction) as storage
+/// buffers, and `HorizonPush` (`steps` unused: the whole row).
+pub static HORIZON_LINEAR_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::DUNES_HORIZON_LINEAR_COMP,
+    bindings: &[
+        DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer),
+        DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer),
+        DescriptorBinding::new(0, 2, DescriptorKind::StorageBuffer),
+    ],
+    push_constant_bytes: size_of::<HorizonPush>() as u32,
+};
+
+/// How the horizon map is computed: both give the map of the whole periodic row
+/// (`Brute { steps: size - 1 }` and `Linear` agree within rounding, `tests/ripple_maps.rs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HorizonWalk {
+    /// `horizon.comp`: every texel walks `steps` texels along each direction (the
+    /// paper's; O(texels x steps)). Kept as the reference.
+    Brute {
+        /// Texels walked per direction (the paper: size - 1).
+        steps: u32,
+    },
+    /// `horizon_linear.comp`: every line swept once keeping the convex hull of the
+    /// heights ahead (Timonen & Westerholm 2010; O(texels)), over the whole row.
+    Linear,
+}
+
 /// The maps on the GPU, as storage buffers (host-visible so tests and exports can
 /// read them).
 pub struct RippleMaps {
@@ -101,7 +129,7 @@ impl RippleMaps {
         field: &Heightfield,
         height_scale: f32,
         horizon_height_scale: f32,
-        horizon_steps: u32,
+        walk: HorizonWalk,
     ) -> Result<Self> {
         let size = field.width as u32;
         if field.width != field.height || !size.is_power_of_two() || size < 2 {
@@ -144,11 +172,32 @@ impl RippleMaps {
         let mip = Pipeline::compute(ctx, "normal mip", NORMAL_MIP_INTERFACE.shader, &mip_layout)?;
         let mip_set = mip_layout.allocate_set("normal mip set", 0)?;
         mip_set.write_buffer(0, &levels)?;
-        let hz_layout = PipelineLayout::new(ctx, "horizon layout", &[&HORIZON_INTERFACE])?;
-        let hz = Pipeline::compute(ctx, "horizon", HORIZON_INTERFACE.shader, &hz_layout)?;
+        let (interface, steps) = match walk {
+            HorizonWalk::Brute { steps } => (&HORIZON_INTERFACE, steps),
+            HorizonWalk::Linear => (&HORIZON_LINEAR_INTERFACE, size - 1),
+        };
+        let hz_layout = PipelineLayout::new(ctx, "horizon layout", &[interface])?;
+        let hz = Pipeline::compute(ctx, "horizon", interface.shader, &hz_layout)?;
         let hz_set = hz_layout.allocate_set("horizon set", 0)?;
         hz_set.write_buffer(0, &height_buffer)?;
         hz_set.write_buffer(1, &horizon)?;
+        // The linear sweep's stacks: 2 x size (position, height) for each of 8 x size
+        // lines.
+        let hull = match walk {
+            HorizonWalk::Linear => {
+                let hull = Buffer::new(
+                    ctx,
+                    "horizon hull stacks",
+                    BufferDesc::gpu_only(
+                        u64::from(size) * 8 * u64::from(size) * 2 * 8,
+                        vk::BufferUsageFlags::STORAGE_BUFFER,
+                    ),
+                )?;
+                hz_set.write_buffer(2, &hull)?;
+                Some(hull)
+            }
+            HorizonWalk::Brute { .. } => None,
+        };
 
         let mut timer = GpuTimer::new(ctx, "ripple maps timer", 2)?;
         ctx.submit_and_wait("ripple maps", |cmd| {
@@ -178,16 +227,21 @@ impl RippleMaps {
                 &hz_layout,
                 &HorizonPush {
                     size,
-                    steps: horizon_steps,
+                    steps,
                     height_scale: horizon_height_scale,
                     unused: 0,
                 },
             )?;
-            cmd.dispatch(size.div_ceil(8), size.div_ceil(8), 1);
+            match walk {
+                HorizonWalk::Brute { .. } => cmd.dispatch(size.div_ceil(8), size.div_ceil(8), 1),
+                // One invocation per line and direction.
+                HorizonWalk::Linear => cmd.dispatch((8 * size).div_ceil(64), 1, 1),
+            }
             timer.end(cmd, span);
             cmd.shader_to_host_barrier();
             Ok(())
         })?;
+        drop(hull);
         Ok(Self {
             spans: timer.read()?,
             levels,

@@ -143,6 +143,7 @@ impl BenchScene for DunesBench {
             progress("dunes precompute and simulation");
             let mut metrics = self.cpu_metrics()?;
             metrics.extend(self.sky_metrics(ctx)?);
+            metrics.extend(self.horizon_metrics(ctx)?);
             if let Some(s) = report
                 .series
                 .iter_mut()
@@ -242,6 +243,44 @@ impl DunesBench {
         Ok(m)
     }
 
+    /// The horizon map on the GPU both ways (issue 19 item 1): the paper's brute walk
+    /// and the linear-time sweep on the scene's ripple tile, and the sweep on a
+    /// 1024 x 1024 tile; the median of three builds each (GPU timestamps of the pass).
+    fn horizon_metrics(&mut self, ctx: &Arc<Context>) -> Result<BTreeMap<String, f64>> {
+        use crate::render::ripple_maps::{HorizonWalk, RippleMaps};
+        let (base, terrain) = self.base()?;
+        let (field, scale) = (terrain.ripples.clone(), base.drawn_ripple_height_scale());
+        let large = Heightfield::random(1024, 1024, 0.0, 1.0, 11);
+        let time = |field: &Heightfield, walk: HorizonWalk| -> Result<f64> {
+            let mut ms = Vec::new();
+            for _ in 0..3 {
+                let maps = RippleMaps::build(ctx, field, scale, scale, walk)?;
+                ms.extend(
+                    maps.spans
+                        .iter()
+                        .filter(|s| s.name == "horizon map")
+                        .map(|s| s.milliseconds),
+                );
+            }
+            Ok(crate::bench::report::Stats::of(&ms).median)
+        };
+        let steps = (field.width - 1) as u32;
+        let brute = time(&field, HorizonWalk::Brute { steps })?;
+        let linear = time(&field, HorizonWalk::Linear)?;
+        let mut m = BTreeMap::new();
+        m.insert("horizon_map_brute_gpu_ms".to_owned(), brute);
+        m.insert("horizon_map_linear_gpu_ms".to_owned(), linear);
+        m.insert(
+            "horizon_map_linear_speedup".to_owned(),
+            brute / linear.max(1e-9),
+        );
+        m.insert(
+            "horizon_map_linear_1024_gpu_ms".to_owned(),
+            time(&large, HorizonWalk::Linear)?,
+        );
+        Ok(m)
+    }
+
     fn cpu_metrics(&mut self) -> Result<BTreeMap<String, f64>> {
         let (base, terrain) = self.base()?;
         let t = Instant::now();
@@ -251,6 +290,12 @@ impl DunesBench {
             base.ripple_size - 1,
         );
         let cpu_horizon = t.elapsed().as_secs_f64() * 1e3;
+        let t = Instant::now();
+        let _ = crate::model::ripple_maps::horizon_map_linear(
+            &terrain.ripples,
+            base.ripple_height_scale,
+        );
+        let cpu_horizon_linear = t.elapsed().as_secs_f64() * 1e3;
         let one = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()
@@ -263,6 +308,7 @@ impl DunesBench {
         };
         let mut m = BTreeMap::new();
         m.insert("horizon_map_cpu_ms".to_owned(), cpu_horizon);
+        m.insert("horizon_map_linear_cpu_ms".to_owned(), cpu_horizon_linear);
         m.insert(
             "ripple_sim_cell_steps_per_s_all_threads".to_owned(),
             sim(SandParams::paper_ripples(), 256, 200)?,

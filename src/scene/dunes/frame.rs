@@ -28,7 +28,7 @@ use crate::render::dune_surface::{
     DetailTexels, DuneGeometry, DunePush, DuneSurfacePass, DuneTextures,
 };
 use crate::render::dust::{DustLight, DustPass};
-use crate::render::ripple_maps::RippleMaps;
+use crate::render::ripple_maps::{HorizonWalk, RippleMaps};
 use crate::scene::Size;
 use crate::scene::camera::{Camera, Lighting};
 use crate::view::input::Key;
@@ -178,7 +178,7 @@ impl DunesFrame {
             &terrain.ripples,
             scene.ripple_height_scale,
             scene.drawn_ripple_height_scale(),
-            (scene.ripple_size - 1) as u32,
+            HorizonWalk::Linear,
         )?;
         let mut precompute = maps.spans.clone();
         let heights_cells: Vec<f32> = terrain
