@@ -3,10 +3,11 @@
 // "Scalable Height Field Self-Shadowing"): the same map as horizon.comp over the whole
 // periodic row. One invocation per (direction, line): on the periodic N x N tile every
 // line along an axis or a diagonal is a cycle of N texels. The line is swept backwards
-// twice round keeping the upper convex hull of the heights ahead on a stack (in the
-// `hull` buffer, 2N entries per invocation); the hull's top after popping what a texel
-// sees past is its horizon. The strict highest texel of a line (whose horizon is
-// negative, while the second lap shows it its own copy at slope 0) is walked directly.
+// once round, starting just behind its highest texel, keeping the upper convex hull of
+// the heights ahead on a stack (in the `hull` buffer, N entries per invocation); the
+// hull's top after popping what a texel sees past is its horizon. Texels beyond the
+// highest one never set a horizon (the highest is nearer and at least as high), so one
+// lap sees all that matters; the highest texel itself is walked directly.
 // The CPU twin is `horizon_map_linear` in src/model/ripple_maps.rs.
 
 layout(local_size_x = 64) in;
@@ -20,8 +21,8 @@ layout(set = 0, binding = 1, std430) buffer Horizon {
     float s[];
 } horizon;
 
-// Scratch: 2N stack entries per invocation, each (position along the doubled line,
-// height), so the sweep never looks a popped-to height up again.
+// Scratch: N stack entries per invocation (2N reserved), each (position along the
+// line, height), so the sweep never looks a popped-to height up again.
 layout(set = 0, binding = 2, std430) buffer Hull {
     vec2 at[];
 } hull;
@@ -38,11 +39,6 @@ int start_x;
 int start_y;
 int dir_x;
 int dir_y;
-
-int wrap(int v) {
-    // Scalar arithmetic: naga 30 misreads integer vector modulo.
-    return ((v % n) + n) % n;
-}
 
 void main() {
     n = int(pc.size);
@@ -64,28 +60,38 @@ void main() {
     uint plane = d < 4 ? 0u : uint(n * n) * 4u;
     uint component = uint(d % 4);
 
-    // Walk the line backwards from position 2n - 1 (= n - 1 on the tile), one step
-    // of -dir at a time, wrapping without a modulo.
-    int x = wrap(start_x + dir_x * (n - 1));
-    int y = wrap(start_y + dir_y * (n - 1));
-    int top = 0;
-    // The line's highest texel, seen on the first lap: where, how high, how many.
-    int peak_texel = 0;
-    float highest = -3.402823e38;
-    int equal = 0;
-    for (int t = 2 * n - 1; t >= 0; --t) {
+    // The line's highest texel (the first of equals), position p from the start.
+    int x = start_x;
+    int y = start_y;
+    int peak = 0;
+    int peak_x = x;
+    int peak_y = y;
+    float highest = heights.h[y * n + x];
+    for (int t = 1; t < n; ++t) {
+        x += dir_x;
+        y += dir_y;
+        x = x < 0 ? x + n : (x >= n ? x - n : x);
+        y = y < 0 ? y + n : (y >= n ? y - n : y);
+        float v = heights.h[y * n + x];
+        if (v > highest) {
+            highest = v;
+            peak = t;
+            peak_x = x;
+            peak_y = y;
+        }
+    }
+    // Sweep backwards from the texel behind the peak (position peak + n - 1) to the
+    // one after it (peak + 1), the peak itself (at peak + n) first on the hull.
+    int top = 1;
+    hull.at[base] = vec2(float(peak + n), highest);
+    x = peak_x - dir_x;
+    y = peak_y - dir_y;
+    x = x < 0 ? x + n : (x >= n ? x - n : x);
+    y = y < 0 ? y + n : (y >= n ? y - n : y);
+    for (int t = peak + n - 1; t > peak; --t) {
         int i = y * n + x;
         float here = heights.h[i];
         float ft = float(t);
-        if (t < n) {
-            if (here > highest) {
-                highest = here;
-                peak_texel = i;
-                equal = 1;
-            } else if (here == highest) {
-                equal += 1;
-            }
-        }
         while (top >= 2) {
             vec2 a = hull.at[base + uint(top - 1)];
             vec2 b = hull.at[base + uint(top - 2)];
@@ -98,11 +104,9 @@ void main() {
                 break;
             }
         }
-        if (t < n && top >= 1) {
-            vec2 a = hull.at[base + uint(top - 1)];
-            horizon.s[plane + uint(i) * 4u + component] =
-                (a.y - here) * pc.height_scale / ((a.x - ft) * step_len);
-        }
+        vec2 a = hull.at[base + uint(top - 1)];
+        horizon.s[plane + uint(i) * 4u + component] =
+            (a.y - here) * pc.height_scale / ((a.x - ft) * step_len);
         hull.at[base + uint(top)] = vec2(ft, here);
         top += 1;
         x -= dir_x;
@@ -111,11 +115,12 @@ void main() {
         y = y < 0 ? y + n : (y >= n ? y - n : y);
     }
 
-    // The strict highest texel of the line: its horizon over the n - 1 texels ahead.
-    if (equal == 1) {
+    // The peak: its horizon over the n - 1 texels ahead, walked (its own copy must not
+    // count, and the hull has dropped what it would need).
+    {
         float best = -3.402823e38;
-        x = peak_texel % n;
-        y = peak_texel / n;
+        x = peak_x;
+        y = peak_y;
         for (int k = 1; k < n; ++k) {
             x += dir_x;
             y += dir_y;
@@ -124,6 +129,6 @@ void main() {
             float there = heights.h[y * n + x];
             best = max(best, (there - highest) * pc.height_scale / (float(k) * step_len));
         }
-        horizon.s[plane + uint(peak_texel) * 4u + component] = best;
+        horizon.s[plane + uint(peak_y * n + peak_x) * 4u + component] = best;
     }
 }

@@ -99,25 +99,24 @@ pub fn horizon_map(field: &Heightfield, height_scale: f32, steps: usize) -> Vec<
 /// The same horizon map as [`horizon_map`] over the whole periodic row (`steps = size -
 /// 1`, as the paper walks), in time linear in the tile's size (Timonen & Westerholm
 /// 2010, "Scalable Height Field Self-Shadowing"): every line of texels along a direction
-/// is a cycle of the periodic tile; it is swept once backwards (twice round, so every
-/// texel has the whole cycle ahead of it) keeping the upper convex hull of the heights
-/// ahead on a stack, whose top after popping the points a new texel sees past is the
-/// texel's horizon. Each texel is pushed and popped at most twice: O(texels) per
-/// direction instead of O(texels x size).
+/// is a cycle of the periodic tile; it is swept once backwards keeping the upper convex
+/// hull of the heights ahead on a stack, whose top after popping the points a new texel
+/// sees past is the texel's horizon. Each texel is pushed and popped at most once:
+/// O(texels) per direction instead of O(texels x size).
 ///
-/// Where the two walks differ, and how that is undone: the second lap also shows each
-/// texel its own copy one cycle ahead (slope 0). Where the brute walk's horizon is >= 0
-/// that changes nothing (copies farther away are never steeper upwards); only the
-/// strict highest texel of a cycle has a negative horizon (all else is below it), and
-/// its slopes are walked directly, one O(size) walk per cycle: still linear. The
-/// remaining difference is rounding among near-equal slopes (tested within 1e-5).
+/// The sweep starts just behind the line's highest texel, with that texel first on the
+/// hull: a texel's horizon never comes from beyond the highest one (it is nearer and
+/// at least as high, so it is seen at a steeper slope), so one lap sees all that
+/// matters. The highest texel itself is walked directly (its own copy one cycle ahead
+/// must not count): one O(size) walk per line, still linear. The remaining difference
+/// from the brute walk is rounding among near-equal slopes (tested within 1e-5).
 pub fn horizon_map_linear(field: &Heightfield, height_scale: f32) -> Vec<[f32; 4]> {
     let (w, h) = (field.width, field.height);
     let n = w * h;
     let mut slopes = vec![[f32::MIN; 8]; n];
     let mut cycle: Vec<usize> = Vec::with_capacity(w.max(h));
     let mut heights: Vec<f32> = Vec::with_capacity(2 * w.max(h));
-    let mut hull: Vec<usize> = Vec::with_capacity(2 * w.max(h));
+    let mut hull: Vec<usize> = Vec::with_capacity(w.max(h));
     let mut visited = vec![false; n];
     for (slot, &(dx, dy)) in HORIZON_DIRECTIONS.iter().enumerate() {
         let step_len = ((dx * dx + dy * dy) as f32).sqrt();
@@ -139,18 +138,23 @@ pub fn horizon_map_linear(field: &Heightfield, height_scale: f32) -> Vec<[f32; 4
                 y = (y + dy as isize).rem_euclid(h as isize);
             }
             let l = cycle.len();
-            // The cycle's heights twice round, in sweep order.
+            // The cycle's heights twice round, so positions peak..peak + l index it.
             heights.clear();
             heights.extend(cycle.iter().map(|&i| field.data[i] as f32));
             heights.extend_from_within(..);
-            let height = |t: usize| heights[t];
-            // Slope from position t to position s > t along the doubled cycle, as the
-            // brute walk computes it for k = s - t.
+            // Slope from position t to position s > t, as the brute walk computes it
+            // for k = s - t.
             let slope = |t: usize, s: usize| {
-                (height(s) - height(t)) * height_scale / ((s - t) as f32 * step_len)
+                (heights[s] - heights[t]) * height_scale / ((s - t) as f32 * step_len)
             };
+            // The highest texel (the first of equals).
+            let peak = (0..l).fold(
+                0,
+                |best, t| if heights[t] > heights[best] { t } else { best },
+            );
             hull.clear();
-            for t in (0..2 * l).rev() {
+            hull.push(peak + l);
+            for t in (peak + 1..peak + l).rev() {
                 while let [.., second, top] = hull[..] {
                     if slope(t, top) <= slope(t, second) {
                         hull.pop();
@@ -158,22 +162,14 @@ pub fn horizon_map_linear(field: &Heightfield, height_scale: f32) -> Vec<[f32; 4
                         break;
                     }
                 }
-                if t < l {
-                    if let Some(&top) = hull.last() {
-                        slopes[cycle[t]][slot] = slope(t, top);
-                    }
+                if let Some(&top) = hull.last() {
+                    slopes[cycle[t % l]][slot] = slope(t, top);
                 }
                 hull.push(t);
             }
-            // The strict highest texel of the cycle: walk it (see above).
-            let top = (0..l).max_by(|&a, &b| height(a).total_cmp(&height(b)));
-            if let Some(top) = top {
-                let peak = height(top);
-                if (0..l).filter(|&t| height(t) >= peak).count() == 1 {
-                    slopes[cycle[top]][slot] =
-                        (1..l).map(|k| slope(top, top + k)).fold(f32::MIN, f32::max);
-                }
-            }
+            slopes[cycle[peak]][slot] = (1..l)
+                .map(|k| slope(peak, peak + k))
+                .fold(f32::MIN, f32::max);
         }
     }
     let mut planes: Vec<[f32; 4]> = slopes.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect();
@@ -265,8 +261,8 @@ mod tests {
     #[test]
     fn the_linear_horizon_map_equals_the_brute_walk() {
         // Issue 19 item 1: the convex-hull sweep against the brute walk over the whole
-        // periodic row, on noise (many strict maxima per cycle direction), ridges
-        // (ties), a flat tile and a simulated ripple tile.
+        // periodic row, on noise, ridges (ties: many equally high texels on a line), a
+        // flat tile (all equal) and a simulated ripple tile.
         let noise = Heightfield::random(64, 64, 0.0, 1.0, 5);
         let ridges = sine_ridges(32, 8.0);
         let flat = Heightfield {
