@@ -1,16 +1,9 @@
 //! The `sediment` binary as a person runs it: errors are one actionable paragraph
 //! and a non-zero exit, never a panic or a bare Vulkan code.
 
-use std::process::{Command, Output};
+mod common;
 
-fn sediment(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sediment"));
-    cmd.args(args);
-    for (k, v) in env {
-        cmd.env(k, v);
-    }
-    cmd.output().expect("run the sediment binary")
-}
+use common::cli::sediment_with_env as sediment;
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()

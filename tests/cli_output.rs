@@ -6,16 +6,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::cli::{assert_success, scratch};
-
-fn sediment(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sediment"));
-    cmd.args(args).env_remove("RUST_LOG");
-    for (k, v) in env {
-        cmd.env(k, v);
-    }
-    cmd.output().expect("run the sediment binary")
-}
+use common::cli::{assert_success, scratch, sediment_with_env as sediment};
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()

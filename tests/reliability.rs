@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::cli::{scratch, sediment};
+use common::cli::{gif_frames, scratch, sediment};
 
 fn refused(args: &[&str], names: &str) -> String {
     // -v: each stage's start is a debug line ("...: N to do").
@@ -320,14 +320,7 @@ fn an_animation_holds_one_frame_not_all_of_them() {
         animated - base < 50.0,
         "{animated:.0} MB against {base:.0} MB"
     );
-    let frames = image::AnimationDecoder::into_frames(
-        image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
-            std::fs::File::open(&gif).expect("GIF written"),
-        ))
-        .expect("decodes"),
-    )
-    .count();
-    assert_eq!(frames, 24);
+    assert_eq!(gif_frames(std::path::Path::new(&gif)), 24);
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
 
@@ -364,14 +357,7 @@ fn a_dune_animation_streams_its_frames_too() {
             animated - base < 50.0,
             "{name}: {animated:.0} MB against {base:.0} MB"
         );
-        let frames = image::AnimationDecoder::into_frames(
-            image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
-                std::fs::File::open(&gif).expect("GIF written"),
-            ))
-            .expect("decodes"),
-        )
-        .count();
-        assert_eq!(frames, 24, "{name}");
+        assert_eq!(gif_frames(std::path::Path::new(&gif)), 24, "{name}");
     }
     std::fs::remove_dir_all(&dir).expect("clean up");
 }

@@ -104,6 +104,54 @@ fn rows_chart<'a, DB: DrawingBackend>(
     Ok(chart)
 }
 
+/// The chart's legend, top right on a light box.
+fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> DrawResult<(), DB> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.4))
+        .label_font((FONT, 12))
+        .draw()
+}
+
+/// Row `i` of `n`'s bar from 0 to `value` in `colour`, with `value` written just right
+/// of `label_x`.
+fn bar<DB: DrawingBackend>(
+    chart: &mut RowsChart<'_, DB>,
+    (i, n): (usize, usize),
+    value: f64,
+    colour: RGBColor,
+    label_x: f64,
+) -> DrawResult<(), DB> {
+    chart.draw_series(std::iter::once(PathElement::new(
+        vec![(0.0, row(i, n)), (value, row(i, n))],
+        colour.mix(0.85).stroke_width(BAR_ROW - 10),
+    )))?;
+    chart.draw_series(std::iter::once(
+        EmptyElement::at((label_x, row(i, n)))
+            + Text::new(format!(" {value:.2}"), (4, -7), (FONT, 12)),
+    ))?;
+    Ok(())
+}
+
+/// A dashed vertical line at `x` across every row (the floor, ratio 1), for a legend
+/// entry.
+fn marker<'c, 'a, DB: DrawingBackend + 'a>(
+    chart: &'c mut RowsChart<'a, DB>,
+    x: f64,
+    colour: RGBColor,
+) -> DrawResult<&'c mut plotters::chart::SeriesAnno<'a, DB>, DB> {
+    chart.draw_series(DashedLineSeries::new(
+        vec![(x, SegmentValue::Exact(0)), (x, SegmentValue::Last)],
+        6,
+        4,
+        colour.stroke_width(2),
+    ))
+}
+
 /// Nearest-rank percentile `q` of `v` (sorted copy).
 fn percentile(v: &[f64], q: f64) -> f64 {
     let mut v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
@@ -200,13 +248,7 @@ fn draw_report<DB: DrawingBackend>(
                     PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font((FONT, 12))
-            .draw()?;
+        legend(&mut chart)?;
     }
     draw_medians(&bottom, report)
 }
@@ -247,27 +289,21 @@ fn draw_medians<DB: DrawingBackend>(
         right,
         250,
     )?;
+    // Each bar in its line's colour in the scene's panel.
+    let groups = scenes(report);
     let scene_colour = |s: &SeriesResult| {
-        let groups = scenes(report);
-        let (_, list) = groups
+        let i = groups
             .iter()
             .find(|(name, _)| *name == s.scene)
-            .cloned()
-            .unwrap_or_default();
-        let i = list
-            .iter()
-            .position(|x| x.variant == s.variant)
+            .and_then(|(_, list)| list.iter().position(|x| x.variant == s.variant))
             .unwrap_or(0);
         PALETTE[i % PALETTE.len()]
     };
     for (i, s) in series.iter().enumerate() {
-        let colour = scene_colour(s);
-        let y = || row(i, n);
-        chart.draw_series(std::iter::once(PathElement::new(
-            vec![(0.0, y()), (s.frame_gpu_ms.median, y())],
-            colour.mix(0.85).stroke_width(BAR_ROW - 10),
-        )))?;
+        let median = s.frame_gpu_ms.median;
         let (lo, hi) = whiskers[i];
+        bar(&mut chart, (i, n), median, scene_colour(s), hi.max(median))?;
+        let y = || row(i, n);
         chart.draw_series(std::iter::once(PathElement::new(
             vec![(lo, y()), (hi, y())],
             BLACK.stroke_width(1),
@@ -278,34 +314,14 @@ fn draw_medians<DB: DrawingBackend>(
                     + PathElement::new(vec![(0, -5), (0, 5)], BLACK.stroke_width(1)),
             ))?;
         }
-        chart.draw_series(std::iter::once(
-            EmptyElement::at((hi.max(s.frame_gpu_ms.median), y()))
-                + Text::new(
-                    format!(" {:.2}", s.frame_gpu_ms.median),
-                    (4, -7),
-                    (FONT, 12),
-                ),
-        ))?;
     }
     if let Some(floor) = report.floor_ms() {
-        chart
-            .draw_series(DashedLineSeries::new(
-                vec![(floor, SegmentValue::Exact(0)), (floor, SegmentValue::Last)],
-                6,
-                4,
-                RED.stroke_width(2),
-            ))?
+        marker(&mut chart, floor, RED)?
             .label(format!(
                 "floor: the trivial full-screen pass, {floor:.2} ms"
             ))
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED.stroke_width(2)));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font((FONT, 12))
-            .draw()?;
+        legend(&mut chart)?;
     }
     Ok(())
 }
@@ -333,28 +349,11 @@ fn draw_compare<DB: DrawingBackend>(
         right,
         330,
     )?;
-    for (i, (_, ratio)) in rows.iter().enumerate() {
-        let y = || row(i, n);
-        let colour = if *ratio <= 1.0 {
-            PALETTE[2]
-        } else {
-            PALETTE[3]
-        };
-        chart.draw_series(std::iter::once(PathElement::new(
-            vec![(0.0, y()), (*ratio, y())],
-            colour.mix(0.85).stroke_width(BAR_ROW - 10),
-        )))?;
-        chart.draw_series(std::iter::once(
-            EmptyElement::at((*ratio, y()))
-                + Text::new(format!(" {ratio:.2}"), (4, -7), (FONT, 12)),
-        ))?;
+    for (i, &(_, ratio)) in rows.iter().enumerate() {
+        let colour = if ratio <= 1.0 { PALETTE[2] } else { PALETTE[3] };
+        bar(&mut chart, (i, n), ratio, colour, ratio)?;
     }
-    chart.draw_series(DashedLineSeries::new(
-        vec![(1.0, SegmentValue::Exact(0)), (1.0, SegmentValue::Last)],
-        6,
-        4,
-        BLACK.stroke_width(2),
-    ))?;
+    marker(&mut chart, 1.0, BLACK)?;
     Ok(())
 }
 
@@ -402,12 +401,7 @@ fn write_with(
 ) -> Result<()> {
     register_font();
     let failed = |e: String| Error::invalid("--plot", format!("drawing the chart failed: {e}"));
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
+    match crate::export::extension(path).as_deref() {
         Some("svg") => {
             let mut svg = String::new();
             {

@@ -104,9 +104,7 @@ pub fn write_heightmap(path: &Path, map: &Heightmap) -> Result<(HeightRange, Vec
         path: path.to_path_buf(),
         source: e,
     };
-    let exr = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    let exr = super::extension(path).as_deref() == Some("exr");
     if exr {
         let pixels: Vec<f32> = map.heights_m.iter().flat_map(|&h| [h as f32; 3]).collect();
         let mut bytes = std::io::Cursor::new(Vec::new());

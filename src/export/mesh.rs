@@ -51,11 +51,7 @@ impl Written {
 pub fn write_mesh(path: &Path, asset: &Asset) -> Result<Written> {
     check_mesh_path(path, "--mesh")?;
     asset.check()?;
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let files = if ext.as_deref() == Some("glb") {
+    let files = if super::extension(path).as_deref() == Some("glb") {
         write_bytes(path, &super::gltf::glb_bytes(asset)?)?;
         vec![path.to_path_buf()]
     } else {

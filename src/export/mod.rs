@@ -13,6 +13,14 @@ pub mod obj;
 pub mod png;
 pub mod section;
 
+/// `path`'s extension in lower case (`None` without one): what the writers choose their
+/// format by.
+pub fn extension(path: &std::path::Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+}
+
 /// Checks that `path` ends in one of `allowed` (case-insensitive), so a bad output name
 /// is refused before any work is done.
 pub fn check_extension(

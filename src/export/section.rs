@@ -317,12 +317,7 @@ pub fn write(
     width: u32,
     height: u32,
 ) -> Result<()> {
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
+    match super::extension(path).as_deref() {
         Some("svg") => {
             let text = svg(s, style, width, height);
             write_atomically(path, |w| {

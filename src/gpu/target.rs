@@ -45,14 +45,7 @@ impl TargetFormat {
     /// `cave --size 9000x9000` 3.45 GiB against 3.62 estimated, with `--samples 1` at
     /// 12000x12000 2.28 against 2.68.
     pub fn frame_bytes(&self, width: u32, height: u32) -> u64 {
-        let texel = |f: vk::Format| {
-            if f == vk::Format::R16G16B16A16_SFLOAT {
-                8
-            } else {
-                4
-            }
-        };
-        let (color, depth) = (texel(self.color), texel(self.depth));
+        let (color, depth) = (texel_bytes(self.color), texel_bytes(self.depth));
         let samples = u64::from(self.samples.as_raw().max(1));
         let multisampled = if samples > 1 { color * samples } else { 0 };
         let per_pixel = color + multisampled + depth * samples + color + 4 + 4;
@@ -64,10 +57,8 @@ impl TargetFormat {
     pub fn check_budget(&self, width: u32, height: u32) -> Result<()> {
         let bytes = self.frame_bytes(width, height);
         let samples = self.samples.as_raw().max(1);
-        let per_pixel = bytes as f64 / (f64::from(width) * f64::from(height));
-        let scale =
-            (crate::budget::HOST_BYTES as f64 / per_pixel / f64::from(width) / f64::from(height))
-                .sqrt();
+        // Both sides scaled by the same factor keep the aspect and fit the budget.
+        let scale = (crate::budget::HOST_BYTES as f64 / bytes as f64).sqrt();
         let fits = |side: u32| ((f64::from(side) * scale).floor() as u32).max(1);
         let reduce = if samples > 1 {
             format!(
@@ -98,6 +89,16 @@ impl TargetFormat {
             bytes,
             &reduce,
         )
+    }
+}
+
+/// Bytes of one texel of the target formats sediment uses: 8 for RGBA16F, else 4
+/// (RGBA8, D32).
+fn texel_bytes(format: vk::Format) -> u64 {
+    if format == vk::Format::R16G16B16A16_SFLOAT {
+        8
+    } else {
+        4
     }
 }
 
@@ -175,11 +176,7 @@ impl OffscreenTarget {
             )
             .samples(format.samples),
         )?;
-        let texel = if format.color == vk::Format::R16G16B16A16_SFLOAT {
-            8
-        } else {
-            4
-        };
+        let texel = texel_bytes(format.color);
         let readback = Buffer::new(
             ctx,
             "offscreen readback",

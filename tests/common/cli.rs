@@ -3,6 +3,24 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// Runs the built `sediment` binary with `args` and the environment variables `env`,
+/// without the caller's `RUST_LOG` (it would change what the binary logs).
+pub fn sediment_with_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sediment"));
+    cmd.args(args).env_remove("RUST_LOG");
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("run the sediment binary")
+}
+
+/// The number of frames in the GIF at `path`.
+pub fn gif_frames(path: &Path) -> usize {
+    let file = std::fs::File::open(path).expect("GIF written");
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(file));
+    image::AnimationDecoder::into_frames(decoder.expect("decodes")).count()
+}
+
 /// Runs the built `sediment` binary with `args`.
 pub fn sediment(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_sediment"))

@@ -83,6 +83,20 @@ fn current() -> std::sync::MutexGuard<'static, Option<(String, ProgressBar)>> {
     CURRENT.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
+/// Finishes the bar in `current`, if any (left on screen; `complete` fills it first),
+/// and logs the end of its stage.
+fn finish(current: &mut Option<(String, ProgressBar)>, complete: bool) {
+    if let Some((label, bar)) = current.take() {
+        if let (true, Some(n)) = (complete, bar.length()) {
+            bar.set_position(n);
+        }
+        bar.finish();
+        if !label.is_empty() {
+            log::debug!("{label}: done");
+        }
+    }
+}
+
 /// `done` of `total` steps of `label`: one bar per label, drawn on a terminal only; a
 /// new label finishes the bar before it. Without a terminal the start and end of each
 /// stage are debug lines (`-v`).
@@ -92,10 +106,7 @@ pub fn progress(done: usize, total: usize, label: &str) {
         .as_ref()
         .is_some_and(|(l, bar)| l == label && bar.length() == Some(total as u64));
     if !same {
-        if let Some((old, bar)) = current.take() {
-            bar.finish();
-            log::debug!("{old}: done");
-        }
+        finish(&mut current, false);
         let bar = bars().add(ProgressBar::new(total as u64));
         bar.set_style(
             ProgressStyle::with_template(
@@ -120,10 +131,7 @@ pub fn step(message: &str) {
         .as_ref()
         .is_some_and(|(l, bar)| l.is_empty() && bar.length().is_none());
     if !spinner {
-        if let Some((old, bar)) = current.take() {
-            bar.finish();
-            log::debug!("{old}: done");
-        }
+        finish(&mut current, false);
         let bar = bars().add(ProgressBar::new_spinner());
         bar.set_style(
             ProgressStyle::with_template("{spinner} [{elapsed}] {msg}")
@@ -140,15 +148,7 @@ pub fn step(message: &str) {
 
 /// Finishes the current bar (left on screen, complete).
 pub fn done() {
-    if let Some((label, bar)) = current().take() {
-        if let Some(n) = bar.length() {
-            bar.set_position(n);
-        }
-        bar.finish();
-        if !label.is_empty() {
-            log::debug!("{label}: done");
-        }
-    }
+    finish(&mut current(), true);
 }
 
 /// Removes the current bar (an error is about to be printed).

@@ -249,7 +249,7 @@ impl DunesBench {
     fn horizon_metrics(&mut self, ctx: &Arc<Context>) -> Result<BTreeMap<String, f64>> {
         use crate::render::ripple_maps::{HorizonWalk, RippleMaps};
         let (base, terrain) = self.base()?;
-        let (field, scale) = (terrain.ripples.clone(), base.drawn_ripple_height_scale());
+        let (field, scale) = (&terrain.ripples, base.drawn_ripple_height_scale());
         let large = Heightfield::random(1024, 1024, 0.0, 1.0, 11);
         let time = |field: &Heightfield, walk: HorizonWalk| -> Result<f64> {
             let mut ms = Vec::new();
@@ -265,8 +265,8 @@ impl DunesBench {
             Ok(crate::bench::report::Stats::of(&ms).median)
         };
         let steps = (field.width - 1) as u32;
-        let brute = time(&field, HorizonWalk::Brute { steps })?;
-        let linear = time(&field, HorizonWalk::Linear)?;
+        let brute = time(field, HorizonWalk::Brute { steps })?;
+        let linear = time(field, HorizonWalk::Linear)?;
         let mut m = BTreeMap::new();
         m.insert("horizon_map_brute_gpu_ms".to_owned(), brute);
         m.insert("horizon_map_linear_gpu_ms".to_owned(), linear);

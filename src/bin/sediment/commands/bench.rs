@@ -27,7 +27,8 @@ pub struct BenchArgs {
     #[arg(long, value_name = "V,V,...", value_delimiter = ',')]
     variants: Vec<String>,
     /// The report as JSON (for --compare); `-` writes it to stdout instead of the
-    /// Markdown tables (`sediment bench --json - | jq`), the tables then go to stderr (default: not written).
+    /// Markdown tables (`sediment bench --json - | jq`), the tables then go to stderr
+    /// (default: not written).
     #[arg(long, value_name = "FILE.json|-")]
     json: Option<PathBuf>,
     /// One CSV row per series and pass (default: not written).
@@ -35,7 +36,8 @@ pub struct BenchArgs {
     csv: Option<PathBuf>,
     /// A chart as .png or .svg: per scene, each variant's GPU time frame by frame
     /// (axes, legend); every series' median as a bar with p5-p95 whiskers, the floor
-    /// marked. With --compare: the ratios b / a per series and pass, 1.0 marked (default: not written).
+    /// marked. With --compare: the ratios b / a per series and pass, 1.0 marked
+    /// (default: not written).
     #[arg(long, value_name = "FILE.png|FILE.svg")]
     plot: Option<PathBuf>,
     /// Compare two JSON reports instead of running: per-pass ratios b / a (default:

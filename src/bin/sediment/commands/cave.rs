@@ -133,11 +133,7 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
         },
     )?;
     fail_on_validation_errors(&ctx)?;
-    // The picture by default only: asked for other outputs, nothing unasked is written.
-    let output = match (&a.output, &a.mesh, &a.flythrough) {
-        (None, None, None) => Some(PathBuf::from("cave.png")),
-        (o, ..) => o.clone(),
-    };
+    let output = super::picture(&a.output, &[&a.mesh, &a.flythrough], "cave.png");
     let (image, frame) = &rendered.frames[0];
     if let Some(output) = &output {
         sediment::export::png::write_png(output, image)?;

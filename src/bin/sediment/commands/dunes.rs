@@ -29,7 +29,8 @@ pub struct DunesArgs {
     gif_frames: u32,
     /// The dune field's heights: .png (16-bit greyscale, the metres at 0 and 65535 and
     /// the cell size in its tEXt chunks) or .exr (float metres); the range also goes
-    /// to FILE.json, and the ripple tile beside it as FILE-ripples.png/.exr (+ .json) (default: not written).
+    /// to FILE.json, and the ripple tile beside it as FILE-ripples.png/.exr (+ .json)
+    /// (default: not written).
     #[arg(long, value_name = "FILE.png|FILE.exr")]
     heightmap: Option<PathBuf>,
     /// The dune field as .glb (one period, tiling seamlessly, with UVs, the ripples as
@@ -107,11 +108,7 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         a.timing_frames,
     )?;
     fail_on_validation_errors(&ctx)?;
-    // The picture by default only: asked for other outputs, nothing unasked is written.
-    let output = match (&a.output, &a.gif, &a.heightmap, &a.mesh) {
-        (None, None, None, None) => Some(PathBuf::from("dunes.png")),
-        (o, ..) => o.clone(),
-    };
+    let output = super::picture(&a.output, &[&a.gif, &a.heightmap, &a.mesh], "dunes.png");
     if let Some(output) = &output {
         sediment::export::png::write_png(output, &out.image)?;
         crate::output::wrote(output);

@@ -49,7 +49,8 @@ pub struct GrowArgs {
     #[arg(long, value_name = "M", default_value_t = 1.0)]
     unit_scale: f32,
     /// Every ring of every speleothem as CSV: speleothem, kind, ring, year (with
-    /// --climate; else the pass), height along the growth and radius in metres (default: not written).
+    /// --climate; else the pass), height along the growth and radius in metres
+    /// (default: not written).
     #[arg(long, value_name = "FILE.csv")]
     csv: Option<PathBuf>,
     /// The first stalagmite cut open (a wedge removed), its rings as growth layers in
@@ -72,10 +73,11 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
             "must be in 1..=512"
         ));
     }
-    let output = match (&a.output, &a.gif, &a.mesh, &a.csv, &a.cut_away) {
-        (None, None, None, None, None) => Some(PathBuf::from("grow.png")),
-        (o, ..) => o.clone(),
-    };
+    let output = super::picture(
+        &a.output,
+        &[&a.gif, &a.mesh, &a.csv, &a.cut_away],
+        "grow.png",
+    );
     if let Some(o) = &output {
         check_extension(o, "-o", &["png"])?;
     }

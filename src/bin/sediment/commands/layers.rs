@@ -34,7 +34,8 @@ pub struct LayersArgs {
     /// Every layer's points as CSV (layer, time, point, x, y) (default: not written).
     #[arg(long, value_name = "FILE.csv")]
     csv: Option<PathBuf>,
-    /// The stalagmite growing layer by layer as an animated GIF of the section (default: not written).
+    /// The stalagmite growing layer by layer as an animated GIF of the section
+    /// (default: not written).
     #[arg(long, value_name = "FILE.gif")]
     gif: Option<PathBuf>,
     /// GIF frames, 2..=200 (default 40).
@@ -60,10 +61,11 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
     let setup = &resolved.scene;
     // The section by default only: asked for other outputs, nothing unasked is written
     // (`--mesh` used to write section.svg too).
-    let output = match (&a.output, &a.csv, &a.gif, &a.render, &a.mesh) {
-        (None, None, None, None, None) => Some(PathBuf::from("section.svg")),
-        (o, ..) => o.clone(),
-    };
+    let output = super::picture(
+        &a.output,
+        &[&a.csv, &a.gif, &a.render, &a.mesh],
+        "section.svg",
+    );
     if let Some(output) = &output {
         check_extension(output, "-o", &["svg", "png"])?;
     }
