@@ -50,6 +50,7 @@ fn reports_round_trip_and_compare_with_themselves_as_one() {
             frames: 3,
             warmup: 1,
             size: Size::new(64, 48),
+            reversed: false,
         };
         let report = bench::run(ctx, &opts, &mut |_| {}).expect("bench");
         assert_eq!(report.floor.len(), 2);
@@ -81,5 +82,33 @@ fn reports_round_trip_and_compare_with_themselves_as_one() {
         assert!(ratios.iter().all(|r| *r == "1.00" || *r == "-"), "{table}");
         assert!(report.markdown().contains("| cave | depth-5 | frame |"));
         assert!(report.csv().expect("csv").lines().count() > 3);
+    });
+}
+
+#[test]
+fn a_reversed_run_runs_the_variants_the_other_way_round() {
+    common::with_gpu(|ctx| {
+        let opts = BenchOptions {
+            scenes: vec!["cave".into()],
+            variants: vec!["depth-5".into(), "depth-6".into()],
+            frames: 1,
+            warmup: 0,
+            size: Size::new(32, 24),
+            reversed: false,
+        };
+        let order = |reversed: bool| -> Vec<String> {
+            let opts = BenchOptions {
+                reversed,
+                ..opts.clone()
+            };
+            bench::run(ctx, &opts, &mut |_| {})
+                .expect("bench")
+                .series
+                .into_iter()
+                .map(|s| s.variant)
+                .collect()
+        };
+        assert_eq!(order(false), ["depth-5", "depth-6"]);
+        assert_eq!(order(true), ["depth-6", "depth-5"]);
     });
 }

@@ -14,7 +14,9 @@
 //! - `cave` (`scene::cave::frame`): generation and the frame per octree depth 5..9.
 
 pub mod plot;
+pub mod repeat;
 pub mod report;
+pub mod targets;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -51,6 +53,9 @@ pub struct BenchOptions {
     pub warmup: u32,
     /// Frame size in pixels, the floor's too.
     pub size: Size,
+    /// Runs the scenes and each scene's variants in reverse order (`--repeat`
+    /// alternates, so no variant always runs first or last).
+    pub reversed: bool,
 }
 
 impl BenchOptions {
@@ -118,15 +123,24 @@ pub fn run(
         floor: Vec::new(),
         series: Vec::new(),
         paper_ratios: Vec::new(),
+        runs: Vec::new(),
     };
     progress("floor");
     report.floor = floor(ctx, opts)?;
     let mut runner = FrameRunner::new(ctx, opts.size)?;
-    for kind in crate::scene::registry() {
+    let mut kinds = crate::scene::registry();
+    if opts.reversed {
+        kinds.reverse();
+    }
+    for kind in kinds {
         let Some(mut bench) = kind.bench().filter(|_| opts.wants_scene(kind.name())) else {
             continue;
         };
-        for &variant in bench.variants() {
+        let mut variants = bench.variants().to_vec();
+        if opts.reversed {
+            variants.reverse();
+        }
+        for variant in variants {
             if !opts.wants(variant) {
                 continue;
             }

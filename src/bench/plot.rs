@@ -497,6 +497,7 @@ mod tests {
                 series("cave", "depth-5", &[scale * 20.0; 10]),
             ],
             paper_ratios: Vec::new(),
+            runs: Vec::new(),
         }
     }
 

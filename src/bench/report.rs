@@ -118,6 +118,10 @@ pub struct Report {
     pub series: Vec<SeriesResult>,
     /// The papers' timing ratios beside ours: (what, paper, ours).
     pub paper_ratios: Vec<PaperRatio>,
+    /// With `--repeat K`: the K whole runs this report is the median of medians of
+    /// (`bench::repeat::merge`); empty for a single run.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub runs: Vec<Report>,
 }
 
 /// A ratio the papers report, and the same ratio measured here.
@@ -169,8 +173,12 @@ impl Report {
     /// The results as Markdown tables.
     pub fn markdown(&self) -> String {
         let m = &self.meta;
+        let repeated = match self.runs.len() {
+            0 | 1 => String::new(),
+            k => format!("; the median of {k} runs' medians"),
+        };
         let mut out = format!(
-            "device: {} ({}), Vulkan {}; sediment {} ({}); {}x{}, {} frames after {} warm-up, {} threads\n\n",
+            "device: {} ({}), Vulkan {}; sediment {} ({}); {}x{}, {} frames after {} warm-up, {} threads{repeated}\n\n",
             m.device,
             m.driver,
             m.vulkan,
@@ -180,7 +188,7 @@ impl Report {
             m.height,
             m.frames,
             m.warmup,
-            m.threads
+            m.threads,
         );
         let floor = self.floor_ms();
         out.push_str("| scene | variant | pass | GPU min ms | GPU median ms | GPU p95 ms | CPU median ms | x floor |\n");
@@ -233,6 +241,10 @@ impl Report {
                 ));
             }
         }
+        if self.runs.len() > 1 {
+            out.push('\n');
+            out.push_str(&super::repeat::spread_markdown(self));
+        }
         out
     }
 
@@ -279,7 +291,7 @@ impl Report {
     }
 }
 
-fn number(v: f64) -> String {
+pub(crate) fn number(v: f64) -> String {
     if v.abs() >= 1e5 {
         format!("{v:.3e}")
     } else {

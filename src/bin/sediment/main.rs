@@ -188,6 +188,10 @@ fn main() -> ExitCode {
     let mut discarded = Vec::new();
     let result = match (run(cli), set) {
         (Ok(()), Some(set)) => set.commit().map(drop).map_err(Into::into),
+        // A bench whose targets did not hold still measured: its reports are written.
+        (Err(e), Some(set)) if e.is::<commands::bench::TargetsMissed>() => {
+            set.commit().map_err(anyhow::Error::from).and(Err(e))
+        }
         (Err(e), Some(set)) => {
             discarded = set.discard();
             Err(e)

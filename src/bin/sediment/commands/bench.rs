@@ -44,17 +44,94 @@ pub struct BenchArgs {
     /// run the bench).
     #[arg(long, num_args = 2, value_names = ["A.json", "B.json"])]
     compare: Option<Vec<PathBuf>>,
+    /// Runs the whole set K times, 1..=20, every second run in the reverse order, and
+    /// reports each row as the median of the K runs' medians with their spread; the
+    /// JSON keeps every run (default: 1).
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    repeat: u32,
+    /// Judges the run(s) against a targets file (the repository's: targets.toml) and
+    /// prints which hold; a target holds only when it holds in every run. Exit status
+    /// 0 only when all hold, 1 otherwise (the reports are written either way)
+    /// (default: no check).
+    #[arg(long, value_name = "TARGETS.toml")]
+    check: Option<PathBuf>,
+    /// With --check: judge these saved reports (`--json`; a --repeat report counts as
+    /// its runs) instead of running (default: run the bench).
+    #[arg(long, num_args = 1.., value_name = "REPORT.json", requires = "check", conflicts_with = "compare")]
+    from: Vec<PathBuf>,
 }
 
+/// `--check` found targets that did not hold: the command fails, but what it measured
+/// is written (main commits the outputs for this error and no other).
+#[derive(Debug)]
+pub struct TargetsMissed(pub String);
+
+impl std::fmt::Display for TargetsMissed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for TargetsMissed {}
+
 pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
+    use sediment::bench::targets::Targets;
     use sediment::bench::{self, BenchOptions, report::Report};
-    let read = |path: &PathBuf| -> anyhow::Result<Report> {
-        let text = std::fs::read_to_string(path).map_err(|source| sediment::Error::Read {
-            path: path.clone(),
-            source,
-        })?;
-        Report::from_json(&text).with_context(|| format!("reading {}", path.display()))
+    let read_text = |path: &PathBuf| -> anyhow::Result<String> {
+        Ok(
+            std::fs::read_to_string(path).map_err(|source| sediment::Error::Read {
+                path: path.clone(),
+                source,
+            })?,
+        )
     };
+    let read = |path: &PathBuf| -> anyhow::Result<Report> {
+        Report::from_json(&read_text(path)?).with_context(|| format!("reading {}", path.display()))
+    };
+    sediment::error::ensure_in_range((1..=20).contains(&a.repeat), "--repeat", "1..=20")?;
+    // The targets are read first: a typo in them should not cost a whole bench run.
+    let targets = match &a.check {
+        Some(path) => Some(
+            Targets::from_toml(&read_text(path)?)
+                .with_context(|| format!("reading {}", path.display()))?,
+        ),
+        None => None,
+    };
+    let judge = |report: &Report| -> anyhow::Result<()> {
+        let Some(targets) = &targets else {
+            return Ok(());
+        };
+        let runs: Vec<&Report> = if report.runs.is_empty() {
+            vec![report]
+        } else {
+            report.runs.iter().collect()
+        };
+        let verdict = targets.check(&runs);
+        say!("{}", verdict.markdown());
+        if verdict.all_hold() {
+            return Ok(());
+        }
+        let failed = verdict.failed();
+        Err(TargetsMissed(format!(
+            "{} of {} targets did not hold in every run: {}",
+            failed.len(),
+            verdict.rows.len(),
+            failed.join("; ")
+        ))
+        .into())
+    };
+    if !a.from.is_empty() {
+        let reports = a
+            .from
+            .iter()
+            .map(read)
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let runs: Vec<Report> = reports
+            .into_iter()
+            .flat_map(|r| if r.runs.is_empty() { vec![r] } else { r.runs })
+            .collect();
+        return judge(&bench::repeat::merge(runs)?);
+    }
     if let Some(p) = &a.plot {
         check_extension(p, "--plot", &["png", "svg"])?;
     }
@@ -83,16 +160,34 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         frames: a.frames,
         warmup: a.warmup,
         size: cli.size,
+        reversed: false,
     };
     opts.validate()?;
     let ctx = open_context(cli)?;
     let start = std::time::Instant::now();
     let mut step = 0usize;
-    let report = bench::run(&ctx, &opts, &mut |what| {
-        step += 1;
-        crate::output::step(&format!("{step:>2}: {what}"));
-    })?;
+    let mut runs = Vec::new();
+    for k in 0..a.repeat {
+        let opts = BenchOptions {
+            reversed: k % 2 == 1,
+            ..opts.clone()
+        };
+        let run_name = if a.repeat > 1 {
+            format!("run {}/{}: ", k + 1, a.repeat)
+        } else {
+            String::new()
+        };
+        runs.push(bench::run(&ctx, &opts, &mut |what| {
+            step += 1;
+            crate::output::step(&format!("{step:>2}: {run_name}{what}"));
+        })?);
+    }
     crate::output::done();
+    let report = if runs.len() == 1 {
+        runs.remove(0)
+    } else {
+        bench::repeat::merge(runs)?
+    };
     fail_on_validation_errors(&ctx)?;
     if json_to_stdout {
         say!("{}", report.to_json());
@@ -127,5 +222,5 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         crate::output::wrote(path);
     }
     log::info!("bench took {:.0} s", start.elapsed().as_secs_f64());
-    Ok(())
+    judge(&report)
 }
