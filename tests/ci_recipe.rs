@@ -68,3 +68,60 @@ fn the_workflow_runs_the_readme_test_command_on_lavapipe() {
         ".ci/run is not the README's test command: {test_command}"
     );
 }
+
+#[test]
+fn the_gpu_check_renders_every_preset_of_every_scene() {
+    let script = read(".ci/gpu-check");
+    let listed = |var: &str| -> Vec<String> {
+        let line = script
+            .lines()
+            .find(|l| l.starts_with(&format!("{var}=\"")))
+            .unwrap_or_else(|| panic!("{var} in .ci/gpu-check"));
+        line.split('"')
+            .nth(1)
+            .unwrap_or("")
+            .split_whitespace()
+            .map(str::to_owned)
+            .collect()
+    };
+    let names = |presets: &[(&str, &str)]| -> Vec<String> {
+        presets.iter().map(|(n, _)| (*n).to_owned()).collect()
+    };
+    assert_eq!(
+        listed("GROW_PRESETS"),
+        names(sediment::scene::grow::PRESETS)
+    );
+    assert_eq!(
+        listed("DUNES_PRESETS"),
+        names(sediment::scene::dunes::PRESETS)
+    );
+    assert_eq!(
+        listed("CAVE_PRESETS"),
+        names(sediment::scene::cave::PRESETS)
+    );
+    assert_eq!(
+        listed("LAYERS_PRESETS"),
+        names(sediment::scene::layers::PRESETS)
+    );
+    for scene in ["grow", "dunes", "cave", "layers"] {
+        assert!(
+            script.contains(&format!("in ${}_PRESETS", scene.to_uppercase())),
+            "{scene}"
+        );
+    }
+    assert!(
+        script.contains("bench --frames $frames --json"),
+        "the bench report"
+    );
+    // The shell parses it.
+    let out = Command::new("sh")
+        .args(["-n", ".ci/gpu-check"])
+        .current_dir(root())
+        .output()
+        .expect("sh");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
