@@ -308,11 +308,12 @@ impl SandSim {
     ///
     /// Each phase's arithmetic is the same, in the same order, whatever the number of
     /// threads: rows are independent in saltation and in the along-wind relaxation,
-    /// and creep and the Jacobi sweep read only the buffer before them, so a band of
-    /// rows is computed by one task from its halo (the band and a row either side),
-    /// the two halo rows computed twice (by this band and its neighbour) and
-    /// identically. One parallel dispatch runs saltation and creep, one each
-    /// avalanche sweep: on small fields the dispatches, not the cells, were the cost.
+    /// creep reads only the buffer before it and the pairs of rows of an avalanche
+    /// phase share no cell, so a band of rows is computed by one task from its halo
+    /// (the band and the rows either side it needs), the halo rows computed twice (by
+    /// this band and its neighbour) and identically. One parallel dispatch runs
+    /// saltation and creep, one each avalanche sweep: on small fields the dispatches,
+    /// not the cells, were the cost.
     pub fn step(&mut self) {
         let (w, h) = (self.field.width, self.field.height);
         let law = RowLaw {
