@@ -87,22 +87,15 @@ fn the_gpu_check_renders_every_preset_of_every_scene() {
     let names = |presets: &[(&str, &str)]| -> Vec<String> {
         presets.iter().map(|(n, _)| (*n).to_owned()).collect()
     };
-    assert_eq!(
-        listed("GROW_PRESETS"),
-        names(sediment::scene::grow::PRESETS)
-    );
-    assert_eq!(
-        listed("DUNES_PRESETS"),
-        names(sediment::scene::dunes::PRESETS)
-    );
-    assert_eq!(
-        listed("CAVE_PRESETS"),
-        names(sediment::scene::cave::PRESETS)
-    );
-    assert_eq!(
-        listed("LAYERS_PRESETS"),
-        names(sediment::scene::layers::PRESETS)
-    );
+    use sediment::scene::{cave, dunes, grow, layers};
+    for (var, presets) in [
+        ("GROW_PRESETS", grow::PRESETS),
+        ("DUNES_PRESETS", dunes::PRESETS),
+        ("CAVE_PRESETS", cave::PRESETS),
+        ("LAYERS_PRESETS", layers::PRESETS),
+    ] {
+        assert_eq!(listed(var), names(presets), "{var}");
+    }
     for scene in ["grow", "dunes", "cave", "layers"] {
         assert!(
             script.contains(&format!("in ${}_PRESETS", scene.to_uppercase())),
