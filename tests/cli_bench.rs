@@ -79,6 +79,11 @@ fn bad_input_is_named_and_nothing_is_written() {
         ),
         (vec!["bench", "--plot", "chart.jpg"], "--plot"),
         (
+            vec!["bench", "--repeat", "0", "--json", json.as_str()],
+            "--repeat",
+        ),
+        (vec!["bench", "--from", json.as_str()], "--check"),
+        (
             vec!["bench", "--compare", text.as_str(), text.as_str()],
             "not a sediment bench report",
         ),

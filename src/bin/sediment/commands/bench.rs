@@ -46,7 +46,7 @@ pub struct BenchArgs {
     compare: Option<Vec<PathBuf>>,
     /// Runs the whole set K times, 1..=20, every second run in the reverse order, and
     /// reports each row as the median of the K runs' medians with their spread; the
-    /// JSON keeps every run (default: 1).
+    /// JSON keeps every run.
     #[arg(long, value_name = "K", default_value_t = 1)]
     repeat: u32,
     /// Judges the run(s) against a targets file (the repository's: targets.toml) and
