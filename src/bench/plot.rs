@@ -221,9 +221,17 @@ fn draw_report<DB: DrawingBackend>(
             .x_label_area_size(34)
             .y_label_area_size(58)
             .build_cartesian_2d(0f64..(frames - 1) as f64, 0f64..top_ms)?;
+        // A --repeat report holds every run's frames, one run after another.
+        let x_desc = match report.runs.len() {
+            0 | 1 => "frame".to_owned(),
+            k => format!("frame ({k} runs, one after another)"),
+        };
         chart
             .configure_mesh()
-            .x_desc("frame")
+            .x_desc(x_desc)
+            // No more labels than frames: fractional ticks printed as integers
+            // repeated themselves ("0 0 1 2 2").
+            .x_labels(frames.min(11))
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_desc("GPU ms")
             .label_style((FONT, 12))
