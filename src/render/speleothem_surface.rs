@@ -134,9 +134,14 @@ impl SpeleothemSurfacePass {
             .fragment(FRAGMENT_INTERFACE.shader)
             .vertex_layout(ring_vertex_layout())
             .target(target);
-        // Straws are open tubes: both sides are visible (the shader flips back faces).
-        desc.cull_mode = vk::CullModeFlags::NONE;
+        // Back faces culled: with the caps every speleothem is closed but for its
+        // base ring, which is in the rock, so no back face shows. Culled, the
+        // rasteriser sets up half the triangles (the pass is geometry-bound on
+        // lavapipe; the fig9 presets differ in 3-24 edge samples). The caps pipeline
+        // keeps both sides, as before.
+        desc.cull_mode = vk::CullModeFlags::BACK;
         let pipeline = desc.build(ctx, &layout)?;
+        desc.cull_mode = vk::CullModeFlags::NONE;
         let caps = desc
             .geometry(CAP_GEOMETRY_INTERFACE.shader)
             .build(ctx, &layout)?;
