@@ -388,20 +388,13 @@ impl SandSim {
                 // Local row i is row band * BAND + i - 2: even local rows are even rows
                 // (BAND and h are even), so local pairs are the phases' pairs.
                 let halo = &mut halo[..(rows + 4) * w];
-                let mut worst = 0.0f64;
                 for (i, row) in halo.chunks_exact_mut(w).enumerate() {
                     let y = (band * BAND + i + 2 * h - 2) % h;
                     row.copy_from_slice(&src[y * w..(y + 1) * w]);
-                    worst = worst.max(relax_row(row, limit));
                 }
-                for pair in halo.chunks_exact_mut(2 * w) {
-                    let (a, b) = pair.split_at_mut(w);
-                    worst = worst.max(relax_rows(a, b, limit));
-                }
-                for pair in halo[w..(rows + 3) * w].chunks_exact_mut(2 * w) {
-                    let (a, b) = pair.split_at_mut(w);
-                    worst = worst.max(relax_rows(a, b, limit));
-                }
+                let worst = relax_each_row(halo, w, limit)
+                    .max(relax_pairs(halo, w, limit))
+                    .max(relax_pairs(&mut halo[w..(rows + 3) * w], w, limit));
                 out.copy_from_slice(&halo[2 * w..(rows + 2) * w]);
                 worst
             })
@@ -418,28 +411,11 @@ impl SandSim {
         // BAND is even, so bands hold whole pairs.
         let first = data
             .par_chunks_mut(w * BAND)
-            .map(|band| {
-                let mut worst = 0.0f64;
-                for row in band.chunks_exact_mut(w) {
-                    worst = worst.max(relax_row(row, limit));
-                }
-                for pair in band.chunks_exact_mut(2 * w) {
-                    let (a, b) = pair.split_at_mut(w);
-                    worst = worst.max(relax_rows(a, b, limit));
-                }
-                worst
-            })
+            .map(|band| relax_each_row(band, w, limit).max(relax_pairs(band, w, limit)))
             .reduce(|| 0.0, f64::max);
         let second = data[w..]
             .par_chunks_mut(w * BAND)
-            .map(|band| {
-                band.chunks_exact_mut(2 * w)
-                    .map(|pair| {
-                        let (a, b) = pair.split_at_mut(w);
-                        relax_rows(a, b, limit)
-                    })
-                    .fold(0.0f64, f64::max)
-            })
+            .map(|band| relax_pairs(band, w, limit))
             .reduce(|| 0.0, f64::max);
         let (head, tail) = data.split_at_mut((h - 1) * w);
         let wrap = relax_rows(tail, &mut head[..w], limit);
@@ -447,21 +423,47 @@ impl SandSim {
     }
 }
 
-/// Relaxes each column's pair (a[x], b[x]) steeper than `limit` by half its excess;
-/// returns the largest excess seen.
-fn relax_rows(a: &mut [f64], b: &mut [f64], limit: f64) -> f64 {
-    let mut worst = 0.0f64;
-    for (a, b) in a.iter_mut().zip(b.iter_mut()) {
-        let d = *a - *b;
-        let excess = d.abs() - limit;
-        worst = if excess > worst { excess } else { worst };
-        if excess > 0.0 {
-            let m = 0.5 * excess * d.signum();
-            *a -= m;
-            *b += m;
-        }
+/// One axial pair steeper than `limit` sheds half its excess downhill (mass moves
+/// between the two only); returns the pair's excess, relaxed or not.
+fn shed(a: &mut f64, b: &mut f64, limit: f64) -> f64 {
+    let d = *a - *b;
+    let excess = d.abs() - limit;
+    if excess > 0.0 {
+        let m = 0.5 * excess * d.signum();
+        *a -= m;
+        *b += m;
     }
-    worst
+    excess
+}
+
+/// The largest of `worst` and `excess` (plain comparison: no height is NaN).
+fn worse(worst: f64, excess: f64) -> f64 {
+    if excess > worst { excess } else { worst }
+}
+
+/// Every row (of `w` cells) of `rows` relaxed along the wind; the largest excess seen.
+fn relax_each_row(rows: &mut [f64], w: usize, limit: f64) -> f64 {
+    rows.chunks_exact_mut(w)
+        .map(|row| relax_row(row, limit))
+        .fold(0.0, f64::max)
+}
+
+/// Rows (0, 1), (2, 3), ... of `rows` (of `w` cells) relaxed across the wind, column by
+/// column (a trailing odd row is left alone); the largest excess seen.
+fn relax_pairs(rows: &mut [f64], w: usize, limit: f64) -> f64 {
+    rows.chunks_exact_mut(2 * w)
+        .map(|pair| {
+            let (a, b) = pair.split_at_mut(w);
+            relax_rows(a, b, limit)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Each column's pair (a[x], b[x]) shed; the largest excess seen.
+fn relax_rows(a: &mut [f64], b: &mut [f64], limit: f64) -> f64 {
+    a.iter_mut()
+        .zip(b.iter_mut())
+        .fold(0.0, |worst, (a, b)| worse(worst, shed(a, b, limit)))
 }
 
 /// Nishimori–Ouchi creep of the middle row of `rows` (three rows, periodic in x) into
@@ -489,14 +491,9 @@ fn relax_row(row: &mut [f64], limit: f64) -> f64 {
     let w = row.len();
     let mut worst = 0.0f64;
     let mut relax = |a: usize, b: usize| {
-        let d = row[a] - row[b];
-        let excess = d.abs() - limit;
-        worst = if excess > worst { excess } else { worst };
-        if excess > 0.0 {
-            let m = 0.5 * excess * d.signum();
-            row[a] -= m;
-            row[b] += m;
-        }
+        let (mut x, mut y) = (row[a], row[b]);
+        worst = worse(worst, shed(&mut x, &mut y, limit));
+        (row[a], row[b]) = (x, y);
     };
     for x in 0..w - 1 {
         relax(x, x + 1);
