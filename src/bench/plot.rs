@@ -370,12 +370,7 @@ fn draw_compare<DB: DrawingBackend>(
 pub fn compare_rows(a: &Report, b: &Report) -> Vec<(String, f64)> {
     let mut rows = Vec::new();
     for sa in a.floor.iter().chain(&a.series) {
-        let Some(sb) = b
-            .floor
-            .iter()
-            .chain(&b.series)
-            .find(|s| s.scene == sa.scene && s.variant == sa.variant)
-        else {
+        let Some(sb) = b.series_of(&sa.scene, &sa.variant) else {
             continue;
         };
         let name = format!("{} / {}", sa.scene, sa.variant);

@@ -165,10 +165,7 @@ pub fn spread_markdown(merged: &Report) -> String {
             let values = runs
                 .iter()
                 .filter_map(|run| {
-                    run.floor
-                        .iter()
-                        .chain(&run.series)
-                        .find(|r| r.scene == s.scene && r.variant == s.variant)
+                    run.series_of(&s.scene, &s.variant)
                         .and_then(|r| value(run, r))
                 })
                 .collect();
@@ -184,9 +181,7 @@ pub fn spread_markdown(merged: &Report) -> String {
             Some(r.frame_gpu_ms.median)
         });
         if s.scene != "floor" {
-            row(s, "x floor", &|run, r| {
-                run.floor_ms().map(|f| r.frame_gpu_ms.median / f)
-            });
+            row(s, "x floor", &|run, r| run.times_floor(r));
         }
         for k in s.metrics.keys() {
             row(s, k, &|_, r| r.metrics.get(k).copied());

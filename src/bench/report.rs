@@ -161,6 +161,37 @@ impl Report {
         Ok(report)
     }
 
+    /// The series of `scene` and `variant`, the floor's included, if it was measured.
+    pub fn series_of(&self, scene: &str, variant: &str) -> Option<&SeriesResult> {
+        self.floor
+            .iter()
+            .chain(&self.series)
+            .find(|s| s.scene == scene && s.variant == variant)
+    }
+
+    /// `s`'s median GPU frame as a multiple of this report's floor.
+    pub fn times_floor(&self, s: &SeriesResult) -> Option<f64> {
+        self.floor_ms().map(|f| s.frame_gpu_ms.median / f)
+    }
+
+    /// The runs this report stands for: its `--repeat` runs, or itself alone.
+    pub fn each_run(&self) -> Vec<&Report> {
+        if self.runs.is_empty() {
+            vec![self]
+        } else {
+            self.runs.iter().collect()
+        }
+    }
+
+    /// [`Report::each_run`], owned.
+    pub fn into_runs(self) -> Vec<Report> {
+        if self.runs.is_empty() {
+            vec![self]
+        } else {
+            self.runs
+        }
+    }
+
     /// The median GPU frame of the trivial full-screen pass (the floor's unit).
     pub fn floor_ms(&self) -> Option<f64> {
         self.floor
@@ -190,11 +221,12 @@ impl Report {
             m.warmup,
             m.threads,
         );
-        let floor = self.floor_ms();
         out.push_str("| scene | variant | pass | GPU min ms | GPU median ms | GPU p95 ms | CPU median ms | x floor |\n");
         out.push_str("|---|---|---|---:|---:|---:|---:|---:|\n");
         for s in self.floor.iter().chain(&self.series) {
-            let times_floor = |ms: f64| floor.map_or("-".to_owned(), |f| format!("{:.2}", ms / f));
+            let times_floor = self
+                .times_floor(s)
+                .map_or("-".to_owned(), |x| format!("{x:.2}"));
             out.push_str(&format!(
                 "| {} | {} | frame | {:.2} | {:.2} | {:.2} | {:.2} | {} |\n",
                 s.scene,
@@ -203,7 +235,7 @@ impl Report {
                 s.frame_gpu_ms.median,
                 s.frame_gpu_ms.p95,
                 s.frame_cpu_ms.median,
-                times_floor(s.frame_gpu_ms.median)
+                times_floor
             ));
             if s.passes.len() > 1 {
                 for p in &s.passes {
@@ -318,16 +350,9 @@ pub fn compare(a: &Report, b: &Report) -> String {
             "-".to_owned()
         }
     };
-    let key = |s: &SeriesResult| (s.scene.clone(), s.variant.clone());
-    let b_index: BTreeMap<_, _> = b
-        .floor
-        .iter()
-        .chain(&b.series)
-        .map(|s| (key(s), s))
-        .collect();
     let mut missing = 0;
     for sa in a.floor.iter().chain(&a.series) {
-        let Some(sb) = b_index.get(&key(sa)) else {
+        let Some(sb) = b.series_of(&sa.scene, &sa.variant) else {
             missing += 1;
             continue;
         };

@@ -43,13 +43,10 @@ pub struct Target {
 impl Target {
     /// The target's value in `run`, if its series was measured there.
     pub fn value_in(&self, run: &Report) -> Option<f64> {
-        let s = run
-            .series
-            .iter()
-            .find(|s| s.scene == self.scene && s.variant == self.variant)?;
+        let s = run.series_of(&self.scene, &self.variant)?;
         match self.value.as_str() {
             "frame_gpu_ms" => Some(s.frame_gpu_ms.median),
-            "frame_x_floor" => run.floor_ms().map(|f| s.frame_gpu_ms.median / f),
+            "frame_x_floor" => run.times_floor(s),
             metric => s.metrics.get(metric).copied(),
         }
         .filter(|v| v.is_finite())

@@ -101,12 +101,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         let Some(targets) = &targets else {
             return Ok(());
         };
-        let runs: Vec<&Report> = if report.runs.is_empty() {
-            vec![report]
-        } else {
-            report.runs.iter().collect()
-        };
-        let verdict = targets.check(&runs);
+        let verdict = targets.check(&report.each_run());
         say!("{}", verdict.markdown());
         if verdict.all_hold() {
             return Ok(());
@@ -126,10 +121,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
             .iter()
             .map(read)
             .collect::<anyhow::Result<Vec<_>>>()?;
-        let runs: Vec<Report> = reports
-            .into_iter()
-            .flat_map(|r| if r.runs.is_empty() { vec![r] } else { r.runs })
-            .collect();
+        let runs: Vec<Report> = reports.into_iter().flat_map(Report::into_runs).collect();
         return judge(&bench::repeat::merge(runs)?);
     }
     if let Some(p) = &a.plot {
