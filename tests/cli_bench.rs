@@ -7,11 +7,10 @@ mod common;
 
 use common::cli::{scratch, sediment};
 
-#[test]
-fn a_small_run_writes_its_reports_and_compares_with_itself() {
-    let dir = scratch("bench");
-    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
-    let out = sediment(&[
+/// `sediment bench` of the cave at octree depth 5 alone, 2 measured frames after
+/// `warmup` at `size`, with `extra` options and validation on.
+fn depth5_bench(warmup: &str, size: &str, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
         "bench",
         "cave",
         "--variants",
@@ -19,17 +18,31 @@ fn a_small_run_writes_its_reports_and_compares_with_itself() {
         "--frames",
         "2",
         "--warmup",
-        "1",
+        warmup,
         "--size",
+        size,
+    ];
+    args.extend_from_slice(extra);
+    args.push("--validate");
+    sediment(&args)
+}
+
+#[test]
+fn a_small_run_writes_its_reports_and_compares_with_itself() {
+    let dir = scratch("bench");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let out = depth5_bench(
+        "1",
         "64x48",
-        "--json",
-        &s("a.json"),
-        "--csv",
-        &s("a.csv"),
-        "--plot",
-        &s("a.png"),
-        "--validate",
-    ]);
+        &[
+            "--json",
+            &s("a.json"),
+            "--csv",
+            &s("a.csv"),
+            "--plot",
+            &s("a.png"),
+        ],
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     common::cli::assert_success(&out, "sediment");
     assert!(
@@ -128,25 +141,11 @@ fn repeated_runs_are_judged_against_a_targets_file() {
     )
     .expect("write");
     let bench = |check: &str, json: &str| {
-        sediment(&[
-            "bench",
-            "cave",
-            "--variants",
-            "depth-5",
-            "--frames",
-            "2",
-            "--warmup",
+        depth5_bench(
             "0",
-            "--size",
             "32x24",
-            "--repeat",
-            "3",
-            "--json",
-            &s(json),
-            "--check",
-            &s(check),
-            "--validate",
-        ])
+            &["--repeat", "3", "--json", &s(json), "--check", &s(check)],
+        )
     };
     let out = bench("holds.toml", "r.json");
     common::cli::assert_success(&out, "sediment bench --repeat 3 --check");
