@@ -39,30 +39,56 @@ fn measure(
     (e1, e4)
 }
 
-// Measured on llvmpipe (Mesa 22.3.6): fig9g 1.13 -> 0.72 (0.64), cave fig8 0.27 ->
-// 0.15 (0.55). What remains in fig9g is shading inside the speleothems: the bump
-// detail a 4x4 supersampled frame resolves and a 1-sample-shaded pixel filters (mip
-// chain and Toksvig), not edges; in the cave, edges between bright speleothems and
-// dark rock that 4 samples resolve in 5 steps where the reference has 17. Issue 14
-// asks for half; this test holds what is achieved.
-const RATIO: f64 = 0.75;
+// Measured on llvmpipe (Mesa 22.3.6): fig9g 1.13 -> 0.55 (0.49) with its speleothems
+// shaded once per sample (0.72, 0.64, when shaded once per pixel: what remained was the
+// bump detail a 4x4 supersampled frame resolves inside the silhouettes), cave fig8
+// 0.27 -> 0.15 (0.55): edges between bright speleothems and dark rock that 4 samples
+// resolve in 5 steps where the reference has 17 (lavapipe offers 1 or 4 samples).
+// Issue 14 asks for half: fig9g holds it, the cave holds what is achieved.
+const FIG9G_RATIO: f64 = 0.5;
+const CAVE_RATIO: f64 = 0.6;
+
+fn fig9g(ctx: &Arc<Context>, size: Size) -> image::RgbaImage {
+    let scene = grow::preset("fig9g").expect("preset");
+    grow::grow(
+        ctx,
+        &scene,
+        size,
+        &grow::GrowOutputs::default(),
+        &mut |_, _| {},
+    )
+    .expect("grow")
+    .image
+}
 
 #[test]
 fn multisampling_brings_fig9g_closer_to_the_supersampled_frame() {
-    let scene = grow::preset("fig9g").expect("preset");
-    let (e1, e4) = measure("fig9g", Size::new(720, 480), |ctx, size| {
-        grow::grow(
-            ctx,
-            &scene,
-            size,
-            &grow::GrowOutputs::default(),
-            &mut |_, _| {},
-        )
-        .expect("grow")
-        .image
-    });
+    let (e1, e4) = measure("fig9g", Size::new(720, 480), fig9g);
     assert!(e1 > 0.5, "the single-sample frame aliases ({e1:.3})");
-    assert!(e4 <= RATIO * e1, "fig9g: {e4:.3} > {RATIO} x {e1:.3}");
+    assert!(
+        e4 <= FIG9G_RATIO * e1,
+        "fig9g: {e4:.3} > {FIG9G_RATIO} x {e1:.3}"
+    );
+}
+
+/// The viewer's default, once per pixel, is measurably behind (`--sample-shading off`).
+#[test]
+fn shading_once_per_sample_is_what_brings_fig9g_to_half() {
+    let size = Size::new(720, 480);
+    let supersampled = fig9g(&common::gpu_with_samples(Some(1)), Size::new(2880, 1920));
+    let per_pixel = common::gpu_with_shading(None, Some(false));
+    assert!(!per_pixel.sample_shading());
+    let e = distance_from_supersampled(&fig9g(&per_pixel, size), &supersampled, 4);
+    common::assert_no_validation_errors(&per_pixel);
+    let per_sample = common::gpu_with_shading(None, Some(true));
+    assert!(per_sample.sample_shading());
+    let e_sampled = distance_from_supersampled(&fig9g(&per_sample, size), &supersampled, 4);
+    common::assert_no_validation_errors(&per_sample);
+    eprintln!("fig9g: once per pixel {e:.3}, once per sample {e_sampled:.3}");
+    assert!(
+        e_sampled <= 0.85 * e,
+        "per sample {e_sampled:.3} is not clearly nearer than per pixel {e:.3}"
+    );
 }
 
 #[test]
@@ -78,7 +104,10 @@ fn multisampling_brings_the_cave_closer_to_the_supersampled_frame() {
             .0
     });
     assert!(e1 > 0.1, "the single-sample frame aliases ({e1:.3})");
-    assert!(e4 <= RATIO * e1, "cave fig8: {e4:.3} > {RATIO} x {e1:.3}");
+    assert!(
+        e4 <= CAVE_RATIO * e1,
+        "cave fig8: {e4:.3} > {CAVE_RATIO} x {e1:.3}"
+    );
 }
 
 // Fig. 17 at the paper's size: measured 1.97 with one sample, 1.85 with four; before

@@ -33,6 +33,9 @@ fn the_viewer_screenshot_matches_the_headless_render() {
         &dir,
         &[
             "--validate",
+            // Shaded as the headless picture is (the viewer's default is per pixel).
+            "--sample-shading",
+            "on",
             "view",
             "grow",
             "--preset",

@@ -62,6 +62,7 @@ fn an_unknown_device_name_is_a_clear_error() {
         validate: false,
         window: None,
         samples: None,
+        sample_shading: None,
     }) {
         Ok(_) => panic!("no device is called no-such-gpu-xyz"),
         Err(e) => e.to_string(),

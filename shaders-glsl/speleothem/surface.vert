@@ -22,7 +22,8 @@ layout(push_constant) uniform Surface {
     // w 1 for vertices frozen by the append-only growth, else 0
     vec4 params;
     // x environment reflection strength, y the environment cube's last mip level, z the
-    // rings of the whole growth when colouring by age (0: by mineral)
+    // rings of the whole growth when colouring by age (0: by mineral), w the share of
+    // a pixel's side one sample shades (1 / sqrt(samples per pixel))
     vec4 look;
 } surface;
 

@@ -27,6 +27,10 @@ pub struct ContextOptions {
     pub window: Option<raw_window_handle::RawDisplayHandle>,
     /// Anti-aliasing samples per pixel of every frame (1, 2, 4 or 8; `None`: 4).
     pub samples: Option<u32>,
+    /// Shade surfaces with sub-pixel detail (the speleothems' normal map) once per
+    /// sample rather than once per pixel when multisampled (`None`: on for headless
+    /// work, off with a window, where it would cost the viewer half its frame rate).
+    pub sample_shading: Option<bool>,
 }
 
 /// Frames' samples per pixel unless asked otherwise.
@@ -211,6 +215,8 @@ pub fn probe_devices() -> Result<Vec<DeviceReport>> {
 pub struct Context {
     /// What every frame is drawn into (its samples are `ContextOptions::samples`).
     frame_format: super::TargetFormat,
+    /// `ContextOptions::sample_shading`, resolved.
+    sample_shading: bool,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
     pub(crate) xfb: ash::ext::transform_feedback::Device,
@@ -287,7 +293,9 @@ impl Context {
         if options.window.is_some() {
             device_extensions.push(ash::khr::swapchain::NAME.as_ptr());
         }
-        let core = vk::PhysicalDeviceFeatures::default().geometry_shader(true);
+        let core = vk::PhysicalDeviceFeatures::default()
+            .geometry_shader(true)
+            .sample_rate_shading(true);
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
@@ -426,6 +434,7 @@ impl Context {
         );
         let ctx = Context {
             frame_format,
+            sample_shading: options.sample_shading.unwrap_or(options.window.is_none()),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(command_pool),
             xfb: xfb_device,
@@ -453,6 +462,12 @@ impl Context {
     /// The format, depth and samples of every frame drawn on this context.
     pub fn frame_format(&self) -> super::TargetFormat {
         self.frame_format
+    }
+
+    /// Whether surfaces with sub-pixel detail shade every sample of a multisampled
+    /// frame (`ContextOptions::sample_shading`; false for single-sample frames).
+    pub fn sample_shading(&self) -> bool {
+        self.sample_shading && self.frame_format.samples != vk::SampleCountFlags::TYPE_1
     }
 
     /// Whether validation is on for this context.

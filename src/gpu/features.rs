@@ -190,6 +190,12 @@ pub(crate) fn probe(instance: &ash::Instance, physical: vk::PhysicalDevice) -> D
             yes(feats.geometry_shader == vk::TRUE),
         ),
         required(
+            "sampleRateShading",
+            "speleothem surfaces are shaded once per sample (their bump detail anti-aliased)",
+            feats.sample_rate_shading == vk::TRUE,
+            yes(feats.sample_rate_shading == vk::TRUE),
+        ),
+        required(
             "transformFeedback",
             "the grown mesh is streamed out and fed back",
             xfb_feat.transform_feedback == vk::TRUE,

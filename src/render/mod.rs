@@ -46,6 +46,7 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &speleothem_surface::VERTEX_INTERFACE,
         &speleothem_surface::CAP_GEOMETRY_INTERFACE,
         &speleothem_surface::FRAGMENT_INTERFACE,
+        &speleothem_surface::PER_SAMPLE_FRAGMENT_INTERFACE,
         &xfb_selftest::VERTEX_INTERFACE,
         &xfb_selftest::GEOMETRY_INTERFACE,
     ]

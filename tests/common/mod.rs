@@ -25,6 +25,12 @@ pub fn gpu() -> Arc<Context> {
 
 /// `gpu()` whose frames take `samples` per pixel (`None`: the default, 4).
 pub fn gpu_with_samples(samples: Option<u32>) -> Arc<Context> {
+    gpu_with_shading(samples, None)
+}
+
+/// `gpu_with_samples` whose speleothems shade once per sample or once per pixel
+/// (`sample_shading`, `None`: the default, per sample headless).
+pub fn gpu_with_shading(samples: Option<u32>, sample_shading: Option<bool>) -> Arc<Context> {
     let options = ContextOptions {
         device: std::env::var("SEDIMENT_DEVICE")
             .ok()
@@ -32,6 +38,7 @@ pub fn gpu_with_samples(samples: Option<u32>) -> Arc<Context> {
         validate: true,
         window: None,
         samples,
+        sample_shading,
     };
     match Context::new(&options) {
         Ok(ctx) => {

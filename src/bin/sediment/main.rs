@@ -60,6 +60,14 @@ pub struct Cli {
     #[arg(long, global = true, value_name = "N", default_value_t = 4)]
     pub samples: u32,
 
+    /// Shade the speleothems' bump detail once per sample of a multisampled frame
+    /// instead of once per pixel (their sparkle anti-aliased), on or off (default: on
+    /// for pictures, off in `view`, where it costs lavapipe about a third of the frame
+    /// rate).
+    #[arg(long, global = true, value_name = "on|off",
+          value_parser = sediment::scene::params::on_off)]
+    pub sample_shading: Option<bool>,
+
     /// Seed for every random choice (0..=18446744073709551615); the same seed and
     /// driver give the same bytes.
     #[arg(long, global = true, value_name = "N", default_value_t = 1)]
@@ -295,6 +303,7 @@ pub fn context_options(cli: &Cli) -> ContextOptions {
         validate: cli.validate,
         window: None,
         samples: Some(cli.samples),
+        sample_shading: cli.sample_shading,
     }
     .with_env()
 }
