@@ -51,6 +51,9 @@ fn the_viewer_screenshot_matches_the_headless_render() {
     assert!(stdout.contains("while growing: 29 frames"), "{stdout}");
     let headless = common::cli::sediment(&[
         "--validate",
+        // Drawn as the viewer draws its frames.
+        "--supersample",
+        "1",
         "grow",
         "--preset",
         "fig9g",
@@ -200,6 +203,10 @@ fn resizes_and_a_camera_found_interactively_render_headless() {
     assert_eq!(shot.dimensions(), (480, 320));
     let mut args = vec![
         "--validate",
+        "--supersample",
+        "1",
+        "--sample-shading",
+        "off",
         "--size",
         "480x320",
         "grow",
@@ -255,7 +262,17 @@ fn view_matches_headless(
     common::cli::assert_success(&view(x, dir, &v), &format!("sediment view {scene}"));
     let png = dir.join(format!("{scene}-headless.png"));
     let png = png.to_string_lossy();
-    let mut h = vec!["--validate", "--size", "320x200", scene];
+    // Drawn as the viewer draws its frames.
+    let mut h = vec![
+        "--validate",
+        "--supersample",
+        "1",
+        "--sample-shading",
+        "off",
+        "--size",
+        "320x200",
+        scene,
+    ];
     h.extend(args);
     h.extend(headless_extra);
     h.extend([output_flag, &png]);

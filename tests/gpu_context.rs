@@ -63,6 +63,7 @@ fn an_unknown_device_name_is_a_clear_error() {
         window: None,
         samples: None,
         sample_shading: None,
+        supersample: None,
     }) {
         Ok(_) => panic!("no device is called no-such-gpu-xyz"),
         Err(e) => e.to_string(),
@@ -192,4 +193,21 @@ fn a_mip_chain_from_several_given_levels_completes_with_blits() {
             }
         }
     });
+}
+
+#[test]
+fn supersampling_is_lowered_to_what_the_device_and_the_budget_hold() {
+    use sediment::frame::supersample::factor_for;
+    use sediment::scene::Size;
+    let ctx = common::gpu();
+    let max = ctx.info().max_image_dimension_2d;
+    assert_eq!(factor_for(&ctx, Size::new(720, 480), 2), 2);
+    assert_eq!(factor_for(&ctx, Size::new(720, 480), 4), 4);
+    // Twice the side would pass the device's largest image.
+    assert_eq!(factor_for(&ctx, Size::new(max / 2 + 1, 16), 2), 1);
+    assert_eq!(factor_for(&ctx, Size::new(max / 3, 16), 4), 3);
+    // 6000x6000 fits the 4 GiB host budget at 4 samples, 12000x12000 does not.
+    assert_eq!(factor_for(&ctx, Size::new(3000, 3000), 2), 2);
+    assert_eq!(factor_for(&ctx, Size::new(6000, 6000), 2), 1);
+    common::assert_no_validation_errors(&ctx);
 }

@@ -433,11 +433,16 @@ fn a_frame_over_the_memory_budget_is_refused_and_the_estimate_holds() {
     );
     assert!(std::fs::read_dir(&dir).expect("dir").next().is_none());
     // The estimate is an upper bound on what a frame really costs: the peak of a
-    // 3000x3000 cave over a 64x64 one stays under it.
+    // 3000x3000 cave over a 64x64 one stays under it (one frame drawn at the size: a
+    // supersampled picture is a frame of K times the size, budgeted as such by
+    // `frame::supersample::factor_for`).
     use sediment::gpu::TargetFormat;
     let estimate = TargetFormat::FRAME.frame_bytes(3000, 3000) as f64 / (1 << 20) as f64;
-    let small = peak_rss_mb(&["cave", "--size", "64x64", "-o", &s("small.png")]);
-    let large = peak_rss_mb(&["cave", "--size", "3000x3000", "-o", &s("large.png")]);
+    let cave = |size: &str, out: &str| {
+        peak_rss_mb(&["--supersample", "1", "cave", "--size", size, "-o", &s(out)])
+    };
+    let small = cave("64x64", "small.png");
+    let large = cave("3000x3000", "large.png");
     eprintln!(
         "3000x3000 frame: {:.0} MB measured, {estimate:.0} MB estimated",
         large - small

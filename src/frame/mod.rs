@@ -12,6 +12,7 @@
 //! ```
 
 mod runner;
+pub mod supersample;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

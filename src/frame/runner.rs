@@ -33,23 +33,38 @@ impl Frame {
 /// Draws frames of scenes into one offscreen target.
 pub struct FrameRunner {
     timer: GpuTimer,
+    /// Drawn at `factor` times `size` each way.
     target: OffscreenTarget,
+    /// The pictures' size.
+    size: Size,
+    /// Supersampling (`Context::supersample`, fitted to the device): the picture is
+    /// the target averaged over `factor` x `factor` blocks.
+    factor: u32,
     ctx: Arc<Context>,
 }
 
 impl FrameRunner {
-    /// A target of `size` (checked against the device) and a timer.
+    /// A target for pictures of `size` (checked against the device), supersampled as
+    /// the context says, and a timer.
     pub fn new(ctx: &Arc<Context>, size: Size) -> Result<Self> {
+        let (target, factor) = target(ctx, size)?;
         Ok(Self {
             timer: GpuTimer::new(ctx, "frame timer", SPANS_PER_FRAME)?,
-            target: OffscreenTarget::new(ctx, size.width, size.height)?,
+            target,
+            size,
+            factor,
             ctx: ctx.clone(),
         })
     }
 
-    /// The target's size in pixels.
+    /// The pictures' size in pixels (the target is `supersample()` times it).
     pub fn size(&self) -> Size {
-        Size::new(self.target.width(), self.target.height())
+        self.size
+    }
+
+    /// How many times the picture's size each way the target is drawn at.
+    pub fn supersample(&self) -> u32 {
+        self.factor
     }
 
     /// The offscreen target frames are drawn into (replaced by [`FrameRunner::resize`]).
@@ -60,7 +75,8 @@ impl FrameRunner {
     /// A new target of `size` (a resized window); no submission may be running.
     pub fn resize(&mut self, size: Size) -> Result<()> {
         if size != self.size() {
-            self.target = OffscreenTarget::new(&self.ctx, size.width, size.height)?;
+            (self.target, self.factor) = target(&self.ctx, size)?;
+            self.size = size;
         }
         Ok(())
     }
@@ -125,7 +141,8 @@ impl FrameRunner {
 
     /// The picture of the last frame drawn with `read_back`.
     pub fn image(&self) -> Result<image::RgbaImage> {
-        self.target.read_image()
+        let drawn = self.target.read_image()?;
+        Ok(super::supersample::downsample(drawn, self.factor))
     }
 
     /// `frames` frames, not read back; frame `i` at `time(i)`. The first frames of a
@@ -167,4 +184,11 @@ impl FrameRunner {
             }
         }
     }
+}
+
+/// The target for pictures of `size` and its supersampling factor.
+fn target(ctx: &Arc<Context>, size: Size) -> Result<(OffscreenTarget, u32)> {
+    let factor = super::supersample::factor_for(ctx, size, ctx.supersample());
+    let target = OffscreenTarget::new(ctx, size.width * factor, size.height * factor)?;
+    Ok((target, factor))
 }

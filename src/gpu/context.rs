@@ -31,10 +31,17 @@ pub struct ContextOptions {
     /// sample rather than once per pixel when multisampled (`None`: on for headless
     /// work, off with a window, where it would cost the viewer half its frame rate).
     pub sample_shading: Option<bool>,
+    /// Pictures read back are drawn at this many times their size each way and
+    /// averaged down (`frame::supersample`), 1..=4 (`None`: 1). Reduced where the
+    /// device or the memory budget cannot hold the larger frame.
+    pub supersample: Option<u32>,
 }
 
 /// Frames' samples per pixel unless asked otherwise.
 pub const DEFAULT_SAMPLES: u32 = 4;
+
+/// The largest supersampling factor (16 times the pixels).
+pub const MAX_SUPERSAMPLE: u32 = 4;
 
 impl ContextOptions {
     /// Fills unset options from `SEDIMENT_DEVICE` and `SEDIMENT_VALIDATE=1`.
@@ -217,6 +224,8 @@ pub struct Context {
     frame_format: super::TargetFormat,
     /// `ContextOptions::sample_shading`, resolved.
     sample_shading: bool,
+    /// `ContextOptions::supersample`, resolved.
+    supersample: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
     pub(crate) xfb: ash::ext::transform_feedback::Device,
@@ -435,6 +444,7 @@ impl Context {
         let ctx = Context {
             frame_format,
             sample_shading: options.sample_shading.unwrap_or(options.window.is_none()),
+            supersample: options.supersample.unwrap_or(1).clamp(1, MAX_SUPERSAMPLE),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(command_pool),
             xfb: xfb_device,
@@ -468,6 +478,13 @@ impl Context {
     /// frame (`ContextOptions::sample_shading`; false for single-sample frames).
     pub fn sample_shading(&self) -> bool {
         self.sample_shading && self.frame_format.samples != vk::SampleCountFlags::TYPE_1
+    }
+
+    /// How many times its size each way a picture read back is drawn at
+    /// (`ContextOptions::supersample`), before `frame::supersample::factor_for` fits it
+    /// to the device.
+    pub fn supersample(&self) -> u32 {
+        self.supersample
     }
 
     /// Whether validation is on for this context.

@@ -31,6 +31,16 @@ pub fn gpu_with_samples(samples: Option<u32>) -> Arc<Context> {
 /// `gpu_with_samples` whose speleothems shade once per sample or once per pixel
 /// (`sample_shading`, `None`: the default, per sample headless).
 pub fn gpu_with_shading(samples: Option<u32>, sample_shading: Option<bool>) -> Arc<Context> {
+    gpu_configured(samples, sample_shading, None)
+}
+
+/// `gpu()` with its frames' samples, shading rate and pictures' supersampling
+/// (`ContextOptions`; `None`: the library's defaults).
+pub fn gpu_configured(
+    samples: Option<u32>,
+    sample_shading: Option<bool>,
+    supersample: Option<u32>,
+) -> Arc<Context> {
     let options = ContextOptions {
         device: std::env::var("SEDIMENT_DEVICE")
             .ok()
@@ -39,6 +49,7 @@ pub fn gpu_with_shading(samples: Option<u32>, sample_shading: Option<bool>) -> A
         window: None,
         samples,
         sample_shading,
+        supersample,
     };
     match Context::new(&options) {
         Ok(ctx) => {

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use sediment::export::check_extension;
 
-use crate::{Cli, fail_on_validation_errors, open_context};
+use crate::{Cli, fail_on_validation_errors, open_context_with, realtime_context_options};
 
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
@@ -155,7 +155,8 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         reversed: false,
     };
     opts.validate()?;
-    let ctx = open_context(cli)?;
+    // Frames as the viewer draws them.
+    let ctx = open_context_with(cli, &realtime_context_options(cli))?;
     let start = std::time::Instant::now();
     let mut step = 0usize;
     let mut runs = Vec::new();

@@ -19,7 +19,7 @@ use sediment::scene::{cave, dunes, layers};
 use sediment::view::input::parse_script;
 use sediment::view::{self, SceneBuilder, ViewOptions};
 
-use crate::{Cli, context_options, progress};
+use crate::{Cli, progress, realtime_context_options};
 
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
@@ -168,7 +168,7 @@ fn view_options(cli: &Cli, f: &ViewFlags) -> anyhow::Result<ViewOptions> {
     }
     let script = f.script.as_deref().map(parse_script).transpose()?;
     Ok(ViewOptions {
-        context: context_options(cli),
+        context: realtime_context_options(cli),
         size: cli.size,
         vsync: !f.no_vsync,
         frames: f.frames,
