@@ -128,6 +128,10 @@ fn bad_input_is_named_and_nothing_is_written() {
             (vec!["--shadow-zone", "wide"], "--shadow-zone"),
             (vec!["--shadow-zone", "95"], "shadow zone"),
             (vec!["--dune-speedup", "-1"], "speed-up"),
+            (vec!["--dune-diffusion", "1.5"], "--dune-diffusion"),
+            (vec!["--dune-lateral", "-0.1"], "--dune-lateral"),
+            // D and the lateral transport together may not exceed 1 (0.9 + 0.3).
+            (vec!["--dune-diffusion", "0.9"], "--dune-lateral"),
             (vec!["--heightmap", "h.tif"], "--heightmap"),
             (vec!["--gif", "a.gif", "--gif-frames", "1"], "--gif-frames"),
         ],

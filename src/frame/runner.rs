@@ -189,6 +189,15 @@ impl FrameRunner {
 /// The target for pictures of `size` and its supersampling factor.
 fn target(ctx: &Arc<Context>, size: Size) -> Result<(OffscreenTarget, u32)> {
     let factor = super::supersample::factor_for(ctx, size, ctx.supersample());
+    if factor < ctx.supersample() {
+        log::info!(
+            "supersampling {factor}x instead of {}x: a {}x{} frame is over the device's \
+             largest image or the memory budget",
+            ctx.supersample(),
+            size.width * ctx.supersample(),
+            size.height * ctx.supersample()
+        );
+    }
     let target = OffscreenTarget::new(ctx, size.width * factor, size.height * factor)?;
     Ok((target, factor))
 }

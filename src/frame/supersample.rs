@@ -91,7 +91,10 @@ mod tests {
         let big = image::RgbaImage::from_fn(2, 2, |x, _| {
             image::Rgba(if x == 0 { [255; 4] } else { [0, 0, 0, 255] })
         });
-        assert_eq!(downsample(big.clone(), 2).get_pixel(0, 0).0, [188, 188, 188, 255]);
+        assert_eq!(
+            downsample(big.clone(), 2).get_pixel(0, 0).0,
+            [188, 188, 188, 255]
+        );
         // A quarter white at k = 2 and a ninth at k = 3.
         let quarter = image::RgbaImage::from_fn(2, 2, |x, y| {
             image::Rgba(if x + y == 0 { [255; 4] } else { [0, 0, 0, 255] })

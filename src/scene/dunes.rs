@@ -175,7 +175,7 @@ pub struct DunesScene {
     pub dune_steps: u32,
     /// The dune simulation's saltation, creep and avalanching (`--dune-l0`, `--dune-q0`,
     /// `--dune-b`, `--dune-b-prime`, `--dune-speedup`, `--shadow-zone`, `--repose`,
-    /// `--dune-diffusion`).
+    /// `--dune-diffusion`, `--dune-lateral`).
     pub dune: SandParams,
     /// Initial sand thickness of the dune field (model units).
     pub dune_sand: f64,
@@ -374,9 +374,14 @@ pub struct Params {
     /// crests across the wind; 0.2 gives a maze of short ones).
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub ripple_diffusion: Option<f64>,
-    /// Creep diffusion D of the dune simulation, 0..=1 (default 0.2).
+    /// Creep diffusion D of the dune simulation, 0..=1 (default 0.05).
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub dune_diffusion: Option<f64>,
+    /// Sand transport across the wind in the dune simulation (grains deflected down
+    /// slopes across the wind), 0..=1 with D + it <= 1; 0 leaves scattered mounds
+    /// (default 0.3: ridges across the wind).
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub dune_lateral: Option<f64>,
     /// Angle of repose for dune avalanching in degrees, or "off" (default 33).
     #[arg(long, value_name = "DEG|off")]
     pub repose: Option<Degrees>,
@@ -523,6 +528,7 @@ impl SceneParams for Params {
         }
         way.field(&mut self.ripple_diffusion, &mut s.ripple.diffusion);
         way.field(&mut self.dune_diffusion, &mut s.dune.diffusion);
+        way.field(&mut self.dune_lateral, &mut s.dune.lateral);
         let mut repose = Degrees(s.dune.repose_degrees);
         way.field(&mut self.repose, &mut repose);
         s.dune.repose_degrees = repose.0;
@@ -639,6 +645,21 @@ impl DunesScene {
             crate::model::footprints::check_walk(path)
                 .map_err(|m| Error::invalid("--footprints", m))?;
         }
+        // The two transports of the dune simulation, named as the options are.
+        check(
+            (0.0..=1.0).contains(&self.dune.diffusion),
+            "--dune-diffusion",
+            "0..=1",
+        )?;
+        check(
+            (0.0..=1.0).contains(&self.dune.lateral)
+                && self.dune.diffusion + self.dune.lateral <= 1.0,
+            "--dune-lateral",
+            &format!(
+                "0..=1, and at most 1 with --dune-diffusion ({} + {} here)",
+                self.dune.diffusion, self.dune.lateral
+            ),
+        )?;
         self.ripple.validate()?;
         self.dune.validate()
     }
@@ -667,7 +688,8 @@ impl DunesScene {
     }
 }
 
-/// The default camera: low over one edge of the field, looking across it; with
+/// The default camera: low over the downwind edge of the field, looking upwind across
+/// it; with
 /// footprints, a walker's-eye view from behind the walk's first print along it.
 pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
     let s = scene.field_size();
@@ -690,9 +712,13 @@ pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
             far: 4.0 * s,
         };
     }
+    // Upwind, across the ridges (their crests run across the wind, +x): the slip
+    // faces turn toward the camera and the low default sun, which stands upwind, puts
+    // them in shadow; turned 35 degrees off the wind, away from the sun's side, so its
+    // glow stays out of the frame.
     Camera {
-        eye: Vec3::new(0.5 * s, top + 0.05 * s, 1.0 * s),
-        target: Vec3::new(0.5 * s, 0.3 * top, 0.3 * s),
+        eye: Vec3::new(1.0 * s, top + 0.05 * s, 0.15 * s),
+        target: Vec3::new(0.43 * s, 0.3 * top, 0.55 * s),
         up: Vec3::Y,
         fov_y_degrees: 50.0,
         near: 0.5,
