@@ -57,6 +57,29 @@ fn measure(
     d
 }
 
+impl Distances {
+    /// Fails unless the single-sample frame aliases (is farther than `aliases`) and
+    /// the multisampled frame and the picture are within `multisampled` and `picture`
+    /// times its distance.
+    fn assert_within(&self, name: &str, aliases: f64, multisampled: f64, picture: f64) {
+        assert!(
+            self.one > aliases,
+            "{name}: the single-sample frame aliases ({:.3})",
+            self.one
+        );
+        for (what, d, ratio) in [
+            ("multisampled", self.multisampled, multisampled),
+            ("picture", self.picture, picture),
+        ] {
+            assert!(
+                d <= ratio * self.one,
+                "{name} {what}: {d:.3} > {ratio} x {:.3}",
+                self.one
+            );
+        }
+    }
+}
+
 /// Issue 14 and 15 ask for half the one-sample frame's distance.
 const HALF: f64 = 0.5;
 
@@ -85,23 +108,7 @@ fn fig9g(ctx: &Arc<Context>, size: Size) -> image::RgbaImage {
 #[test]
 fn fig9g_is_half_as_far_from_the_supersampled_frame() {
     let d = measure("fig9g", Size::new(720, 480), fig9g);
-    assert!(
-        d.one > 0.5,
-        "the single-sample frame aliases ({:.3})",
-        d.one
-    );
-    assert!(
-        d.multisampled <= HALF * d.one,
-        "fig9g multisampled: {:.3} > {HALF} x {:.3}",
-        d.multisampled,
-        d.one
-    );
-    assert!(
-        d.picture <= HALF * d.one,
-        "fig9g picture: {:.3} > {HALF} x {:.3}",
-        d.picture,
-        d.one
-    );
+    d.assert_within("fig9g", 0.5, HALF, HALF);
     assert!(
         d.picture < d.multisampled,
         "supersampling does not help fig9g"
@@ -140,23 +147,7 @@ fn the_cave_picture_is_half_as_far_from_the_supersampled_frame() {
             .remove(0)
             .0
     });
-    assert!(
-        d.one > 0.1,
-        "the single-sample frame aliases ({:.3})",
-        d.one
-    );
-    assert!(
-        d.multisampled <= CAVE_MULTISAMPLED * d.one,
-        "cave fig8 multisampled: {:.3} > {CAVE_MULTISAMPLED} x {:.3}",
-        d.multisampled,
-        d.one
-    );
-    assert!(
-        d.picture <= HALF * d.one,
-        "cave fig8 picture: {:.3} > {HALF} x {:.3}",
-        d.picture,
-        d.one
-    );
+    d.assert_within("cave fig8", 0.1, CAVE_MULTISAMPLED, HALF);
 }
 
 // Fig. 17 at the paper's size: measured 1.93 with one sample, 1.80 multisampled (the
@@ -172,16 +163,6 @@ fn the_desert_picture_is_half_as_far_from_the_supersampled_frame() {
             .expect("render")
             .image
     });
-    assert!(
-        d.multisampled < d.one,
-        "multisampling does not help ({:.3} vs {:.3})",
-        d.multisampled,
-        d.one
-    );
-    assert!(
-        d.picture <= HALF * d.one,
-        "fig17 picture: {:.3} > {HALF} x {:.3}",
-        d.picture,
-        d.one
-    );
+    // Multisampling alone barely helps here (0.93x): any gain will do.
+    d.assert_within("fig17", 1.0, 1.0, HALF);
 }

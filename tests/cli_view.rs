@@ -20,6 +20,16 @@ fn view(display: &Xvfb, dir: &Path, args: &[&str]) -> Output {
         .expect("run the sediment binary")
 }
 
+/// A headless command's options for frames drawn as the viewer draws them (no
+/// supersampling, shaded once per pixel), validation on.
+const AS_THE_VIEWER_DRAWS: [&str; 5] = [
+    "--validate",
+    "--supersample",
+    "1",
+    "--sample-shading",
+    "off",
+];
+
 fn load(path: &Path) -> image::RgbaImage {
     image::open(path).expect("a PNG").to_rgba8()
 }
@@ -201,18 +211,8 @@ fn resizes_and_a_camera_found_interactively_render_headless() {
         .unwrap_or_else(|| panic!("no camera printed: {stdout}"));
     let shot = load(&dir.join("shot.png"));
     assert_eq!(shot.dimensions(), (480, 320));
-    let mut args = vec![
-        "--validate",
-        "--supersample",
-        "1",
-        "--sample-shading",
-        "off",
-        "--size",
-        "480x320",
-        "grow",
-        "--preset",
-        "fig9b",
-    ];
+    let mut args = AS_THE_VIEWER_DRAWS.to_vec();
+    args.extend(["--size", "480x320", "grow", "--preset", "fig9b"]);
     args.extend(options.split_whitespace());
     let png = dir.join("grow.png");
     let png = png.to_string_lossy();
@@ -262,17 +262,8 @@ fn view_matches_headless(
     common::cli::assert_success(&view(x, dir, &v), &format!("sediment view {scene}"));
     let png = dir.join(format!("{scene}-headless.png"));
     let png = png.to_string_lossy();
-    // Drawn as the viewer draws its frames.
-    let mut h = vec![
-        "--validate",
-        "--supersample",
-        "1",
-        "--sample-shading",
-        "off",
-        "--size",
-        "320x200",
-        scene,
-    ];
+    let mut h = AS_THE_VIEWER_DRAWS.to_vec();
+    h.extend(["--size", "320x200", scene]);
     h.extend(args);
     h.extend(headless_extra);
     h.extend([output_flag, &png]);
