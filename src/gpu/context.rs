@@ -302,9 +302,13 @@ impl Context {
         if options.window.is_some() {
             device_extensions.push(ash::khr::swapchain::NAME.as_ptr());
         }
+        // SAFETY: `physical` came from this instance.
+        let supported = unsafe { parts.instance.get_physical_device_features(physical) };
+        // Optional: without it the speleothems are shaded once per pixel.
+        let sample_rate_shading = supported.sample_rate_shading == vk::TRUE;
         let core = vk::PhysicalDeviceFeatures::default()
             .geometry_shader(true)
-            .sample_rate_shading(true);
+            .sample_rate_shading(sample_rate_shading);
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
@@ -443,7 +447,8 @@ impl Context {
         );
         let ctx = Context {
             frame_format,
-            sample_shading: options.sample_shading.unwrap_or(options.window.is_none()),
+            sample_shading: sample_rate_shading
+                && options.sample_shading.unwrap_or(options.window.is_none()),
             supersample: options.supersample.unwrap_or(1).clamp(1, MAX_SUPERSAMPLE),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(command_pool),
@@ -475,7 +480,8 @@ impl Context {
     }
 
     /// Whether surfaces with sub-pixel detail shade every sample of a multisampled
-    /// frame (`ContextOptions::sample_shading`; false for single-sample frames).
+    /// frame (`ContextOptions::sample_shading`; false for single-sample frames and on
+    /// devices without `sampleRateShading`).
     pub fn sample_shading(&self) -> bool {
         self.sample_shading && self.frame_format.samples != vk::SampleCountFlags::TYPE_1
     }

@@ -189,10 +189,9 @@ pub(crate) fn probe(instance: &ash::Instance, physical: vk::PhysicalDevice) -> D
             feats.geometry_shader == vk::TRUE,
             yes(feats.geometry_shader == vk::TRUE),
         ),
-        required(
+        reported(
             "sampleRateShading",
-            "speleothem surfaces are shaded once per sample (their bump detail anti-aliased)",
-            feats.sample_rate_shading == vk::TRUE,
+            "pictures' speleothems shaded once per sample (without it: once per pixel)",
             yes(feats.sample_rate_shading == vk::TRUE),
         ),
         required(
