@@ -61,9 +61,9 @@ pub struct Cli {
     pub samples: u32,
 
     /// Shade the speleothems' bump detail once per sample of a multisampled frame
-    /// instead of once per pixel (their sparkle anti-aliased), on or off (default: on
-    /// for pictures, off in `view`, where it costs lavapipe about a third of the frame
-    /// rate).
+    /// instead of once per pixel (their sparkle anti-aliased), on or off, where the
+    /// device has sampleRateShading (default: on for pictures, off in `view` and
+    /// `bench`, where it costs lavapipe about a third of the frame rate).
     #[arg(long, global = true, value_name = "on|off",
           value_parser = sediment::scene::params::on_off)]
     pub sample_shading: Option<bool>,
