@@ -195,19 +195,25 @@ impl SandParams {
         }
     }
 
-    /// Checks D in 0..=1, a positive finite vertical scale, angles in (0, 90) degrees,
-    /// and finite saltation constants with hop lengths, lifts and speed-up >= 0.
+    /// Checks D and the lateral transport in 0..=1 with their sum at most 1, a
+    /// positive finite vertical scale, angles in (0, 90) degrees, and finite saltation
+    /// constants with hop lengths, lifts and speed-up >= 0.
     pub fn validate(&self) -> Result<()> {
+        self.validate_as("diffusion D", "lateral transport")
+    }
+
+    /// [`SandParams::validate`], its messages calling D and the lateral transport
+    /// `diffusion` and `lateral` (the options a command sets them with).
+    pub fn validate_as(&self, diffusion: &str, lateral: &str) -> Result<()> {
         let check = crate::error::ensure_in_range;
-        check(
-            (0.0..=1.0).contains(&self.diffusion),
-            "diffusion D",
-            "0..=1",
-        )?;
+        check((0.0..=1.0).contains(&self.diffusion), diffusion, "0..=1")?;
         check(
             (0.0..=1.0).contains(&self.lateral) && self.diffusion + self.lateral <= 1.0,
-            "lateral transport",
-            "0..=1, with D + lateral <= 1",
+            lateral,
+            &format!(
+                "0..=1, and at most 1 with {diffusion} ({} + {} here)",
+                self.diffusion, self.lateral
+            ),
         )?;
         check(
             self.vertical_scale > 0.0 && self.vertical_scale.is_finite(),
@@ -491,7 +497,8 @@ fn relax_rows(a: &mut [f64], b: &mut [f64], limit: f64) -> f64 {
 }
 
 /// Nishimori–Ouchi creep of the middle row of `rows` (three rows, periodic in x) into
-/// `out`: 1/6 of the axial and 1/12 of the diagonal neighbours. The periodic
+/// `out`: 1/6 of the axial and 1/12 of the diagonal neighbours, weighted `d`, and the
+/// lateral transport from the rows above and below, weighted `lateral`. The periodic
 /// neighbours of the two edge columns are wrapped by hand so the inner loop has no
 /// modulo.
 fn creep_row(rows: &[f64], out: &mut [f64], d: f64, lateral: f64) {

@@ -645,23 +645,8 @@ impl DunesScene {
             crate::model::footprints::check_walk(path)
                 .map_err(|m| Error::invalid("--footprints", m))?;
         }
-        // The two transports of the dune simulation, named as the options are.
-        check(
-            (0.0..=1.0).contains(&self.dune.diffusion),
-            "--dune-diffusion",
-            "0..=1",
-        )?;
-        check(
-            (0.0..=1.0).contains(&self.dune.lateral)
-                && self.dune.diffusion + self.dune.lateral <= 1.0,
-            "--dune-lateral",
-            &format!(
-                "0..=1, and at most 1 with --dune-diffusion ({} + {} here)",
-                self.dune.diffusion, self.dune.lateral
-            ),
-        )?;
         self.ripple.validate()?;
-        self.dune.validate()
+        self.dune.validate_as("--dune-diffusion", "--dune-lateral")
     }
 
     /// Unit vector toward the sun.
@@ -689,8 +674,8 @@ impl DunesScene {
 }
 
 /// The default camera: low over the downwind edge of the field, looking upwind across
-/// it; with
-/// footprints, a walker's-eye view from behind the walk's first print along it.
+/// it; with footprints, a walker's-eye view from behind the walk's first print along
+/// it.
 pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
     let s = scene.field_size();
     let top = terrain.dune_heights.iter().copied().fold(0.0, f32::max);
