@@ -7,7 +7,7 @@ use glam::Vec3;
 use sediment::model::atmosphere::SkyLight;
 use sediment::render::atmosphere::{SKY_VIEW_HEIGHT, SKY_VIEW_WIDTH, SkyViewPass};
 use sediment::scene::Size;
-use sediment::scene::camera::Camera;
+use sediment::scene::camera::{Camera, Jitter};
 use sediment::scene::dunes::{self, DunesScene};
 
 #[test]
@@ -109,6 +109,7 @@ fn a_day_from_noon_to_twilight_looks_like_one() {
             fov_y_degrees: 50.0,
             near: 0.5,
             far: 4000.0,
+            jitter: Jitter::NONE,
         };
         let render = |sun_elevation: f32, camera: &Camera| {
             let scene = DunesScene {

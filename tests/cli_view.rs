@@ -20,15 +20,15 @@ fn view(display: &Xvfb, dir: &Path, args: &[&str]) -> Output {
         .expect("run the sediment binary")
 }
 
-/// A headless command's options for frames drawn as the viewer draws them (no
-/// supersampling, shaded once per pixel), validation on.
-const AS_THE_VIEWER_DRAWS: [&str; 5] = [
-    "--validate",
-    "--supersample",
-    "1",
-    "--sample-shading",
-    "off",
-];
+/// A headless command's options for frames drawn as the viewer draws them (temporal
+/// anti-aliasing: the picture is the mean of 16 jittered frames, which a still
+/// viewer reaches after 16 frames), validation on.
+const AS_THE_VIEWER_DRAWS: [&str; 3] = ["--validate", "--anti-aliasing", "temporal"];
+
+/// Frames a still viewer draws before its screenshot is compared with a headless
+/// picture: one round of temporal anti-aliasing's 16 sample positions, as the
+/// picture's.
+const ONE_ROUND: &str = "16";
 
 fn load(path: &Path) -> image::RgbaImage {
     image::open(path).expect("a PNG").to_rgba8()
@@ -258,7 +258,14 @@ fn view_matches_headless(
     let shot = format!("{scene}-view.png");
     let mut v = vec!["--validate", "--size", "320x200", "view", scene];
     v.extend(args);
-    v.extend(["--frames", "3", "--screenshot", &shot, "--script", keys]);
+    v.extend([
+        "--frames",
+        ONE_ROUND,
+        "--screenshot",
+        &shot,
+        "--script",
+        keys,
+    ]);
     common::cli::assert_success(&view(x, dir, &v), &format!("sediment view {scene}"));
     let png = dir.join(format!("{scene}-headless.png"));
     let png = png.to_string_lossy();

@@ -64,6 +64,7 @@ fn an_unknown_device_name_is_a_clear_error() {
         samples: None,
         sample_shading: None,
         supersample: None,
+        temporal: false,
     }) {
         Ok(_) => panic!("no device is called no-such-gpu-xyz"),
         Err(e) => e.to_string(),

@@ -11,7 +11,7 @@ use sediment::model::speleothem::plan::{GrowthParams, GrowthScene, Kind};
 use sediment::model::speleothem::table2::{Co2, DripInterval, Pil};
 use sediment::render::growth::GrowthPath;
 use sediment::scene::Size;
-use sediment::scene::camera::Camera;
+use sediment::scene::camera::{Camera, Jitter};
 use sediment::scene::grow::GrowthFrame;
 
 #[test]
@@ -49,6 +49,7 @@ fn the_cap_pass_closes_the_open_front_its_cpu_twin_finds() {
             fov_y_degrees: 30.0,
             near: 0.01,
             far: 20.0,
+            jitter: Jitter::NONE,
         };
         let size = Size::new(64, 64);
         let centre = |capped: bool| {

@@ -15,7 +15,7 @@ layout(set = 0, binding = 0) uniform Frame {
     vec4 sun_color;
     vec4 sky_color;
     vec4 ground_color;
-    vec4 params;       // x exposure
+    vec4 params;       // x exposure, y tone-mapping operator, z texture LOD bias
 } frame;
 
 layout(set = 0, binding = 1) uniform texture2D ripple_normals;  // our LOD chain as mips
@@ -126,8 +126,10 @@ void main() {
         // shorter one, and blurs the ripples across it. 1.25 levels finer brings the
         // frame nearest the 4x4-supersampled one (mean error 3.14 -> 1.71 /255 for
         // fig17 at 720x480, 4x MSAA; bias 1, 1.5, 2: 1.78, 1.74, 1.98). Anisotropic
-        // filtering would be the real fix; on lavapipe it is too slow to use.
-        r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25).xyz;
+        // filtering would be the real fix; on lavapipe it is too slow to use. Under
+        // temporal anti-aliasing each frame's sample filters over its share of the
+        // pixel (frame.params.z, `Jitter::lod_bias`).
+        r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25 + frame.params.z).xyz;
     } else {
         r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0).xyz;
     }
@@ -141,7 +143,7 @@ void main() {
     if (dune.detail.x > 0.5) {
         vec2 duv = (in_world.xz - dune.detail_rect.xy) / dune.detail_rect.zw;
         if (all(greaterThanEqual(duv, vec2(0.0))) && all(lessThanEqual(duv, vec2(1.0)))) {
-            vec4 d = texture(sampler2D(detail_map, repeat_sampler), duv);
+            vec4 d = texture(sampler2D(detail_map, repeat_sampler), duv, frame.params.z);
             // 128 is flat: (b - 128) / 127 of the slope range.
             prints = (d.xy * 255.0 - 128.0) / 127.0 * dune.detail.y;
             trodden = d.z;
@@ -197,7 +199,8 @@ void main() {
     }
 
     lit *= print_lit;
-    float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z).r;
+    float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z,
+                          frame.params.z).r;
     vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain);
     // Sky light: the hemisphere's zenith and ground colours (per frame, not per pixel).
     vec3 ambient = mix(frame.ground_color.rgb, frame.sky_color.rgb, 0.5 + 0.5 * n.y);

@@ -61,7 +61,9 @@ void main() {
     // pixel holds (measured in tests/anti_aliasing.rs).
     float footprint = surface.look.w;
 #else
-    float footprint = 1.0;
+    // Once per pixel: over the pixel, or under temporal anti-aliasing over this
+    // frame's sample's share of it (`Jitter::lod_bias`).
+    float footprint = exp2(frame.params.z);
 #endif
     vec3 tn = textureGrad(sampler2D(normal_map, normal_sampler), uv, dx * footprint,
                           dy * footprint).xyz * 2.0 - 1.0;

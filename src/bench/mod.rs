@@ -29,7 +29,7 @@ use crate::frame::{Frame, FrameRunner};
 use crate::gpu::{Context, GpuTimer, OffscreenTarget, Span, TargetFormat};
 use crate::render::sky::SkyPass;
 use crate::scene::Size;
-use crate::scene::camera::Camera;
+use crate::scene::camera::{Camera, Jitter};
 use report::{Meta, PassResult, Report, SCHEMA, SeriesResult, Stats};
 
 /// The scenes `sediment bench` times, and each one's variants (from the registry).
@@ -259,6 +259,7 @@ fn floor(ctx: &Arc<Context>, opts: &BenchOptions) -> Result<Vec<SeriesResult>> {
         fov_y_degrees: 50.0,
         near: 0.1,
         far: 100.0,
+        jitter: Jitter::NONE,
     };
     let view_proj = camera.view_proj(opts.size.aspect());
     let full = measure("floor", "fullscreen", opts, &mut || {

@@ -13,6 +13,7 @@
 
 mod runner;
 pub mod supersample;
+pub mod temporal;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -69,6 +70,12 @@ pub trait Scene {
     /// passes); `None` for a still scene.
     fn steps(&self) -> Option<u32> {
         None
+    }
+    /// Whether the last `set_frame` changed what the scene shows beyond the camera
+    /// (a pass grew, the dust blew on): temporal anti-aliasing then lets its mean
+    /// follow faster and drops it where the depth shows another surface.
+    fn animated(&self) -> bool {
+        false
     }
     /// What the bench reports of the frames drawn so far beside their timings.
     fn metrics(&self) -> Result<BTreeMap<String, f64>> {

@@ -4,6 +4,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::temporal::{FRAMES_PER_PICTURE, Temporal};
 use super::{Scene, Time};
 use crate::error::Result;
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
@@ -32,6 +33,10 @@ impl Frame {
 
 /// Draws frames of scenes into one offscreen target.
 pub struct FrameRunner {
+    /// Temporal anti-aliasing (`Context::temporal`): each frame drawn into `target`
+    /// with one jittered sample a pixel and averaged into what is shown. Reads
+    /// `target`: declared (and dropped) before it.
+    temporal: Option<Temporal>,
     timer: GpuTimer,
     /// Drawn at `factor` times `size` each way.
     target: OffscreenTarget,
@@ -47,12 +52,13 @@ impl FrameRunner {
     /// A target for pictures of `size` (checked against the device), supersampled as
     /// the context says, and a timer.
     pub fn new(ctx: &Arc<Context>, size: Size) -> Result<Self> {
-        let (target, factor) = target(ctx, size)?;
+        let (target, factor, temporal) = target(ctx, size)?;
         Ok(Self {
             timer: GpuTimer::new(ctx, "frame timer", SPANS_PER_FRAME)?,
             target,
             size,
             factor,
+            temporal,
             ctx: ctx.clone(),
         })
     }
@@ -72,13 +78,48 @@ impl FrameRunner {
         &self.target
     }
 
+    /// What a frame shows, to be blitted or read back: the target, or with temporal
+    /// anti-aliasing the mean of the frames so far.
+    pub fn shown(&self) -> &OffscreenTarget {
+        self.temporal.as_ref().map_or(&self.target, Temporal::shown)
+    }
+
     /// A new target of `size` (a resized window); no submission may be running.
     pub fn resize(&mut self, size: Size) -> Result<()> {
         if size != self.size() {
-            (self.target, self.factor) = target(&self.ctx, size)?;
+            // The old histories read the old target: gone first.
+            self.temporal = None;
+            (self.target, self.factor, self.temporal) = target(&self.ctx, size)?;
             self.size = size;
         }
         Ok(())
+    }
+
+    /// Forgets what temporal anti-aliasing accumulated (the scene changed in a way
+    /// its depth does not show: a light, a look); nothing without it.
+    pub fn start_over(&mut self) {
+        if let Some(t) = &mut self.temporal {
+            t.start_over();
+        }
+    }
+
+    /// Tells `scene` the camera (shifted by this frame's jitter under temporal
+    /// anti-aliasing) and the time: what every frame does before it is recorded.
+    pub fn set_frame(&mut self, scene: &mut dyn Scene, camera: &Camera, time: Time) -> Result<()> {
+        let aspect = self.size.aspect();
+        match &mut self.temporal {
+            Some(t) => {
+                t.set_view(camera.view_proj(aspect));
+                let jittered = Camera {
+                    jitter: t.jitter(self.size),
+                    ..camera.clone()
+                };
+                scene.set_frame(&self.ctx, &jittered, aspect, time)?;
+                t.set_animated(scene.animated());
+                Ok(())
+            }
+            None => scene.set_frame(&self.ctx, camera, aspect, time),
+        }
     }
 
     /// Records `scene`'s frame into `cmd` (after its `set_frame`): the spans reset, the
@@ -92,10 +133,16 @@ impl FrameRunner {
     ) -> Result<()> {
         self.timer.reset(cmd);
         scene.record(cmd, &self.target, &mut self.timer)?;
+        if let Some(t) = &self.temporal {
+            let span = self.timer.begin(cmd, "anti-aliasing")?;
+            t.record(cmd, &self.target)?;
+            self.timer.end(cmd, span);
+        }
+        let shown = self.shown();
         if read_back {
-            self.target.copy_out(cmd);
+            shown.copy_out(cmd);
         } else {
-            self.target.finish_for_transfer(cmd);
+            shown.finish_for_transfer(cmd);
         }
         Ok(())
     }
@@ -103,6 +150,9 @@ impl FrameRunner {
     /// After the submission of `record` finished: the frame's spans, also handed to the
     /// scene.
     pub fn finish(&mut self, scene: &mut dyn Scene) -> Result<Vec<Span>> {
+        if let Some(t) = &mut self.temporal {
+            t.advance();
+        }
         let spans = self.timer.read()?;
         scene.after(&spans)?;
         Ok(spans)
@@ -118,7 +168,7 @@ impl FrameRunner {
         read_back: bool,
     ) -> Result<Frame> {
         let start = Instant::now();
-        scene.set_frame(&self.ctx, camera, self.size().aspect(), time)?;
+        self.set_frame(scene, camera, time)?;
         let ctx = self.ctx.clone();
         ctx.submit_and_wait(scene.name(), |cmd| self.record(cmd, scene, read_back))?;
         let spans = self.finish(scene)?;
@@ -128,20 +178,30 @@ impl FrameRunner {
         })
     }
 
-    /// One frame, read back: its picture and what it cost.
+    /// One frame, read back: its picture and what it cost. Under temporal
+    /// anti-aliasing the picture is a new mean of 16 frames, one at each sample
+    /// position (a 4x4-supersampled picture), and the cost that of the last.
     pub fn render(
         &mut self,
         scene: &mut dyn Scene,
         camera: &Camera,
         time: Time,
     ) -> Result<(image::RgbaImage, Frame)> {
+        let mut frames = 1;
+        if self.temporal.is_some() {
+            self.start_over();
+            frames = FRAMES_PER_PICTURE;
+        }
+        for _ in 1..frames {
+            self.frame(scene, camera, time, false)?;
+        }
         let frame = self.frame(scene, camera, time, true)?;
         Ok((self.image()?, frame))
     }
 
     /// The picture of the last frame drawn with `read_back`.
     pub fn image(&self) -> Result<image::RgbaImage> {
-        let drawn = self.target.read_image()?;
+        let drawn = self.shown().read_image()?;
         Ok(super::supersample::downsample(drawn, self.factor))
     }
 
@@ -186,8 +246,14 @@ impl FrameRunner {
     }
 }
 
-/// The target for pictures of `size` and its supersampling factor.
-fn target(ctx: &Arc<Context>, size: Size) -> Result<(OffscreenTarget, u32)> {
+/// The target for pictures of `size`, its supersampling factor and, with temporal
+/// anti-aliasing, the resolve that reads it.
+fn target(ctx: &Arc<Context>, size: Size) -> Result<(OffscreenTarget, u32, Option<Temporal>)> {
+    if ctx.temporal() {
+        let target = OffscreenTarget::sampled(ctx, size.width, size.height)?;
+        let temporal = Temporal::new(ctx, &target)?;
+        return Ok((target, 1, Some(temporal)));
+    }
     let factor = super::supersample::factor_for(ctx, size, ctx.supersample());
     if factor < ctx.supersample() {
         log::info!(
@@ -199,5 +265,5 @@ fn target(ctx: &Arc<Context>, size: Size) -> Result<(OffscreenTarget, u32)> {
         );
     }
     let target = OffscreenTarget::new(ctx, size.width * factor, size.height * factor)?;
-    Ok((target, factor))
+    Ok((target, factor, None))
 }

@@ -235,6 +235,32 @@ impl Commands<'_> {
         self.set_viewport(width, height);
     }
 
+    /// Begins dynamic rendering into `colors` (each in COLOR_ATTACHMENT_OPTIMAL, every
+    /// pixel overwritten: nothing is loaded), no depth, over `width` x `height`.
+    pub fn begin_rendering_colors(&self, colors: &[vk::ImageView], width: u32, height: u32) {
+        let attachments: Vec<vk::RenderingAttachmentInfo<'_>> = colors
+            .iter()
+            .map(|&view| {
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(view)
+                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .load_op(vk::AttachmentLoadOp::DONT_CARE)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+            })
+            .collect();
+        let info = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D { x: 0, y: 0 },
+                extent: vk::Extent2D { width, height },
+            })
+            .layer_count(1)
+            .color_attachments(&attachments);
+        // SAFETY: `raw` is recording outside a rendering scope; the caller put the
+        // views' images in COLOR_ATTACHMENT_OPTIMAL.
+        unsafe { self.ctx.device.cmd_begin_rendering(self.raw, &info) };
+        self.set_viewport(width, height);
+    }
+
     /// Ends the dynamic-rendering scope begun on this command buffer.
     pub fn end_rendering(&self) {
         // SAFETY: a rendering scope begun on `raw` is open.

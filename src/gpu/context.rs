@@ -35,6 +35,10 @@ pub struct ContextOptions {
     /// averaged down (`frame::supersample`), 1..=4 (`None`: 1). Reduced where the
     /// device or the memory budget cannot hold the larger frame.
     pub supersample: Option<u32>,
+    /// Temporal anti-aliasing instead of multisampling (`frame::temporal`): frames are
+    /// drawn with one sample a pixel at a jittered position and averaged over time;
+    /// `samples` must then be unset or 1.
+    pub temporal: bool,
 }
 
 /// Frames' samples per pixel unless asked otherwise.
@@ -224,8 +228,10 @@ pub struct Context {
     frame_format: super::TargetFormat,
     /// `ContextOptions::sample_shading`, resolved.
     sample_shading: bool,
-    /// `ContextOptions::supersample`, resolved.
+    /// `ContextOptions::supersample`, resolved (1 under temporal anti-aliasing).
     supersample: u32,
+    /// `ContextOptions::temporal`.
+    temporal: bool,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
     pub(crate) xfb: ash::ext::transform_feedback::Device,
@@ -278,7 +284,22 @@ impl Context {
         };
         // SAFETY: `physical` came from this instance.
         let limits = unsafe { parts.instance.get_physical_device_properties(physical) }.limits;
-        let frame_format = match frame_format(options.samples, &limits) {
+        if options.temporal && options.samples.is_some_and(|n| n != 1) {
+            return Err((
+                Error::invalid(
+                    "--samples",
+                    "temporal anti-aliasing draws one sample a pixel: give --samples only \
+                     with --anti-aliasing multisample",
+                ),
+                Some(parts),
+            ));
+        }
+        let samples = if options.temporal {
+            Some(1)
+        } else {
+            options.samples
+        };
+        let frame_format = match frame_format(samples, &limits) {
             Ok(f) => f,
             Err(e) => return Err((e, Some(parts))),
         };
@@ -449,7 +470,12 @@ impl Context {
             frame_format,
             sample_shading: sample_rate_shading
                 && options.sample_shading.unwrap_or(options.window.is_none()),
-            supersample: options.supersample.unwrap_or(1).clamp(1, MAX_SUPERSAMPLE),
+            supersample: if options.temporal {
+                1
+            } else {
+                options.supersample.unwrap_or(1).clamp(1, MAX_SUPERSAMPLE)
+            },
+            temporal: options.temporal,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(command_pool),
             xfb: xfb_device,
@@ -491,6 +517,12 @@ impl Context {
     /// to the device.
     pub fn supersample(&self) -> u32 {
         self.supersample
+    }
+
+    /// Whether frames are anti-aliased over time (`ContextOptions::temporal`) rather
+    /// than by multisampling.
+    pub fn temporal(&self) -> bool {
+        self.temporal
     }
 
     /// Whether validation is on for this context.

@@ -57,6 +57,26 @@ impl Sampler {
         })
     }
 
+    /// Nearest texel, one level, clamped to the edge: for formats that cannot be
+    /// filtered (depth) read texel by texel.
+    pub fn nearest_clamp(ctx: &Arc<Context>, name: &str) -> Result<Self> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .max_lod(0.0);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { ctx.device.create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        ctx.name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+
     /// Trilinear filtering over every mip level, clamped to the edge (a cube map read
     /// at a level chosen by roughness).
     pub fn linear_clamp_mips(ctx: &Arc<Context>, name: &str) -> Result<Self> {

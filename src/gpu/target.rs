@@ -114,6 +114,9 @@ pub struct OffscreenTarget {
     format: TargetFormat,
     width: u32,
     height: u32,
+    /// Colour and depth are kept and can be sampled after the frame (a pass that reads
+    /// the frame drawn: temporal anti-aliasing).
+    sampled: bool,
 }
 
 impl OffscreenTarget {
@@ -130,6 +133,31 @@ impl OffscreenTarget {
         height: u32,
         format: TargetFormat,
     ) -> Result<Self> {
+        Self::make(ctx, width, height, format, false)
+    }
+
+    /// A single-sampled target of the context's colour and depth formats whose colour
+    /// and depth a later pass samples (`to_shader_read`).
+    pub fn sampled(ctx: &Arc<Context>, width: u32, height: u32) -> Result<Self> {
+        let format = TargetFormat {
+            samples: vk::SampleCountFlags::TYPE_1,
+            ..ctx.frame_format()
+        };
+        Self::make(ctx, width, height, format, true)
+    }
+
+    fn make(
+        ctx: &Arc<Context>,
+        width: u32,
+        height: u32,
+        format: TargetFormat,
+        sampled: bool,
+    ) -> Result<Self> {
+        let read = if sampled {
+            vk::ImageUsageFlags::SAMPLED
+        } else {
+            vk::ImageUsageFlags::empty()
+        };
         let max = ctx.info().max_image_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
             return Err(Error::invalid(
@@ -146,7 +174,7 @@ impl OffscreenTarget {
                 width,
                 height,
                 format.color,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC | read,
             ),
         )?;
         let samples = if multisampled {
@@ -172,7 +200,7 @@ impl OffscreenTarget {
                 width,
                 height,
                 format.depth,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | read,
             )
             .samples(format.samples),
         )?;
@@ -193,6 +221,7 @@ impl OffscreenTarget {
             format,
             width,
             height,
+            sampled,
         })
     }
 
@@ -214,6 +243,56 @@ impl OffscreenTarget {
 
     pub(crate) fn color_image(&self) -> vk::Image {
         self.color.raw()
+    }
+
+    /// The single-sampled colour image (resolved, or drawn directly at one sample).
+    pub(crate) fn color(&self) -> &Image {
+        &self.color
+    }
+
+    /// The depth image (multisampled when the target is).
+    pub(crate) fn depth(&self) -> &Image {
+        &self.depth
+    }
+
+    /// After `end`: the colour and depth of a `sampled` target become readable by
+    /// fragment shaders (colour SHADER_READ_ONLY, depth DEPTH_READ_ONLY).
+    pub fn to_shader_read(&self, cmd: &Commands<'_>) {
+        barrier::images(
+            cmd.ctx,
+            cmd.raw,
+            &[
+                ImageTransition {
+                    image: self.color.raw(),
+                    range: self.color.full_range(),
+                    from: (
+                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                    ),
+                    to: (
+                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                        vk::AccessFlags2::SHADER_SAMPLED_READ,
+                    ),
+                },
+                ImageTransition {
+                    image: self.depth.raw(),
+                    range: self.depth.full_range(),
+                    from: (
+                        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                    ),
+                    to: (
+                        vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL,
+                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                        vk::AccessFlags2::SHADER_SAMPLED_READ,
+                    ),
+                },
+            ],
+        );
     }
 
     /// Transitions the attachments, clears them and opens a rendering scope with the
@@ -281,7 +360,11 @@ impl OffscreenTarget {
             .image_view(self.depth.view())
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .store_op(if self.sampled {
+                vk::AttachmentStoreOp::STORE
+            } else {
+                vk::AttachmentStoreOp::DONT_CARE
+            })
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue {
                     depth: 1.0,

@@ -16,6 +16,7 @@ pub mod ring_growth_cpu;
 pub mod ripple_maps;
 pub mod sky;
 pub mod speleothem_surface;
+pub mod temporal;
 pub mod xfb_selftest;
 
 use crate::shaders::ShaderInterface;
@@ -47,6 +48,9 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &speleothem_surface::CAP_GEOMETRY_INTERFACE,
         &speleothem_surface::FRAGMENT_INTERFACE,
         &speleothem_surface::PER_SAMPLE_FRAGMENT_INTERFACE,
+        &temporal::VERTEX_INTERFACE,
+        &temporal::FRAGMENT_INTERFACE,
+        &temporal::STILL_FRAGMENT_INTERFACE,
         &xfb_selftest::VERTEX_INTERFACE,
         &xfb_selftest::GEOMETRY_INTERFACE,
     ]

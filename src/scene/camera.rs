@@ -1,6 +1,6 @@
 //! Cameras and lights shared by every scene.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
@@ -90,6 +90,29 @@ pub struct Camera {
     pub near: f32,
     /// Distance to the far clipping plane, in the scene's units (> `near`).
     pub far: f32,
+    /// Where in the pixel this frame's sample lies, and how finely it filters
+    /// textures: temporal anti-aliasing moves it every frame (`frame::temporal`);
+    /// `Jitter::NONE` otherwise.
+    pub jitter: Jitter,
+}
+
+/// One frame's sample position inside the pixel under temporal anti-aliasing.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Jitter {
+    /// Shift of the image in normalized device coordinates (2 / width is a pixel).
+    pub offset: Vec2,
+    /// Level-of-detail bias of the scenes' texture lookups: log2 of the share of the
+    /// pixel's side one sample stands for (-2 for 16 samples a pixel), so that the
+    /// mean of the samples holds the detail a supersampled pixel does.
+    pub lod_bias: f32,
+}
+
+impl Jitter {
+    /// The pixel's centre, textures filtered over the pixel.
+    pub const NONE: Self = Self {
+        offset: Vec2::ZERO,
+        lod_bias: 0.0,
+    };
 }
 
 impl Camera {
@@ -103,7 +126,9 @@ impl Camera {
             self.far,
         );
         let view = glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up);
-        proj * view
+        // A shift in clip space (x += jitter.x * w) moves the whole image by `jitter`
+        // in normalized device coordinates, whatever the depth.
+        Mat4::from_translation(self.jitter.offset.extend(0.0)) * proj * view
     }
 }
 
@@ -224,7 +249,12 @@ impl Lighting {
             sun_color: self.sun_color.extend(0.0),
             sky_color: self.sky_color.extend(0.0),
             ground_color: self.ground_color.extend(0.0),
-            params: Vec4::new(self.exposure, self.tonemap.code(), 0.0, 0.0),
+            params: Vec4::new(
+                self.exposure,
+                self.tonemap.code(),
+                camera.jitter.lod_bias,
+                0.0,
+            ),
         }
     }
 }

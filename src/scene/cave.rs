@@ -9,7 +9,7 @@ pub mod frame;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, CameraOptions};
+use super::camera::{Camera, CameraOptions, Jitter};
 use super::params::{SceneParams, Way, on_off};
 use crate::error::{Error, Result};
 use crate::model::cave::placement::VerticalRays;
@@ -397,6 +397,7 @@ fn passage_camera(scene: &CaveScene, rays: &VerticalRays<'_>, x: f32, ahead: f32
         fov_y_degrees: 60.0,
         near: 0.05,
         far: 2.0 * size,
+        jitter: Jitter::NONE,
     }
 }
 

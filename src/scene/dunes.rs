@@ -10,7 +10,7 @@ pub mod frame;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, CameraOptions};
+use super::camera::{Camera, CameraOptions, Jitter};
 use super::params::{SceneParams, Way, on_off};
 use crate::error::{Error, Result};
 use crate::model::atmosphere::Atmosphere;
@@ -695,6 +695,7 @@ pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
             fov_y_degrees: 50.0,
             near: 0.1,
             far: 4.0 * s,
+            jitter: Jitter::NONE,
         };
     }
     // Upwind, across the ridges (their crests run across the wind, +x): the slip
@@ -708,5 +709,6 @@ pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
         fov_y_degrees: 50.0,
         near: 0.5,
         far: 4.0 * s,
+        jitter: Jitter::NONE,
     }
 }

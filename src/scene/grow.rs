@@ -8,7 +8,7 @@ pub mod frame;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, CameraOptions, Lighting, ToneMap};
+use super::camera::{Camera, CameraOptions, Jitter, Lighting, ToneMap};
 use super::params::{SceneParams, Way};
 use crate::error::{Error, Result};
 use crate::model::speleothem::climate;
@@ -132,6 +132,7 @@ pub fn default_camera(scene: &GrowthScene) -> Camera {
             fov_y_degrees: 55.0,
             near: 0.02,
             far: 60.0,
+            jitter: Jitter::NONE,
         };
     }
     Camera {
@@ -141,6 +142,7 @@ pub fn default_camera(scene: &GrowthScene) -> Camera {
         fov_y_degrees: 55.0,
         near: 0.05,
         far: 60.0,
+        jitter: Jitter::NONE,
     }
 }
 

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, CameraOptions};
+use super::camera::{Camera, CameraOptions, Jitter};
 use super::params::{SceneParams, Way};
 use crate::error::{Error, Result};
 pub use crate::model::layers::cut_away::{CutAway, WEDGE, cut_away};
@@ -184,6 +184,7 @@ pub fn default_camera(c: &CutAway) -> Camera {
         fov_y_degrees: 35.0,
         near: size * 0.01,
         far: size * 10.0,
+        jitter: Jitter::NONE,
     }
 }
 

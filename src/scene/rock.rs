@@ -5,7 +5,7 @@ pub mod frame;
 
 use glam::Vec3;
 
-use super::camera::{Camera, Lighting};
+use super::camera::{Camera, Jitter, Lighting};
 use crate::model::rock::RockParams;
 pub use frame::{RockFrame, render};
 
@@ -37,6 +37,7 @@ impl RockScene {
                 fov_y_degrees: 40.0,
                 near: 0.05,
                 far: 50.0,
+                jitter: Jitter::NONE,
             },
             lighting: Lighting::default(),
             albedo: Vec3::new(0.24, 0.21, 0.18),

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::scene::camera::Camera;
+use crate::scene::camera::{Camera, Jitter};
 
 /// Orbit around the focus or fly freely.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,6 +71,7 @@ impl CameraControl {
             fov_y_degrees: self.fov_y_degrees,
             near: self.near,
             far: self.far,
+            jitter: Jitter::NONE,
         }
     }
 
@@ -144,6 +145,7 @@ mod tests {
             fov_y_degrees: 45.0,
             near: 0.05,
             far: 50.0,
+            jitter: Jitter::NONE,
         }
     }
 

@@ -364,7 +364,13 @@ impl State {
                 self.camera.fly(f, r, u, 0.25);
             }
             other => {
-                self.scene.key(&self.ctx, other)?;
+                // A scene's key changes what it shows in ways depth does not tell (a
+                // light, a look): what temporal anti-aliasing accumulated is dropped.
+                if self.scene.key(&self.ctx, other)? {
+                    if let Some(runner) = &mut self.runner {
+                        runner.start_over();
+                    }
+                }
             }
         }
         Ok(false)
@@ -454,9 +460,7 @@ impl State {
             return Ok(());
         };
         let (w, h) = chain.size();
-        let aspect = w as f32 / h as f32;
-        self.scene
-            .set_frame(&self.ctx, &self.camera.camera(), aspect, Time::Tick)?;
+        runner.set_frame(self.scene.as_mut(), &self.camera.camera(), Time::Tick)?;
         let panel = if self.overlay {
             let mut lines = vec![format!(
                 "sediment view {}  {:.1} fps  cpu {:.1} ms  gpu: {}{:.2} ms  {}",
@@ -492,7 +496,7 @@ impl State {
         let presented = chain.present(index, |cmd, image| {
             // Only a frame to be saved is read back.
             runner.record(cmd, scene.as_mut(), save)?;
-            cmd.blit_target(runner.target(), image, w, h);
+            cmd.blit_target(runner.shown(), image, w, h);
             if let Some(p) = &panel {
                 cmd.copy_pixels(pixels, image, (0, 0), (p.width, p.height));
             }

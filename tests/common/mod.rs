@@ -34,6 +34,14 @@ pub fn gpu_with_shading(samples: Option<u32>, sample_shading: Option<bool>) -> A
     gpu_configured(samples, sample_shading, None)
 }
 
+/// `gpu()` with temporal anti-aliasing (one jittered sample a pixel, frames averaged).
+pub fn gpu_temporal() -> Arc<Context> {
+    gpu_options(ContextOptions {
+        temporal: true,
+        ..ContextOptions::default()
+    })
+}
+
 /// `gpu()` with its frames' samples, shading rate and pictures' supersampling
 /// (`ContextOptions`; `None`: the library's defaults).
 pub fn gpu_configured(
@@ -41,15 +49,23 @@ pub fn gpu_configured(
     sample_shading: Option<bool>,
     supersample: Option<u32>,
 ) -> Arc<Context> {
+    gpu_options(ContextOptions {
+        samples,
+        sample_shading,
+        supersample,
+        ..ContextOptions::default()
+    })
+}
+
+/// A validated device on `SEDIMENT_DEVICE` (if set) with `options` otherwise.
+pub fn gpu_options(options: ContextOptions) -> Arc<Context> {
     let options = ContextOptions {
         device: std::env::var("SEDIMENT_DEVICE")
             .ok()
             .filter(|s| !s.is_empty()),
         validate: true,
         window: None,
-        samples,
-        sample_shading,
-        supersample,
+        ..options
     };
     match Context::new(&options) {
         Ok(ctx) => {

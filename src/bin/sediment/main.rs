@@ -55,10 +55,21 @@ pub struct Cli {
           value_parser = parse_size)]
     pub size: Size,
 
-    /// Anti-aliasing: samples per pixel of every frame (multisampling), 1 (off), 2, 4
-    /// or 8 as the device allows.
-    #[arg(long, global = true, value_name = "N", default_value_t = 4)]
-    pub samples: u32,
+    /// Anti-aliasing: `multisample` draws every frame with --samples samples a pixel
+    /// (pictures, also supersampled, see --supersample); `temporal` draws each frame
+    /// with one sample a pixel at one of 16 positions of a 4x4 grid inside it and
+    /// averages the frames, reprojected where the camera moves: a still camera reaches
+    /// a 4x4-supersampled frame in 16 frames, at about a third of the cost of 4x
+    /// multisampling on lavapipe; a picture is then the mean of 16 frames (default:
+    /// temporal in `view` and `bench`, multisample for pictures).
+    #[arg(long, global = true, value_name = "multisample|temporal",
+          value_parser = parse_anti_aliasing)]
+    pub anti_aliasing: Option<AntiAliasing>,
+
+    /// Samples per pixel of every frame with multisampling, 1 (off), 2, 4 or 8 as the
+    /// device allows (default 4; temporal anti-aliasing draws 1).
+    #[arg(long, global = true, value_name = "N")]
+    pub samples: Option<u32>,
 
     /// Shade the speleothems' bump detail once per sample of a multisampled frame
     /// instead of once per pixel (their sparkle anti-aliased), on or off, where the
@@ -318,25 +329,54 @@ pub fn open_context_with(
 /// the one-sample frame's distance from a 4x4-supersampled one, `tests/anti_aliasing.rs`).
 const PICTURE_SUPERSAMPLE: u32 = 2;
 
-/// Options for frames drawn as they come (`view`, `bench`): no supersampling, and
-/// shading per sample only when asked for, as a window's frame rate needs.
+/// How frames are anti-aliased (`--anti-aliasing`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AntiAliasing {
+    /// Several samples a pixel in every frame (`--samples`).
+    Multisample,
+    /// One jittered sample a pixel, averaged over frames (`frame::temporal`).
+    Temporal,
+}
+
+fn parse_anti_aliasing(v: &str) -> Result<AntiAliasing, String> {
+    match v {
+        "multisample" | "msaa" => Ok(AntiAliasing::Multisample),
+        "temporal" | "taa" => Ok(AntiAliasing::Temporal),
+        _ => Err(format!("\"{v}\" is not multisample or temporal")),
+    }
+}
+
+/// Options for frames drawn as they come (`view`, `bench`): temporal anti-aliasing
+/// unless multisampling is asked for, no supersampling, and shading per sample only
+/// when asked for, as a window's frame rate needs.
 pub fn realtime_context_options(cli: &Cli) -> ContextOptions {
     ContextOptions {
         supersample: Some(1),
         sample_shading: Some(cli.sample_shading.unwrap_or(false)),
-        ..context_options(cli)
+        ..options_with(cli, AntiAliasing::Temporal)
     }
 }
 
-/// The device options of the command line and the environment.
+/// The device options of the command line and the environment, for pictures.
 pub fn context_options(cli: &Cli) -> ContextOptions {
+    options_with(cli, AntiAliasing::Multisample)
+}
+
+/// The device options with `anti_aliasing` unless the command line names one.
+fn options_with(cli: &Cli, anti_aliasing: AntiAliasing) -> ContextOptions {
+    let temporal = cli.anti_aliasing.unwrap_or(anti_aliasing) == AntiAliasing::Temporal;
     ContextOptions {
         device: cli.device.clone(),
         validate: cli.validate,
         window: None,
-        samples: Some(cli.samples),
+        samples: if temporal {
+            cli.samples
+        } else {
+            Some(cli.samples.unwrap_or(4))
+        },
         sample_shading: cli.sample_shading,
         supersample: Some(cli.supersample.unwrap_or(PICTURE_SUPERSAMPLE)),
+        temporal,
     }
     .with_env()
 }

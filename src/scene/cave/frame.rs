@@ -24,7 +24,7 @@ use crate::render::growth::{Growth, GrowthPath};
 use crate::render::lit_mesh::{GpuMesh, ObjectPush};
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
 use crate::scene::Size;
-use crate::scene::camera::{Camera, Lighting, ToneMap};
+use crate::scene::camera::{Camera, Jitter, Lighting, ToneMap};
 use crate::view::input::Key;
 
 const ROCK: Vec3 = Vec3::new(0.34, 0.29, 0.24);
@@ -68,6 +68,7 @@ fn cave_environment(
         fov_y_degrees: 90.0,
         near: 0.01,
         far: 2.0 * scene.cave.size_m,
+        jitter: Jitter::NONE,
     };
     let rock = ObjectPush {
         model: Mat4::IDENTITY,

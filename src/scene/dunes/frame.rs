@@ -135,6 +135,8 @@ pub struct DunesFrame {
     dust_blobs: usize,
     /// The dust as released and as it drifts (the viewer advances it a step a frame).
     dust_cloud: Option<(DustCloud, DustCloud)>,
+    /// The dust moved in the last `set_frame`.
+    dust_moved: bool,
     /// One period of dune heights (metres), which the dust hugs.
     dune_heights: Vec<f32>,
     /// The walk's footprints, if any: their detail field over the dunes.
@@ -236,6 +238,7 @@ impl DunesFrame {
             dust: DustPass::new(ctx, ctx.frame_format(), blobs, &shadow.heights, n as u32)?,
             dust_blobs: blobs.len(),
             dust_cloud: cloud,
+            dust_moved: false,
             prints,
             dune_heights: terrain.dune_heights.clone(),
             sky: AtmosphereSkyPass::new(ctx, ctx.frame_format(), &sky_view)?,
@@ -284,6 +287,7 @@ impl DunesFrame {
     /// Moves the dust to `time`: step `dust_step + n` for `Time::At(n)`, one step on
     /// for each `Time::Tick` (the viewer blows it along).
     fn advance_dust(&mut self, time: Time) -> Result<()> {
+        self.dust_moved = false;
         let (Some((released, cloud)), Some(_)) = (&mut self.dust_cloud, &self.scene.dust) else {
             return Ok(());
         };
@@ -293,6 +297,7 @@ impl DunesFrame {
             Time::At(n) => scene.dust_step.saturating_add(n),
             Time::Tick => cloud.steps().saturating_add(1),
         };
+        self.dust_moved = target != cloud.steps();
         if target < cloud.steps() {
             // Back in time: released again (each blob's stream is its own, so this
             // lands on the same positions).
@@ -483,6 +488,11 @@ impl Scene for DunesFrame {
         target.end(cmd);
         timer.end(cmd, span);
         Ok(())
+    }
+
+    /// The dust blew on.
+    fn animated(&self) -> bool {
+        self.dust_moved
     }
 
     /// The precomputations' GPU times and the triangles drawn.

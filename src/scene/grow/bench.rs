@@ -15,7 +15,7 @@ use crate::model::speleothem::plan::{GrowthParams, GrowthScene, GrowthUnits};
 use crate::model::speleothem::table2::Pil;
 use crate::render::growth::GrowthPath;
 use crate::scene::Size;
-use crate::scene::camera::{Camera, Lighting};
+use crate::scene::camera::{Camera, Jitter, Lighting};
 
 /// The growth bench scene: 24 stalactites, 32 segments, that never stop within 130
 /// passes (no radius change, a roof far above), so ring k exists at pass k.
@@ -73,6 +73,7 @@ impl BenchScene for GrowBench {
             fov_y_degrees: 50.0,
             near: 0.05,
             far: 50.0,
+            jitter: Jitter::NONE,
         };
         let frame = GrowthFrame::bare(ctx, growth_scene(), path, Lighting::default())?;
         Ok((Box::new(frame), camera))

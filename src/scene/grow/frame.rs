@@ -35,7 +35,7 @@ use crate::render::growth::{Growth, GrowthPath};
 use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
 use crate::render::speleothem_surface::{SpeleothemSurfacePass, speleothem_info};
 use crate::scene::Size;
-use crate::scene::camera::{Camera, Lighting, ToneMap};
+use crate::scene::camera::{Camera, Jitter, Lighting, ToneMap};
 use crate::view::input::Key;
 
 const ROCK: ObjectPush = ObjectPush {
@@ -121,6 +121,7 @@ impl Chamber {
                     fov_y_degrees: 90.0,
                     near: 0.01,
                     far: 10.0,
+                    jitter: Jitter::NONE,
                 },
                 1.0,
             ),
@@ -534,6 +535,11 @@ impl Scene for GrowthFrame {
 
     fn steps(&self) -> Option<u32> {
         Some(self.plan.passes)
+    }
+
+    /// A pass grows this frame.
+    fn animated(&self) -> bool {
+        self.passes_now > 0
     }
 
     /// The pass time at rings 8, 32 and 128 and their ratio (O(mesh) or O(one ring)

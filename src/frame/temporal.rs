@@ -1,0 +1,279 @@
+//! Temporal anti-aliasing, the frame runner's alternative to multisampling where frames
+//! come one after another (`view`, `bench`): each frame is drawn with one sample a
+//! pixel, its camera shifted to one of the 16 positions of a 4x4 grid inside the pixel,
+//! and `render::temporal` averages it into a running mean of the frames before. A still
+//! camera converges on exactly the samples of a 4x4-supersampled frame; a moving one
+//! reprojects the mean through the depth. On lavapipe it costs one full-screen pass
+//! where 4x multisampling costs several (README, Performance).
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec2, Vec4};
+
+use crate::error::Result;
+use crate::gpu::{
+    Commands, Context, DescriptorSet, Image, ImageDesc, ImageTransition, OffscreenTarget, vk,
+};
+use crate::render::temporal::{
+    HISTORY_DEPTH_FORMAT, HISTORY_FORMAT, ResolveImages, ResolvePush, TemporalPass,
+};
+use crate::scene::Size;
+use crate::scene::camera::Jitter;
+
+/// The 16 sample positions, cells of a 4x4 grid over the pixel, in the order of a 4x4
+/// Bayer matrix: every run of 4 consecutive frames covers the pixel evenly.
+const ORDER: [u8; 16] = [0, 10, 2, 8, 5, 15, 7, 13, 1, 11, 3, 9, 4, 14, 6, 12];
+
+/// Texture level-of-detail bias of each frame: its sample stands for a cell a quarter
+/// of the pixel wide, log2(1/4) (fig17 at 720x480 against its 4x4-supersampled frame:
+/// bias 0 1.11, -1 0.81, -1.5 0.79, -2 0.80).
+const LOD_BIAS: f32 = -2.0;
+
+/// Frames a still picture accumulates: every position once.
+pub const FRAMES_PER_PICTURE: u32 = ORDER.len() as u32;
+
+/// Most frames in the mean while the camera moves (a new frame weighs at least 1/5):
+/// the reprojected history blurs a little with each frame and lags what changes with
+/// the view (highlights, reflections).
+const MOVING_FRAMES: f32 = 4.0;
+/// Most frames in the mean while the scene changes under a still camera (growth):
+/// what changes slowly (the colour ramp of growing speleothems) follows within a few
+/// frames.
+const ANIMATED_FRAMES: f32 = 8.0;
+/// Most frames in the mean when nothing moves: two rounds of the 16 positions, so the
+/// mean stays close to their plain average.
+const STILL_FRAMES: f32 = 32.0;
+/// How many times the depth's change from pixel to pixel the history's depth may lie
+/// outside this frame's 2x2 quad of depths and still be the same surface, while the
+/// camera or the scene moves.
+const SAME_SURFACE: f32 = 2.0;
+/// When nothing moved every history is kept (at an edge the jittered samples fall on
+/// either side, and their depths differ by design).
+const KEEP_ALL: f32 = 1e30;
+
+/// The pixel offset of frame `k`'s sample, each coordinate in (-0.5, 0.5).
+pub fn sample_offset(k: u64) -> Vec2 {
+    let cell = ORDER[(k % ORDER.len() as u64) as usize];
+    Vec2::new(f32::from(cell % 4), f32::from(cell / 4)) * 0.25 + Vec2::splat(0.125 - 0.5)
+}
+
+/// The resolve, its output and the two histories it alternates between, for frames
+/// drawn into one sampled target.
+pub struct Temporal {
+    // Read `drawn`'s images and the histories: dropped before them.
+    sets: [DescriptorSet; 2],
+    pass: TemporalPass,
+    /// Two histories, each a colour (the mean) and a depth image.
+    history: [[Image; 2]; 2],
+    /// The frame shown: the mean after this frame.
+    shown: OffscreenTarget,
+    /// Which history this frame reads (it writes the other).
+    read: usize,
+    /// Frames resolved so far.
+    frame: u64,
+    /// This frame's and the last frame's view-projection, without jitter.
+    current: Mat4,
+    last: Option<Mat4>,
+    /// The scene changed beyond the camera this frame (`Scene::animated`).
+    animated: bool,
+    start_over: bool,
+}
+
+impl Temporal {
+    /// For frames drawn into `drawn` (made with `OffscreenTarget::sampled`).
+    pub fn new(ctx: &Arc<Context>, drawn: &OffscreenTarget) -> Result<Self> {
+        let (w, h) = (drawn.width(), drawn.height());
+        crate::budget::check_host(
+            "--size",
+            &format!("temporal anti-aliasing of a {w}x{h} frame"),
+            // Two histories, the shown frame, its depth and readback, and the frame
+            // drawn (its own target counted the rest).
+            u64::from(w) * u64::from(h) * (2 * (8 + 4) + 4 + 4 + 4 + 20),
+            "reduce --size",
+        )?;
+        let pass = TemporalPass::new(ctx, drawn.format().color)?;
+        let history_image = |k: usize| -> Result<[Image; 2]> {
+            let image = |what: &str, format| {
+                Image::new(
+                    ctx,
+                    &format!("temporal history {k} {what}"),
+                    ImageDesc::new_2d(
+                        w,
+                        h,
+                        format,
+                        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+                    ),
+                )
+            };
+            Ok([
+                image("colour", HISTORY_FORMAT)?,
+                image("depth", HISTORY_DEPTH_FORMAT)?,
+            ])
+        };
+        let history = [history_image(0)?, history_image(1)?];
+        let bind = |k: usize| {
+            pass.bind(
+                &format!("temporal set {k}"),
+                drawn.color(),
+                drawn.depth(),
+                [&history[k][0], &history[k][1]],
+            )
+        };
+        let sets = [bind(0)?, bind(1)?];
+        // Both histories start readable; the first frame starts over and reads neither.
+        ctx.submit_and_wait("temporal histories", |cmd| {
+            let images = history.iter().flatten();
+            let transitions: Vec<ImageTransition> = images
+                .map(|image| ImageTransition {
+                    image: image.raw(),
+                    range: image.full_range(),
+                    from: (
+                        vk::ImageLayout::UNDEFINED,
+                        vk::PipelineStageFlags2::TOP_OF_PIPE,
+                        vk::AccessFlags2::NONE,
+                    ),
+                    to: (
+                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                        vk::AccessFlags2::SHADER_SAMPLED_READ,
+                    ),
+                })
+                .collect();
+            cmd.transition_images(&transitions);
+            Ok(())
+        })?;
+        let shown = OffscreenTarget::with_format(
+            ctx,
+            w,
+            h,
+            crate::gpu::TargetFormat {
+                samples: vk::SampleCountFlags::TYPE_1,
+                ..drawn.format()
+            },
+        )?;
+        Ok(Self {
+            sets,
+            pass,
+            history,
+            shown,
+            read: 0,
+            frame: 0,
+            current: Mat4::IDENTITY,
+            last: None,
+            animated: false,
+            start_over: true,
+        })
+    }
+
+    /// The next frame's sample: its offset in normalized device coordinates of a
+    /// frame of `size`, its textures filtered over a quarter of the pixel's side (the
+    /// 4x4 grid's cell).
+    pub fn jitter(&self, size: Size) -> Jitter {
+        let pixel = sample_offset(self.frame);
+        Jitter {
+            offset: Vec2::new(
+                2.0 * pixel.x / size.width as f32,
+                2.0 * pixel.y / size.height as f32,
+            ),
+            lod_bias: LOD_BIAS,
+        }
+    }
+
+    /// The next frame's view-projection without jitter (what the history is
+    /// reprojected by).
+    pub fn set_view(&mut self, view_proj: Mat4) {
+        self.current = view_proj;
+    }
+
+    /// Whether the scene changed beyond the camera this frame (`Scene::animated`).
+    pub fn set_animated(&mut self, animated: bool) {
+        self.animated = animated;
+    }
+
+    /// Forgets the history: the next frame starts a new mean (the scene changed in a
+    /// way the history cannot tell: a light moved, a look switched).
+    pub fn start_over(&mut self) {
+        self.start_over = true;
+    }
+
+    /// The frame shown (after `record`).
+    pub fn shown(&self) -> &OffscreenTarget {
+        &self.shown
+    }
+
+    /// Records the resolve of the frame just drawn into `drawn` (its rendering ended).
+    pub fn record(&self, cmd: &Commands<'_>, drawn: &OffscreenTarget) -> Result<()> {
+        drawn.to_shader_read(cmd);
+        let still = self.last == Some(self.current);
+        let reproject = self.last.unwrap_or(self.current) * self.current.inverse();
+        let (frames, same_surface) = match (still, self.animated) {
+            (true, false) => (STILL_FRAMES, KEEP_ALL),
+            (true, true) => (ANIMATED_FRAMES, SAME_SURFACE),
+            (false, _) => (MOVING_FRAMES, SAME_SURFACE),
+        };
+        let start_over = self.start_over || self.last.is_none() || !reproject.is_finite();
+        self.pass.record(
+            cmd,
+            &ResolveImages {
+                set: &self.sets[self.read],
+                history_out: [
+                    &self.history[1 - self.read][0],
+                    &self.history[1 - self.read][1],
+                ],
+                shown: self.shown.color(),
+            },
+            still,
+            &ResolvePush {
+                reproject,
+                params: Vec4::new(
+                    frames,
+                    same_surface,
+                    if start_over { 1.0 } else { 0.0 },
+                    0.0,
+                ),
+            },
+        )
+    }
+
+    /// After the frame's submission finished: the history written becomes the one read.
+    pub fn advance(&mut self) {
+        self.read = 1 - self.read;
+        self.frame += 1;
+        self.last = Some(self.current);
+        self.start_over = false;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sixteen_frames_visit_each_cell_of_the_4x4_grid_once() {
+        let mut cells: Vec<(i32, i32)> = (0..16)
+            .map(|k| {
+                let o = sample_offset(k);
+                assert!(o.x.abs() < 0.5 && o.y.abs() < 0.5, "{o}");
+                (((o.x + 0.5) * 4.0) as i32, ((o.y + 0.5) * 4.0) as i32)
+            })
+            .collect();
+        cells.sort_unstable();
+        cells.dedup();
+        assert_eq!(cells.len(), 16);
+        // Centred on the pixel: the mean offset is zero.
+        let mean: Vec2 = (0..16).map(sample_offset).sum::<Vec2>() / 16.0;
+        assert!(mean.length() < 1e-6, "{mean}");
+        // Each run of four covers each quadrant of the pixel once.
+        for start in [0, 4, 8, 12] {
+            let mut quadrants: Vec<(bool, bool)> = (start..start + 4)
+                .map(|k| {
+                    let o = sample_offset(k);
+                    (o.x > 0.0, o.y > 0.0)
+                })
+                .collect();
+            quadrants.sort_unstable();
+            quadrants.dedup();
+            assert_eq!(quadrants.len(), 4, "frames {start}..{}", start + 4);
+        }
+    }
+}
