@@ -35,12 +35,35 @@ impl Mesh {
         facing_up: bool,
         height: impl Fn(f32, f32) -> f32,
     ) -> Mesh {
+        Self::graded_height_grid(half, y, cells, 1.0, facing_up, height)
+    }
+
+    /// `height_grid` whose cells grow from the centre outward: a grid line at `t`
+    /// (-1..1 across the grid) lies at `half * t * (g + (1 - g) t^2)`, so the central
+    /// cells are `g` times the uniform grid's and the outermost `3 - 2 g` times
+    /// (`g` in (0, 1]; 1 is uniform). Detail where a scene's subject stands, few
+    /// triangles far away where each would cover less than a pixel.
+    pub fn graded_height_grid(
+        half: f32,
+        y: f32,
+        cells: u32,
+        centre: f32,
+        facing_up: bool,
+        height: impl Fn(f32, f32) -> f32,
+    ) -> Mesh {
         let n = cells.max(1);
+        let g = centre.clamp(1e-3, 1.0);
+        let line = |k: u32| {
+            if g >= 1.0 {
+                return -half + 2.0 * half * k as f32 / n as f32;
+            }
+            let t = 2.0 * k as f32 / n as f32 - 1.0;
+            half * t * (g + (1.0 - g) * t * t)
+        };
         let mut positions = Vec::with_capacity(((n + 1) * (n + 1)) as usize);
         for j in 0..=n {
             for i in 0..=n {
-                let x = -half + 2.0 * half * i as f32 / n as f32;
-                let z = -half + 2.0 * half * j as f32 / n as f32;
+                let (x, z) = (line(i), line(j));
                 positions.push(Vec3::new(x, y + height(x, z), z));
             }
         }
@@ -195,6 +218,34 @@ impl Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_graded_grid_spans_the_same_square_with_finer_cells_in_the_middle() {
+        let (n, half, g) = (48u32, 12.0f32, 0.4f32);
+        let grid = Mesh::graded_height_grid(half, 0.5, n, g, true, |_, _| 0.0);
+        let uniform = Mesh::height_grid(half, 0.5, n, true, |_, _| 0.0);
+        assert_eq!(grid.indices, uniform.indices);
+        let xs: Vec<f32> = grid.positions[..=n as usize].iter().map(|p| p.x).collect();
+        assert!((xs[0] + half).abs() < 1e-5 && (xs[n as usize] - half).abs() < 1e-5);
+        assert!(xs.windows(2).all(|w| w[1] > w[0]), "lines in order");
+        let cell = 2.0 * half / n as f32;
+        let middle = xs[n as usize / 2 + 1] - xs[n as usize / 2];
+        let edge = xs[n as usize] - xs[n as usize - 1];
+        assert!((middle / cell - g).abs() < 0.01, "{middle} vs {cell}");
+        assert!(
+            (edge / cell - (3.0 - 2.0 * g)).abs() < 0.1,
+            "{edge} vs {cell}"
+        );
+        // Every triangle still faces up.
+        for [a, b, c] in grid.triangles() {
+            let (a, b, c) = (
+                grid.positions[a as usize],
+                grid.positions[b as usize],
+                grid.positions[c as usize],
+            );
+            assert!((b - a).cross(c - a).y > 0.0);
+        }
+    }
 
     #[test]
     fn flat_shading_gives_every_triangle_its_face_normal() {
