@@ -18,17 +18,18 @@ layout(set = 0, binding = 0) uniform Frame {
     vec4 params;       // x exposure, y tone-mapping operator, z texture LOD bias
 } frame;
 
-layout(set = 0, binding = 1) uniform texture2D ripple_normals;  // our LOD chain as mips
-layout(set = 0, binding = 2) uniform texture2D horizon_a;       // horizon slopes, dirs 0-3
-layout(set = 0, binding = 3) uniform texture2D horizon_b;       // dirs 4-7
-layout(set = 0, binding = 4) uniform texture2D dune_shadow;     // 1 lit, 0 shadowed
-layout(set = 0, binding = 5) uniform texture2D sand_grain;
-layout(set = 0, binding = 6) uniform sampler repeat_sampler;
-layout(set = 0, binding = 7) uniform texture2D dune_heights;    // one period, cell units
-layout(set = 0, binding = 8) uniform texture2D detail_map;      // footprints: slopes, trodden, lit
+// Our LOD chain as mips: rg the ripple normal's x, y; b the horizon toward the sun as
+// an elevation angle over a right angle, a its spread under a mip texel (DuneTextures).
+layout(set = 0, binding = 1) uniform texture2D ripple_normals;
+// One period of the dune field: rg the dune normal's x, z; b the dune shadow map (1 lit).
+layout(set = 0, binding = 2) uniform texture2D dune_field;
+layout(set = 0, binding = 3) uniform texture2D sand_grain;
+layout(set = 0, binding = 4) uniform sampler repeat_sampler;
+layout(set = 0, binding = 5) uniform texture2D dune_heights;    // one period, cell units
+layout(set = 0, binding = 6) uniform texture2D detail_map;      // footprints: slopes, trodden, lit
 // The paper's LOD: one ripple level per quad of the 3x3-tiled field (row-major from
 // its corner at -period, -period), from the quad's projected area.
-layout(set = 0, binding = 9, std430) readonly buffer Levels {
+layout(set = 0, binding = 7, std430) readonly buffer Levels {
     float level[];
 } quads;
 
@@ -36,7 +37,7 @@ layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
     vec4 wind;     // xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0),
                    // w 1: write the dune-shadow mask instead of shading (for tests)
-    vec4 shadows;  // x dune shadows on, y ripple shadows on, z softness, w per-pixel march (1) or map (0)
+    vec4 shadows;  // x dune shadows on, y ripple shadows on, z softness (radians), w per-pixel march (1) or map (0)
     vec4 albedo;   // rgb sand albedo
     vec4 air_extinction;  // rgb per metre at the ground, w aerosol g
     vec4 air_scattering;  // rgb Rayleigh per metre, w aerosol
@@ -46,12 +47,10 @@ layout(push_constant) uniform Dune {
 } dune;
 
 layout(location = 0) in vec3 in_world;
-layout(location = 1) in vec3 in_normal;
-layout(location = 2) in vec3 in_transmit;
-layout(location = 3) in vec3 in_inscatter;
+layout(location = 1) in vec3 in_transmit;
+layout(location = 2) in vec3 in_inscatter;
 layout(location = 0) out vec4 out_color;
 
-const float TAU = 2.0 * PI;
 const float NEVER = 3.0e38;
 
 // The paper's dune-shadow march (3.4) per pixel, for comparison with the precomputed
@@ -101,8 +100,18 @@ float march_dune_shadow(vec3 world, vec3 l) {
     return 1.0;
 }
 
+// A unit normal from its two bytes (`n * 0.5 + 0.5`) across the surface; the third
+// component points out of it.
+vec3 unpack_normal(vec2 across) {
+    vec2 v = across * 2.0 - 1.0;
+    return vec3(v, sqrt(max(1.0 - dot(v, v), 0.0)));
+}
+
 void main() {
-    vec3 nd = normalize(in_normal);
+    // The dune's own normal and shadow from one period of the field (not the drawn
+    // triangles': far away they are a simplified mesh).
+    vec4 field = texture(sampler2D(dune_field, repeat_sampler), in_world.xz / dune.tile.w);
+    vec3 nd = normalize(unpack_normal(field.rg).xzy);
     // The dune's tangent frame: T along world +x in the surface, B toward world +z.
     vec3 t = normalize(vec3(1.0, 0.0, 0.0) - nd * nd.x);
     vec3 b = cross(t, nd);
@@ -114,12 +123,12 @@ void main() {
     // LOD: the sampler's derivative-based level selection over our own chain, or the
     // paper's level per quad from its projected area (--lod-choice quad); off: level 0.
     // (Stored as 8-bit unorm, n * 0.5 + 0.5: see DuneTextures::new.)
-    vec3 r;
+    vec4 r;
     if (dune.wind.z > 0.5 && dune.detail.z > 0.5) {
         int side = 3 * int(dune.detail.w);
         ivec2 q = clamp(ivec2(floor((in_world.xz + dune.tile.w) / (dune.tile.w / dune.detail.w))),
                         ivec2(0), ivec2(side - 1));
-        r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, quads.level[q.y * side + q.x]).xyz;
+        r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, quads.level[q.y * side + q.x]);
     } else if (dune.wind.z > 0.5) {
         // The sampler's level is isotropic: it follows the longer axis of the pixel's
         // footprint, which on sand seen at a grazing angle is several times the
@@ -129,11 +138,11 @@ void main() {
         // filtering would be the real fix; on lavapipe it is too slow to use. Under
         // temporal anti-aliasing each frame's sample filters over its share of the
         // pixel (frame.params.z, `Jitter::lod_bias`).
-        r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25 + frame.params.z).xyz;
+        r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25 + frame.params.z);
     } else {
-        r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0).xyz;
+        r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0);
     }
-    r = r * 2.0 - 1.0;
+    vec3 ripple = unpack_normal(r.rg);
     // Footprints (Sumner et al. 1998) in their detail field: the soles trod the ripples
     // flat, the prints' and rims' slopes tilt the normal, and their own shadow for
     // this sun darkens the hollows.
@@ -150,10 +159,10 @@ void main() {
             print_lit = d.w;
         }
     }
-    r = normalize(vec3(r.xy * dune.tile.y * (1.0 - trodden), max(r.z, 1e-3)));
+    ripple = normalize(vec3(ripple.xy * dune.tile.y * (1.0 - trodden), max(ripple.z, 1e-3)));
     // Back from tile to world orientation, then into the dune frame (tilted normal).
-    vec2 rxy = vec2(c.x * r.x - c.y * r.y, c.y * r.x + c.x * r.y);
-    vec3 n = normalize(t * rxy.x + b * rxy.y + nd * r.z);
+    vec2 rxy = vec2(c.x * ripple.x - c.y * ripple.y, c.y * ripple.x + c.x * ripple.y);
+    vec3 n = normalize(t * rxy.x + b * rxy.y + nd * ripple.z);
     // The prints' slopes in world x, z, tilted into the dune's frame like the ripples.
     n = normalize(n - t * prints.x - b * prints.y);
 
@@ -162,9 +171,8 @@ void main() {
     if (dune.shadows.x > 0.5 && dune.shadows.w > 0.5) {
         lit *= march_dune_shadow(in_world, l);
     } else if (dune.shadows.x > 0.5) {
-        vec2 suv = in_world.xz / dune.tile.w;
         // The map covers one period of the field and tiles with it.
-        lit *= texture(sampler2D(dune_shadow, repeat_sampler), suv).r;
+        lit *= field.b;
     }
     if (dune.wind.w > 0.5) {
         // The dune-shadow term alone (red), marked as terrain (blue, no green): the
@@ -175,26 +183,17 @@ void main() {
     // A uniform branch: implicit-LOD sampling inside per-pixel control flow is slow on
     // CPU rasterisers.
     if (dune.shadows.y > 0.5) {
-        // The light in the ripple tile's frame: azimuth and elevation slope.
+        // The horizon map (Max 1988) toward the sun, baked per sun (the tile's
+        // azimuth of the sun seen from flat ground; over a sloping dune the sun's
+        // azimuth in the surface turns a little, which this leaves out), against the
+        // sun's elevation over this point's dune surface, in angles. Where a pixel
+        // covers many ripples (a coarser mip) the horizons it covers spread, and so
+        // does the transition: the shadowed share of the pixel, not all or nothing;
+        // where ripples change faster than pixels, likewise (fwidth).
         vec3 lt = vec3(dot(l, t), dot(l, b), dot(l, nd));
-        vec2 ltile = vec2(c.x * lt.x + c.y * lt.y, -c.y * lt.x + c.x * lt.y);
-        float horizontal = max(length(ltile), 1e-4);
-        float elevation = lt.z / horizontal;
-        float phi = atan(ltile.y, ltile.x);
-        float sector = mod(phi, TAU) / (TAU / 8.0);
-        // Linear interpolation between the two nearest of the 8 directions, as weights
-        // (dynamic array indexing is slow on CPU rasterisers): direction k gets
-        // max(0, 1 - |sector - k|), and direction 0 also wraps around from 8.
-        vec4 wa = max(vec4(0.0), 1.0 - abs(vec4(sector) - vec4(0.0, 1.0, 2.0, 3.0)));
-        wa.x += max(0.0, 1.0 - abs(sector - 8.0));
-        vec4 wb = max(vec4(0.0), 1.0 - abs(vec4(sector) - vec4(4.0, 5.0, 6.0, 7.0)));
-        vec4 ha = texture(sampler2D(horizon_a, repeat_sampler), uv);
-        vec4 hb = texture(sampler2D(horizon_b, repeat_sampler), uv);
-        float horizon = dot(ha, wa) + dot(hb, wb);
-        // Where ripples are smaller than a pixel the horizon changes faster than the
-        // pixel grid: widen the transition by that change, so sub-pixel ripple shadows
-        // darken partially instead of flipping from pixel to pixel.
-        float soft = dune.shadows.z + 2.0 * fwidth(horizon);
+        float elevation = atan(lt.z, max(length(lt.xy), 1e-4));
+        float horizon = r.b * (0.5 * PI);
+        float soft = dune.shadows.z + r.a * (0.5 * PI) + 2.0 * fwidth(horizon);
         lit *= smoothstep(horizon - soft, horizon + soft, elevation);
     }
 

@@ -35,16 +35,13 @@ layout(push_constant) uniform Dune {
 } dune;
 
 layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
 
 layout(location = 0) out vec3 out_world;
-layout(location = 1) out vec3 out_normal;
-layout(location = 2) out vec3 out_transmit;
-layout(location = 3) out vec3 out_inscatter;
+layout(location = 1) out vec3 out_transmit;
+layout(location = 2) out vec3 out_inscatter;
 
 void main() {
     out_world = in_position;
-    out_normal = in_normal;
     vec3 to_eye = in_position - frame.camera_pos.xyz;
     float dist = length(to_eye);
     float nu = dot(to_eye / max(dist, 1e-6), normalize(frame.sun_dir.xyz));

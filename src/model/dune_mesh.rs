@@ -121,9 +121,65 @@ pub fn quad_levels(
     out
 }
 
+/// The dune field's normals at the `res` x `res` texel centres of one period (texel
+/// `k` at cell coordinate `(k + 0.5) n / res`, as the dune shadow map's), bilinear
+/// between the vertex normals of the periodic mesh: what the dune shading reads
+/// instead of the drawn triangles' normals, so that a mesh simplified far away
+/// (`lod_quads`) shades as the full one.
+pub fn normal_texels(n: usize, cell: f32, heights: &[f32], res: usize) -> Vec<Vec3> {
+    let tiled = dune_mesh_tiled(n, cell, heights, 3);
+    // The middle copy's vertices: their neighbours on every side are the field's.
+    let side = 3 * n + 1;
+    let vertex = |i: usize, j: usize| tiled.normals[(n + j % n) * side + n + i % n];
+    let mut out = Vec::with_capacity(res * res);
+    for k in 0..res {
+        for l in 0..res {
+            let (u, v) = (
+                (l as f32 + 0.5) * n as f32 / res as f32,
+                (k as f32 + 0.5) * n as f32 / res as f32,
+            );
+            let (i, j) = (u.floor() as usize, v.floor() as usize);
+            let (fu, fv) = (u - u.floor(), v - v.floor());
+            let a = vertex(i, j).lerp(vertex(i + 1, j), fu);
+            let b = vertex(i, j + 1).lerp(vertex(i + 1, j + 1), fu);
+            out.push(a.lerp(b, fv).normalize_or(Vec3::Y));
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn normal_texels_follow_the_vertex_normals_and_wrap() {
+        let n = 8;
+        let heights: Vec<f32> = (0..n * n)
+            .map(|k| (std::f32::consts::TAU * (k % n) as f32 / n as f32).sin())
+            .collect();
+        let tiled = dune_mesh_tiled(n, 2.0, &heights, 3);
+        // Four texels a cell: texel 4i + 2 sits half way between vertices i and i + 1.
+        let texels = normal_texels(n, 2.0, &heights, 4 * n);
+        let side = 3 * n + 1;
+        for i in 0..n {
+            let (a, b) = (
+                tiled.normals[n * side + n + i],
+                tiled.normals[n * side + n + i + 1],
+            );
+            let expected = a.lerp(b, 0.625).normalize();
+            let got = texels[4 * i + 2];
+            assert!(
+                (got - expected).length() < 1e-5,
+                "texel {i}: {got} vs {expected}"
+            );
+        }
+        // Waves along x: the normals lean in x only, and the last texel wraps to the first.
+        assert!(texels.iter().all(|t| t.z.abs() < 1e-5 && t.y > 0.0));
+        let last = texels[4 * n - 1];
+        let wrap = tiled.normals[n * side + 2 * n - 1].lerp(tiled.normals[n * side + n], 0.875);
+        assert!((last - wrap.normalize()).length() < 1e-5);
+    }
 
     fn camera(eye: Vec3, target: Vec3) -> Mat4 {
         glam::camera::rh::proj::vulkan::perspective(1.0, 1.5, 0.1, 500.0)

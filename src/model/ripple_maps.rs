@@ -186,9 +186,101 @@ pub fn horizon_toward(slopes: &[f32; 8], phi: f32) -> f32 {
     slopes[i] * (1.0 - t) + slopes[(i + 1) % 8] * t
 }
 
+/// The sun's azimuth in the ripple tile's frame (radians, counter-clockwise from the
+/// tile's +x, the wind), seen from flat ground: `sun` a world direction (y up), the
+/// tile's +x along the wind at `wind_radians` from world +x toward +z (as
+/// `dunes/surface.frag` lays the tile).
+pub fn tile_azimuth(sun: [f32; 3], wind_radians: f32) -> f32 {
+    let (s, c) = wind_radians.sin_cos();
+    // World x, z in the tile's frame: rotated back by the wind.
+    let along = c * sun[0] + s * sun[2];
+    let across = -s * sun[0] + c * sun[2];
+    across.atan2(along)
+}
+
+/// The horizon toward one azimuth `phi` (`horizon_toward`) as an elevation angle
+/// (radians, at least 0: a texel never shadows itself below the horizontal) for every
+/// texel of a `size` x `size` tile, and its mip chain, each texel of a level the mean
+/// and the spread (standard deviation) of the level-0 angles it covers: what the
+/// desert's shading reads for the sun where it stands, from the same texture fetch as
+/// the ripples' normals. `horizon` is `horizon_map`'s two planes.
+pub fn horizon_chain_toward(horizon: &[[f32; 4]], size: usize, phi: f32) -> Vec<Vec<[f32; 2]>> {
+    let n = size * size;
+    let level0: Vec<[f32; 2]> = (0..n)
+        .map(|i| {
+            let (a, b) = (horizon[i], horizon[n + i]);
+            let slopes = [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]];
+            [horizon_toward(&slopes, phi).max(0.0).atan(), 0.0]
+        })
+        .collect();
+    let mut chain = vec![level0];
+    let mut s = size;
+    while s > 1 {
+        let prev = chain.last().map(Vec::as_slice).unwrap_or(&[]);
+        let half = s / 2;
+        let mut next = Vec::with_capacity(half * half);
+        for y in 0..half {
+            for x in 0..half {
+                let texels = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                    .map(|(dx, dy)| prev[(2 * y + dy) * s + 2 * x + dx]);
+                let mean = texels.iter().map(|t| t[0]).sum::<f32>() / 4.0;
+                // The children's spreads and their means' scatter about this mean.
+                let variance = texels
+                    .iter()
+                    .map(|t| t[1] * t[1] + (t[0] - mean) * (t[0] - mean))
+                    .sum::<f32>()
+                    / 4.0;
+                next.push([mean, variance.sqrt()]);
+            }
+        }
+        chain.push(next);
+        s = half;
+    }
+    chain
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_sun_along_the_wind_is_azimuth_zero_and_across_it_a_quarter_turn() {
+        let wind = 0.7f32;
+        let along = [wind.cos(), 0.5, wind.sin()];
+        assert!(tile_azimuth(along, wind).abs() < 1e-6);
+        // Counter-clockwise in the tile (+x to +y) is world +x to +z.
+        let across = [-wind.sin(), 0.5, wind.cos()];
+        let phi = tile_azimuth(across, wind);
+        assert!((phi - std::f32::consts::FRAC_PI_2).abs() < 1e-5, "{phi}");
+    }
+
+    #[test]
+    fn the_horizon_chain_keeps_the_mean_and_measures_the_spread() {
+        let field = sine_ridges(16, 8.0);
+        let hz = horizon_map_linear(&field, 1.0);
+        // Toward +x (phi 0) each texel's own horizon, as an angle.
+        let chain = horizon_chain_toward(&hz, 16, 0.0);
+        assert_eq!(chain.len(), 5);
+        for (i, t) in chain[0].iter().enumerate() {
+            assert!((t[0] - hz[i][0].max(0.0).atan()).abs() < 1e-6);
+            assert_eq!(t[1], 0.0);
+        }
+        let all: Vec<f32> = chain[0].iter().map(|t| t[0]).collect();
+        let mean = all.iter().sum::<f32>() / all.len() as f32;
+        let spread =
+            (all.iter().map(|a| (a - mean) * (a - mean)).sum::<f32>() / all.len() as f32).sqrt();
+        let top = chain[4][0];
+        assert!((top[0] - mean).abs() < 1e-5, "{top:?} vs mean {mean}");
+        assert!((top[1] - spread).abs() < 1e-5, "{top:?} vs spread {spread}");
+        assert!(
+            spread > 0.1,
+            "ridges cast horizons of several angles: {spread}"
+        );
+        // Halfway between two directions, half of each.
+        let half = horizon_chain_toward(&hz, 16, std::f32::consts::TAU / 16.0);
+        let slope = 0.5 * (hz[3][0] + hz[3][1]);
+        assert!((half[0][3][0] - slope.max(0.0).atan()).abs() < 1e-6);
+    }
 
     fn sine_ridges(size: usize, period: f64) -> Heightfield {
         Heightfield {

@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use glam::Vec4;
+use glam::{Vec3, Vec4};
 
 use super::dune_shadow::DuneShadowPass;
 use super::lit_mesh::{FrameUniforms, lit_vertex_layout, lit_vertices};
@@ -13,9 +13,10 @@ use super::ripple_maps::RippleMaps;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
-    Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, vk,
+    Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, VertexLayout, vk,
 };
 use crate::model::mesh::Mesh;
+use crate::model::ripple_maps::{horizon_chain_toward, tile_azimuth};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
 /// Push constants of `dunes/surface.frag`.
@@ -26,7 +27,7 @@ pub struct DunePush {
     pub tile: Vec4,
     /// xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0).
     pub wind: Vec4,
-    /// x dune shadows, y ripple shadows (1 on), z ripple-shadow softness (slope units),
+    /// x dune shadows, y ripple shadows (1 on), z ripple-shadow softness (radians),
     /// w dune shadows marched per pixel (1) instead of read from the map (0).
     pub shadows: Vec4,
     /// rgb sand albedo.
@@ -47,14 +48,12 @@ unsafe impl Pod for DunePush {}
 
 const FRAME: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
 const NORMALS: DescriptorBinding = DescriptorBinding::new(0, 1, DescriptorKind::SampledImage);
-const HORIZON_A: DescriptorBinding = DescriptorBinding::new(0, 2, DescriptorKind::SampledImage);
-const HORIZON_B: DescriptorBinding = DescriptorBinding::new(0, 3, DescriptorKind::SampledImage);
-const SHADOW: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKind::SampledImage);
-const GRAIN: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::SampledImage);
-const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::Sampler);
-const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::SampledImage);
-const DETAIL: DescriptorBinding = DescriptorBinding::new(0, 8, DescriptorKind::SampledImage);
-const LEVELS: DescriptorBinding = DescriptorBinding::new(0, 9, DescriptorKind::StorageBuffer);
+const FIELD: DescriptorBinding = DescriptorBinding::new(0, 2, DescriptorKind::SampledImage);
+const GRAIN: DescriptorBinding = DescriptorBinding::new(0, 3, DescriptorKind::SampledImage);
+const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKind::Sampler);
+const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::SampledImage);
+const DETAIL: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::SampledImage);
+const LEVELS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::StorageBuffer);
 
 /// `dunes/surface.vert`: the `FrameUniforms` buffer (binding 0) and `DunePush`.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
@@ -64,25 +63,30 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
 };
 
 /// `dunes/surface.frag`: the frame buffer, the `DuneTextures` images and their repeating
-/// sampler (bindings 0-8), the per-quad levels storage buffer (9) and `DunePush`.
+/// sampler (bindings 0-6), the per-quad levels storage buffer (7) and `DunePush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_FRAG,
     bindings: &[
-        FRAME, NORMALS, HORIZON_A, HORIZON_B, SHADOW, GRAIN, REPEAT, HEIGHTS, DETAIL, LEVELS,
+        FRAME, NORMALS, FIELD, GRAIN, REPEAT, HEIGHTS, DETAIL, LEVELS,
     ],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
 
-/// What the pass samples, made once per scene (and per light for the shadow map).
+/// What the pass samples, made once per scene and again when the sun moves. Every
+/// texture is 8-bit (lavapipe filters those on a fixed-point fast path; 32-bit floats
+/// made the normal chain alone a third of the frame) and what one lookup needs shares
+/// one texel: a dune pixel reads the ripples' normal and horizon in one trilinear
+/// fetch and the dune's normal and shadow in one bilinear fetch.
 pub struct DuneTextures {
-    /// The ripple tile's normal chain, RGBA8 UNORM (`n * 0.5 + 0.5`), every level given.
+    /// The ripple tile's LOD chain, RGBA8 UNORM, every level given: rg the normal's x
+    /// and y (`n * 0.5 + 0.5`, unit length: z follows), b the horizon toward the sun
+    /// as an elevation angle over a right angle, a its spread over the texels a mip
+    /// texel covers (`model::ripple_maps::horizon_chain_toward`).
     pub normals: Image,
-    /// Horizon slopes of the ripple tile for directions 0-3, RGBA32F.
-    pub horizon_a: Image,
-    /// Horizon slopes of the ripple tile for directions 4-7, RGBA32F.
-    pub horizon_b: Image,
-    /// The dune shadow map, R32F visibilities (1 lit, 0 shadow), `res` x `res`.
-    pub shadow: Image,
+    /// One period of the dune field at the shadow map's resolution, RGBA8 UNORM: rg
+    /// the dune normal's x and z (`n * 0.5 + 0.5`, y up follows), b the dune shadow
+    /// map's visibility (1 lit, 0 shadow).
+    pub field: Image,
     /// The sand-grain tile, RGBA8 UNORM with a blitted mip chain.
     pub grain: Image,
     /// One period of dune heights in cell units (the per-pixel shadow march reads it).
@@ -102,85 +106,106 @@ pub struct DetailTexels {
     pub height: u32,
 }
 
+/// The light and the dune field `DuneTextures` bake in.
+pub struct DuneBake<'a> {
+    /// World direction toward the sun.
+    pub sun: Vec3,
+    /// The wind, radians from world +x toward +z (the ripple tile's +x).
+    pub wind_radians: f32,
+    /// The dune normals at the shadow map's texels (`model::dune_mesh::normal_texels`).
+    pub dune_normals: &'a [Vec3],
+}
+
+/// A value in -1..=1 as an 8-bit unorm byte (`v * 0.5 + 0.5`).
+fn signed_byte(v: f32) -> u8 {
+    ((v.clamp(-1.0, 1.0) * 0.5 + 0.5) * 255.0).round() as u8
+}
+
+/// A value in 0..=1 as an 8-bit unorm byte.
+fn unit_byte(v: f32) -> u8 {
+    (v.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
 impl DuneTextures {
-    /// Copies the GPU-built ripple maps and dune shadow map into sampled images.
+    /// Packs the GPU-built ripple maps and dune shadow map, with the horizon toward
+    /// `bake.sun` and the dune normals, into sampled images.
     pub fn new(
         ctx: &Arc<Context>,
         maps: &RippleMaps,
         shadow: &DuneShadowPass,
+        bake: &DuneBake<'_>,
         grain_rgba: &[u8],
         grain_size: u32,
         detail: Option<&DetailTexels>,
     ) -> Result<Self> {
-        let float4 = |w, h| {
-            ImageDesc::new_2d(
-                w,
-                h,
-                vk::Format::R32G32B32A32_SFLOAT,
-                vk::ImageUsageFlags::SAMPLED,
-            )
-        };
         let s = maps.size;
-        // The normal chain as 8-bit unorm (n * 0.5 + 0.5): lavapipe filters 8-bit
-        // textures on a fast fixed-point path, and this is the one mipmapped (trilinear)
-        // fetch of every dune pixel; 32-bit floats made it a third of the frame.
-        let packed: Vec<u32> = maps
-            .levels
-            .read::<[f32; 4]>()?
+        let normals = maps.levels.read::<[f32; 4]>()?;
+        let phi = tile_azimuth(bake.sun.to_array(), bake.wind_radians);
+        let horizon = horizon_chain_toward(&maps.horizon.read::<[f32; 4]>()?, s as usize, phi);
+        let right_angle = std::f32::consts::FRAC_PI_2;
+        let packed: Vec<u8> = normals
             .iter()
-            .map(|n| {
-                let b = |v: f32| ((v.clamp(-1.0, 1.0) * 0.5 + 0.5) * 255.0).round() as u32;
-                b(n[0]) | b(n[1]) << 8 | b(n[2]) << 16 | b(n[3]) << 24
+            .zip(horizon.iter().flatten())
+            .flat_map(|(n, h)| {
+                [
+                    signed_byte(n[0]),
+                    signed_byte(n[1]),
+                    unit_byte(h[0] / right_angle),
+                    unit_byte(h[1] / right_angle),
+                ]
             })
             .collect();
-        let staging = Buffer::with_data(
-            ctx,
-            "ripple normal chain staging",
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            &packed,
-        )?;
         let byte_offsets: Vec<u64> = maps
             .level_offsets
             .iter()
             .map(|&o| u64::from(o) * 4)
             .collect();
+        let visibility = shadow.visibility.read::<f32>()?;
+        if bake.dune_normals.len() != visibility.len() {
+            return Err(crate::error::Error::internal(
+                "dune textures",
+                format!(
+                    "{} dune normals for a {}-texel shadow map",
+                    bake.dune_normals.len(),
+                    visibility.len()
+                ),
+            ));
+        }
+        let field: Vec<u8> = bake
+            .dune_normals
+            .iter()
+            .zip(&visibility)
+            .flat_map(|(n, &v)| [signed_byte(n.x), signed_byte(n.z), unit_byte(v), 255])
+            .collect();
+        let rgba8 = |w, h| {
+            ImageDesc::new_2d(
+                w,
+                h,
+                vk::Format::R8G8B8A8_UNORM,
+                vk::ImageUsageFlags::SAMPLED,
+            )
+        };
+        let staged = |name: &str, bytes: &[u8]| {
+            Buffer::with_data(
+                ctx,
+                &format!("{name} staging"),
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                bytes,
+            )
+        };
         Ok(Self {
             normals: Image::sampled_from_buffer(
                 ctx,
-                "ripple normal chain",
-                ImageDesc::new_2d(
-                    s,
-                    s,
-                    vk::Format::R8G8B8A8_UNORM,
-                    vk::ImageUsageFlags::SAMPLED,
-                ),
-                &staging,
+                "ripple normal and horizon chain",
+                rgba8(s, s),
+                &staged("ripple chain", &packed)?,
                 &byte_offsets,
             )?,
-            horizon_a: Image::sampled_from_buffer(
+            field: Image::sampled_from_buffer(
                 ctx,
-                "horizon 0-3",
-                float4(s, s),
-                &maps.horizon,
-                &[0],
-            )?,
-            horizon_b: Image::sampled_from_buffer(
-                ctx,
-                "horizon 4-7",
-                float4(s, s),
-                &maps.horizon,
-                &[u64::from(s * s) * 16],
-            )?,
-            shadow: Image::sampled_from_buffer(
-                ctx,
-                "dune shadow",
-                ImageDesc::new_2d(
-                    shadow.res,
-                    shadow.res,
-                    vk::Format::R32_SFLOAT,
-                    vk::ImageUsageFlags::SAMPLED,
-                ),
-                &shadow.visibility,
+                "dune normals and shadow",
+                rgba8(shadow.res, shadow.res),
+                &staged("dune field", &field)?,
                 &[0],
             )?,
             grain: Image::upload_rgba8(
@@ -262,6 +287,14 @@ impl DuneGeometry {
     }
 }
 
+/// The lit-mesh vertices' positions alone: the dune shading reads its normals from
+/// `DuneTextures::field`.
+fn positions_only() -> VertexLayout {
+    let mut layout = lit_vertex_layout();
+    layout.attributes.truncate(1);
+    layout
+}
+
 /// The dune surface pipeline (no culling), its frame uniforms and per-quad levels, and
 /// one descriptor set over a `DuneTextures`.
 pub struct DuneSurfacePass {
@@ -290,7 +323,7 @@ impl DuneSurfacePass {
         )?;
         let mut desc = GraphicsPipelineDesc::new("dune surface", VERTEX_INTERFACE.shader)
             .fragment(FRAGMENT_INTERFACE.shader)
-            .vertex_layout(lit_vertex_layout())
+            .vertex_layout(positions_only())
             .target(target);
         // Back faces are dropped per quad on the CPU when culling is on (the paper's
         // comparison needs them drawn when it is off).
@@ -311,9 +344,7 @@ impl DuneSurfacePass {
         let ro = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         set.write_buffer(FRAME.binding, &frame)?;
         set.write_image(NORMALS.binding, textures.normals.view(), ro)?;
-        set.write_image(HORIZON_A.binding, textures.horizon_a.view(), ro)?;
-        set.write_image(HORIZON_B.binding, textures.horizon_b.view(), ro)?;
-        set.write_image(SHADOW.binding, textures.shadow.view(), ro)?;
+        set.write_image(FIELD.binding, textures.field.view(), ro)?;
         set.write_image(GRAIN.binding, textures.grain.view(), ro)?;
         set.write_sampler(REPEAT.binding, &repeat)?;
         set.write_image(HEIGHTS.binding, textures.heights.view(), ro)?;

@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::model::atmosphere::Atmosphere;
-use crate::model::dune_mesh::{dune_mesh_tiled, quad_levels, visible_quads};
+use crate::model::dune_mesh::{dune_mesh_tiled, normal_texels, quad_levels, visible_quads};
 use crate::model::dune_shadow::DuneGrid;
 use crate::model::dust::{DustCloud, DustGround, DustParams};
 use crate::model::footprints::{self, DetailField, FootprintParams};
@@ -25,7 +25,7 @@ use crate::render::atmosphere::{
 };
 use crate::render::dune_shadow::DuneShadowPass;
 use crate::render::dune_surface::{
-    DetailTexels, DuneGeometry, DunePush, DuneSurfacePass, DuneTextures,
+    DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSurfacePass, DuneTextures,
 };
 use crate::render::dust::{DustLight, DustPass};
 use crate::render::ripple_maps::{HorizonWalk, RippleMaps};
@@ -139,6 +139,8 @@ pub struct DunesFrame {
     dust_moved: bool,
     /// One period of dune heights (metres), which the dust hugs.
     dune_heights: Vec<f32>,
+    /// The dune normals at the shadow map's texels, baked with it.
+    dune_normals: Vec<Vec3>,
     /// The walk's footprints, if any: their detail field over the dunes.
     prints: Option<DetailField>,
     geometry: DuneGeometry,
@@ -201,10 +203,16 @@ impl DunesFrame {
             .footprints
             .as_ref()
             .map(|path| footprints::walk(&FootprintParams::walk(path.clone())));
+        let dune_normals = normal_texels(n, scene.cell, &terrain.dune_heights, SHADOW_RES as usize);
         let textures = DuneTextures::new(
             ctx,
             &maps,
             &shadow,
+            &DuneBake {
+                sun,
+                wind_radians: scene.wind_degrees.to_radians(),
+                dune_normals: &dune_normals,
+            },
             &grain,
             GRAIN_SIZE,
             detail_texels(prints.as_ref(), sun).as_ref(),
@@ -241,6 +249,7 @@ impl DunesFrame {
             dust_moved: false,
             prints,
             dune_heights: terrain.dune_heights.clone(),
+            dune_normals,
             sky: AtmosphereSkyPass::new(ctx, ctx.frame_format(), &sky_view)?,
             sky_view,
             atmosphere,
@@ -340,6 +349,11 @@ impl Scene for DunesFrame {
                 ctx,
                 &self.maps,
                 &self.shadow,
+                &DuneBake {
+                    sun,
+                    wind_radians: self.scene.wind_degrees.to_radians(),
+                    dune_normals: &self.dune_normals,
+                },
                 &self.grain,
                 GRAIN_SIZE,
                 detail_texels(self.prints.as_ref(), sun).as_ref(),
