@@ -116,6 +116,9 @@ fn bad_input_is_named_and_nothing_is_written() {
             (vec!["--sun-elevation", "-3"], "--sun-elevation"),
             (vec!["--aerosol-depth", "5"], "--aerosol-depth"),
             (vec!["--exposure", "0"], "--exposure"),
+            (vec!["--mesh-lod", "17"], "--mesh-lod"),
+            (vec!["--mesh-lod", "-1"], "--mesh-lod"),
+            (vec!["--mesh-lod", "nan"], "--mesh-lod"),
             (
                 vec!["--multiple-scattering", "lots"],
                 "--multiple-scattering",

@@ -33,17 +33,26 @@ layout(set = 0, binding = 7, std430) readonly buffer Levels {
     float level[];
 } quads;
 
+// The pass's switches, fixed per pipeline (render::dune_surface::DuneSwitches): a CPU
+// rasteriser runs both sides of a branch on a uniform, and the per-pixel shadow march
+// alone cost a fifth of the frame while switched off.
+layout(constant_id = 0) const bool LOD_ON = true;          // else ripple level 0 only
+layout(constant_id = 1) const bool LOD_PER_QUAD = false;   // the paper's level per quad
+layout(constant_id = 2) const bool DUNE_SHADOWS = true;
+layout(constant_id = 3) const bool DUNE_SHADOWS_MARCHED = false;  // per pixel, not the map
+layout(constant_id = 4) const bool RIPPLE_SHADOWS = true;
+layout(constant_id = 5) const bool FOOTPRINTS = false;
+layout(constant_id = 6) const bool SHADOW_MASK = false;    // the dune-shadow term alone (tests)
+
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
-    vec4 wind;     // xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0),
-                   // w 1: write the dune-shadow mask instead of shading (for tests)
-    vec4 shadows;  // x dune shadows on, y ripple shadows on, z softness (radians), w per-pixel march (1) or map (0)
+    vec4 wind;     // xy cos/sin of the wind direction
+    vec4 shadows;  // z ripple-shadow softness (radians)
     vec4 albedo;   // rgb sand albedo
     vec4 air_extinction;  // rgb per metre at the ground, w aerosol g
     vec4 air_scattering;  // rgb Rayleigh per metre, w aerosol
     vec4 detail_rect;     // footprints' detail field: world x, z of its corner, its size
-    vec4 detail;          // x footprints on, y slope range of the encoding, z LOD per
-                          // quad, w dune grid side
+    vec4 detail;          // y slope range of the encoding, w dune grid side
 } dune;
 
 layout(location = 0) in vec3 in_world;
@@ -124,21 +133,24 @@ void main() {
     // paper's level per quad from its projected area (--lod-choice quad); off: level 0.
     // (Stored as 8-bit unorm, n * 0.5 + 0.5: see DuneTextures::new.)
     vec4 r;
-    if (dune.wind.z > 0.5 && dune.detail.z > 0.5) {
-        int side = 3 * int(dune.detail.w);
-        ivec2 q = clamp(ivec2(floor((in_world.xz + dune.tile.w) / (dune.tile.w / dune.detail.w))),
-                        ivec2(0), ivec2(side - 1));
-        r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, quads.level[q.y * side + q.x]);
-    } else if (dune.wind.z > 0.5) {
-        // The sampler's level is isotropic: it follows the longer axis of the pixel's
-        // footprint, which on sand seen at a grazing angle is several times the
-        // shorter one, and blurs the ripples across it. 1.25 levels finer brings the
-        // frame nearest the 4x4-supersampled one (mean error 3.14 -> 1.71 /255 for
-        // fig17 at 720x480, 4x MSAA; bias 1, 1.5, 2: 1.78, 1.74, 1.98). Anisotropic
-        // filtering would be the real fix; on lavapipe it is too slow to use. Under
-        // temporal anti-aliasing each frame's sample filters over its share of the
-        // pixel (frame.params.z, `Jitter::lod_bias`).
-        r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25 + frame.params.z);
+    // (Nested: naga reads no expression of specialization constants.)
+    if (LOD_ON) {
+        if (LOD_PER_QUAD) {
+            int side = 3 * int(dune.detail.w);
+            ivec2 q = clamp(ivec2(floor((in_world.xz + dune.tile.w) / (dune.tile.w / dune.detail.w))),
+                            ivec2(0), ivec2(side - 1));
+            r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, quads.level[q.y * side + q.x]);
+        } else {
+            // The sampler's level is isotropic: it follows the longer axis of the
+            // pixel's footprint, which on sand seen at a grazing angle is several
+            // times the shorter one, and blurs the ripples across it. 1.25 levels
+            // finer brings the frame nearest the 4x4-supersampled one (mean error 3.14
+            // -> 1.71 /255 for fig17 at 720x480, 4x MSAA; bias 1, 1.5, 2: 1.78, 1.74,
+            // 1.98). Anisotropic filtering would be the real fix; on lavapipe it is
+            // too slow to use. Under temporal anti-aliasing each frame's sample
+            // filters over its share of the pixel (frame.params.z, `Jitter::lod_bias`).
+            r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25 + frame.params.z);
+        }
     } else {
         r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0);
     }
@@ -149,7 +161,7 @@ void main() {
     vec2 prints = vec2(0.0);   // d height / dx, dz
     float trodden = 0.0;
     float print_lit = 1.0;
-    if (dune.detail.x > 0.5) {
+    if (FOOTPRINTS) {
         vec2 duv = (in_world.xz - dune.detail_rect.xy) / dune.detail_rect.zw;
         if (all(greaterThanEqual(duv, vec2(0.0))) && all(lessThanEqual(duv, vec2(1.0)))) {
             vec4 d = texture(sampler2D(detail_map, repeat_sampler), duv, frame.params.z);
@@ -168,21 +180,21 @@ void main() {
 
     vec3 l = normalize(frame.sun_dir.xyz);
     float lit = 1.0;
-    if (dune.shadows.x > 0.5 && dune.shadows.w > 0.5) {
-        lit *= march_dune_shadow(in_world, l);
-    } else if (dune.shadows.x > 0.5) {
-        // The map covers one period of the field and tiles with it.
-        lit *= field.b;
+    if (DUNE_SHADOWS) {
+        if (DUNE_SHADOWS_MARCHED) {
+            lit *= march_dune_shadow(in_world, l);
+        } else {
+            // The map covers one period of the field and tiles with it.
+            lit *= field.b;
+        }
     }
-    if (dune.wind.w > 0.5) {
+    if (SHADOW_MASK) {
         // The dune-shadow term alone (red), marked as terrain (blue, no green): the
         // map and the per-pixel march compared pixel by pixel.
         out_color = vec4(lit, 0.0, 1.0, 1.0);
         return;
     }
-    // A uniform branch: implicit-LOD sampling inside per-pixel control flow is slow on
-    // CPU rasterisers.
-    if (dune.shadows.y > 0.5) {
+    if (RIPPLE_SHADOWS) {
         // The horizon map (Max 1988) toward the sun, baked per sun (the tile's
         // azimuth of the sun seen from flat ground; over a sloping dune the sun's
         // azimuth in the surface turns a little, which this leaves out), against the

@@ -30,8 +30,7 @@ layout(push_constant) uniform Dune {
     vec4 air_extinction;  // rgb per metre at the ground, w aerosol g
     vec4 air_scattering;  // rgb Rayleigh per metre, w aerosol
     vec4 detail_rect;     // footprints' detail field: world x, z of its corner, its size
-    vec4 detail;          // x footprints on, y slope range of the encoding, z LOD per
-                          // quad, w dune grid side
+    vec4 detail;          // y slope range of the encoding, w dune grid side
 } dune;
 
 layout(location = 0) in vec3 in_position;

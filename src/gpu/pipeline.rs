@@ -363,6 +363,11 @@ pub struct GraphicsPipelineDesc<'a> {
     pub depth_bias: Option<(f32, f32)>,
     /// Samples per pixel of the attachments drawn into.
     pub samples: vk::SampleCountFlags,
+    /// Specialization constants of every stage: entry `i` is `constant_id = i`, 32
+    /// bits (a `bool` is 0 or 1). A pass's switches, fixed per pipeline: a CPU
+    /// rasteriser runs both sides of a branch on a uniform, so a switch read from a
+    /// uniform costs what it turns off.
+    pub constants: Vec<u32>,
 }
 
 impl<'a> GraphicsPipelineDesc<'a> {
@@ -387,6 +392,7 @@ impl<'a> GraphicsPipelineDesc<'a> {
             alpha_blend: false,
             depth_bias: None,
             samples: vk::SampleCountFlags::TYPE_1,
+            constants: Vec::new(),
         }
     }
 
@@ -440,13 +446,29 @@ impl<'a> GraphicsPipelineDesc<'a> {
         if let Some(f) = self.fragment {
             modules.push(ShaderModule::new(ctx, f)?);
         }
+        let entries: Vec<vk::SpecializationMapEntry> = (0..self.constants.len() as u32)
+            .map(|id| vk::SpecializationMapEntry {
+                constant_id: id,
+                offset: 4 * id,
+                size: 4,
+            })
+            .collect();
+        let constant_bytes = super::as_bytes(&self.constants);
+        let specialization = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(constant_bytes);
         let stages: Vec<vk::PipelineShaderStageCreateInfo<'_>> = modules
             .iter()
             .map(|m| {
-                vk::PipelineShaderStageCreateInfo::default()
+                let stage = vk::PipelineShaderStageCreateInfo::default()
                     .stage(m.stage())
                     .module(m.raw())
-                    .name(ENTRY)
+                    .name(ENTRY);
+                if self.constants.is_empty() {
+                    stage
+                } else {
+                    stage.specialization_info(&specialization)
+                }
             })
             .collect();
         let vl = &self.vertex_layout;

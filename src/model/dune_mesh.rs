@@ -61,14 +61,7 @@ pub fn visible_quads(mesh: &Mesh, eye: Vec3, view_proj: Mat4, cull: bool) -> Vec
             continue;
         }
         let clip: Vec<Vec4> = quad.iter().map(|&i| view_proj * p(i).extend(1.0)).collect();
-        let outside = |f: &dyn Fn(Vec4) -> bool| clip.iter().all(|&c| f(c));
-        if outside(&|c| c.x < -c.w)
-            || outside(&|c| c.x > c.w)
-            || outside(&|c| c.y < -c.w)
-            || outside(&|c| c.y > c.w)
-            || outside(&|c| c.z < 0.0)
-            || outside(&|c| c.z > c.w)
-        {
+        if outside_one_plane(&clip) {
             continue;
         }
         out.extend_from_slice(quad);
@@ -121,6 +114,238 @@ pub fn quad_levels(
     out
 }
 
+/// Geometric level of detail for the tiled field, beyond the paper (which draws every
+/// quad): chunks of `chunk` x `chunk` quads, each drawn with every 1st, 2nd, 4th... vertex —
+/// the coarsest step whose largest height deviation from the full mesh would show as
+/// at most a given number of pixels at the chunk's distance — and stitched to a
+/// coarser neighbour by collapsing its border vertices onto the neighbour's (its edge
+/// becomes theirs: no T-junction, no crack; the dropped vertices leave zero-area
+/// triangles). The shading reads the dune's normal from a texture
+/// (`normal_texels`), so a simplified chunk shades as the full one.
+pub struct DuneLod {
+    /// Vertices per side of one period.
+    n: usize,
+    /// Periods per side of the tiled field (odd).
+    tiles: usize,
+    /// Quads per side of a chunk (a power of two dividing `n`).
+    chunk: usize,
+    /// Per chunk of one period (row-major): the largest vertical deviation from the
+    /// full mesh at each step 1, 2, 4... (world units), and the chunk's lowest and
+    /// highest vertex.
+    chunks: Vec<ChunkError>,
+}
+
+struct ChunkError {
+    deviation: Vec<f32>,
+    low: f32,
+    high: f32,
+}
+
+/// Most quads a side of a LOD chunk: steps of 1, 2, 4 and 8 cells.
+pub const LOD_CHUNK: usize = 8;
+
+impl DuneLod {
+    /// The chunks of an `n` x `n` period of `heights` (world units) tiled `tiles`
+    /// times each way, as `dune_mesh_tiled` lays it out.
+    pub fn new(n: usize, heights: &[f32], tiles: usize) -> Self {
+        let mut chunk = LOD_CHUNK;
+        while chunk > 1 && n % chunk != 0 {
+            chunk /= 2;
+        }
+        let h = |i: usize, j: usize| heights[(j % n) * n + i % n];
+        let per = n / chunk;
+        let mut chunks = Vec::with_capacity(per * per);
+        for cj in 0..per {
+            for ci in 0..per {
+                let (i0, j0) = (ci * chunk, cj * chunk);
+                let mut deviation = vec![0.0f32];
+                let mut step = 2;
+                while step <= chunk {
+                    let mut worst = 0.0f32;
+                    for j in 0..=chunk {
+                        for i in 0..=chunk {
+                            // The coarse quad holding vertex (i, j) and the height its
+                            // two triangles (diagonal from its low corner) give there.
+                            let (qi, qj) = (
+                                (i / step).min(chunk / step - 1),
+                                (j / step).min(chunk / step - 1),
+                            );
+                            let (u, v) = (
+                                (i - qi * step) as f32 / step as f32,
+                                (j - qj * step) as f32 / step as f32,
+                            );
+                            let corner =
+                                |a: usize, b: usize| h(i0 + (qi + a) * step, j0 + (qj + b) * step);
+                            let (ha, hb, hc, hd) =
+                                (corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1));
+                            let coarse = if v >= u {
+                                ha + u * (hc - hd) + v * (hd - ha)
+                            } else {
+                                ha + u * (hb - ha) + v * (hc - hb)
+                            };
+                            worst = worst.max((h(i0 + i, j0 + j) - coarse).abs());
+                        }
+                    }
+                    // A coarser step is never finer than the one before it.
+                    let previous = deviation.last().copied().unwrap_or(0.0);
+                    deviation.push(worst.max(previous));
+                    step *= 2;
+                }
+                let (mut low, mut high) = (f32::MAX, f32::MIN);
+                for j in 0..=chunk {
+                    for i in 0..=chunk {
+                        low = low.min(h(i0 + i, j0 + j));
+                        high = high.max(h(i0 + i, j0 + j));
+                    }
+                }
+                chunks.push(ChunkError {
+                    deviation,
+                    low,
+                    high,
+                });
+            }
+        }
+        Self {
+            n,
+            tiles,
+            chunk,
+            chunks,
+        }
+    }
+
+    /// The step (1, 2, 4...) of every chunk of the tiled field (row-major) for an eye
+    /// at `eye` whose image has `focal` pixels per unit of tangent (its height over
+    /// twice the tangent of half the vertical field of view), allowing `pixels` of
+    /// deviation; `cell` is the quad size (world units).
+    pub fn steps(&self, eye: Vec3, cell: f32, focal: f32, pixels: f32) -> Vec<usize> {
+        let side = self.tiles * self.n / self.chunk;
+        let per = self.n / self.chunk;
+        let origin = -(((self.tiles / 2) * self.n) as f32) * cell;
+        let size = self.chunk as f32 * cell;
+        let mut out = Vec::with_capacity(side * side);
+        for cj in 0..side {
+            for ci in 0..side {
+                let c = &self.chunks[(cj % per) * per + ci % per];
+                let lo = Vec3::new(origin + ci as f32 * size, c.low, origin + cj as f32 * size);
+                let hi = Vec3::new(lo.x + size, c.high, lo.z + size);
+                let distance = (eye.clamp(lo, hi) - eye).length();
+                let mut level = 0;
+                while level + 1 < c.deviation.len()
+                    && c.deviation[level + 1] * focal <= pixels * distance
+                {
+                    level += 1;
+                }
+                out.push(1 << level);
+            }
+        }
+        out
+    }
+
+    /// Indices of the tiled `mesh` (`dune_mesh_tiled`) to draw with chunk steps
+    /// `steps` (`DuneLod::steps`): quads as `Mesh::height_grid` winds them, with
+    /// `cull` dropping chunks outside the frustum of `view_proj` and quads whose two
+    /// triangles face away from `eye`, as `visible_quads` does.
+    pub fn quads(
+        &self,
+        mesh: &Mesh,
+        steps: &[usize],
+        eye: Vec3,
+        view_proj: Mat4,
+        cull: bool,
+    ) -> Vec<u32> {
+        let side = self.tiles * self.n / self.chunk;
+        let verts = self.tiles * self.n + 1;
+        let index = |i: usize, j: usize| (j * verts + i) as u32;
+        let step_at = |ci: isize, cj: isize, own: usize| {
+            if ci < 0 || cj < 0 || ci >= side as isize || cj >= side as isize {
+                own
+            } else {
+                steps[cj as usize * side + ci as usize]
+            }
+        };
+        let mut out = Vec::new();
+        for cj in 0..side {
+            for ci in 0..side {
+                let s = steps[cj * side + ci];
+                let (i0, j0) = (ci * self.chunk, cj * self.chunk);
+                if cull {
+                    let corners = [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(a, b)| {
+                        mesh.positions[index(i0 + a * self.chunk, j0 + b * self.chunk) as usize]
+                    });
+                    let c = &self.chunks[(cj % (self.n / self.chunk)) * (self.n / self.chunk)
+                        + ci % (self.n / self.chunk)];
+                    let clip: Vec<Vec4> = corners
+                        .iter()
+                        .flat_map(|p| [Vec3::new(p.x, c.low, p.z), Vec3::new(p.x, c.high, p.z)])
+                        .map(|p| view_proj * p.extend(1.0))
+                        .collect();
+                    if outside_one_plane(&clip) {
+                        continue;
+                    }
+                }
+                let (ci, cj) = (ci as isize, cj as isize);
+                // The steps of the neighbours below (-z), above (+z), left and right.
+                let below = step_at(ci, cj - 1, s).max(s);
+                let above = step_at(ci, cj + 1, s).max(s);
+                let left = step_at(ci - 1, cj, s).max(s);
+                let right = step_at(ci + 1, cj, s).max(s);
+                let (ci, cj) = (ci as usize, cj as usize);
+                // A vertex on a border shared with a coarser chunk moves down onto that
+                // chunk's vertex.
+                let vertex = |i: usize, j: usize| {
+                    let (mut gi, mut gj) = (i0 + i, j0 + j);
+                    if j == 0 {
+                        gi = i0 + i / below * below;
+                    } else if j == self.chunk {
+                        gi = i0 + i / above * above;
+                    }
+                    if i == 0 {
+                        gj = j0 + j / left * left;
+                    } else if i == self.chunk {
+                        gj = j0 + j / right * right;
+                    }
+                    index(gi, gj)
+                };
+                let _ = (ci, cj);
+                for j in (0..self.chunk).step_by(s) {
+                    for i in (0..self.chunk).step_by(s) {
+                        let (a, b, c, d) = (
+                            vertex(i, j),
+                            vertex(i + s, j),
+                            vertex(i + s, j + s),
+                            vertex(i, j + s),
+                        );
+                        let quad = [a, d, c, a, c, b];
+                        if cull {
+                            let p = |k: u32| mesh.positions[k as usize];
+                            let facing = |t: &[u32]| {
+                                let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+                                (b - a).cross(c - a).dot(eye - a) > 0.0
+                            };
+                            if !facing(&quad[0..3]) && !facing(&quad[3..6]) {
+                                continue;
+                            }
+                        }
+                        out.extend_from_slice(&quad);
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Whether every clip-space point lies outside one plane of the view frustum.
+fn outside_one_plane(clip: &[Vec4]) -> bool {
+    let outside = |f: &dyn Fn(Vec4) -> bool| clip.iter().all(|&c| f(c));
+    outside(&|c| c.x < -c.w)
+        || outside(&|c| c.x > c.w)
+        || outside(&|c| c.y < -c.w)
+        || outside(&|c| c.y > c.w)
+        || outside(&|c| c.z < 0.0)
+        || outside(&|c| c.z > c.w)
+}
+
 /// The dune field's normals at the `res` x `res` texel centres of one period (texel
 /// `k` at cell coordinate `(k + 0.5) n / res`, as the dune shadow map's), bilinear
 /// between the vertex normals of the periodic mesh: what the dune shading reads
@@ -151,6 +376,123 @@ pub fn normal_texels(n: usize, cell: f32, heights: &[f32], res: usize) -> Vec<Ve
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn bumpy(n: usize) -> Vec<f32> {
+        (0..n * n)
+            .map(|k| {
+                let (i, j) = ((k % n) as f32, (k / n) as f32);
+                3.0 * (0.7 * i).sin() * (0.4 * j).cos() + 0.5 * (1.9 * i + 1.3 * j).sin()
+            })
+            .collect()
+    }
+
+    /// Every edge of the non-degenerate triangles, directed: each interior edge must
+    /// appear once each way; the rest lie on the field's outer border.
+    fn open_edges(mesh: &Mesh, indices: &[u32]) -> Vec<(u32, u32)> {
+        use std::collections::HashMap;
+        let mut count: HashMap<(u32, u32), i32> = HashMap::new();
+        for t in indices.chunks_exact(3) {
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                continue;
+            }
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *count.entry((a, b)).or_default() += 1;
+                *count.entry((b, a)).or_default() -= 1;
+            }
+        }
+        let _ = mesh;
+        count
+            .into_iter()
+            .filter(|&(_, c)| c > 0)
+            .map(|(e, _)| e)
+            .collect()
+    }
+
+    #[test]
+    fn lod_chunks_stitch_without_cracks_at_any_mix_of_steps() {
+        let (n, cell, tiles) = (16, 2.0, 3);
+        let heights = bumpy(n);
+        let mesh = dune_mesh_tiled(n, cell, &heights, tiles);
+        let lod = DuneLod::new(n, &heights, tiles);
+        let side = tiles * n / LOD_CHUNK;
+        let verts = tiles * n + 1;
+        let on_border = |k: u32| {
+            let (i, j) = (k as usize % verts, k as usize / verts);
+            i == 0 || j == 0 || i == verts - 1 || j == verts - 1
+        };
+        let field_area = ((tiles * n) as f32 * cell).powi(2);
+        for seed in 0..20u32 {
+            let steps: Vec<usize> = (0..side * side)
+                .map(|k| 1 << ((k as u32 * 7 + seed * 13 + k as u32 / 5) % 4))
+                .collect();
+            let indices = lod.quads(&mesh, &steps, Vec3::ZERO, Mat4::IDENTITY, false);
+            for (a, b) in open_edges(&mesh, &indices) {
+                assert!(
+                    on_border(a) && on_border(b),
+                    "seed {seed}: a crack along {a}-{b} inside the field"
+                );
+            }
+            // Seen from above the triangles tile the field once, all facing up.
+            let mut area = 0.0;
+            for t in indices.chunks_exact(3) {
+                let p = |k: u32| mesh.positions[k as usize];
+                let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+                let up = (b - a).cross(c - a).y;
+                assert!(up >= 0.0, "seed {seed}: a triangle turned over");
+                area += 0.5 * up;
+            }
+            assert!(
+                (area - field_area).abs() < 1e-2 * field_area,
+                "{area} vs {field_area}"
+            );
+        }
+        // Step 1 everywhere is the full mesh, quad for quad.
+        let full = lod.quads(
+            &mesh,
+            &vec![1; side * side],
+            Vec3::ZERO,
+            Mat4::IDENTITY,
+            false,
+        );
+        let mut a: Vec<[u32; 6]> = full
+            .chunks_exact(6)
+            .map(|q| q.try_into().expect("6"))
+            .collect();
+        let mut b: Vec<[u32; 6]> = mesh
+            .indices
+            .chunks_exact(6)
+            .map(|q| q.try_into().expect("6"))
+            .collect();
+        a.sort_unstable();
+        b.sort_unstable();
+        assert_eq!(a, b);
+    }
+
+    #[test]
+    fn lod_steps_grow_with_distance_and_stay_fine_where_the_dunes_are_steep() {
+        let (n, cell) = (32, 4.0);
+        let heights = bumpy(n);
+        let lod = DuneLod::new(n, &heights, 3);
+        let flat = DuneLod::new(n, &vec![1.0; n * n], 3);
+        let side = 3 * n / LOD_CHUNK;
+        let eye = Vec3::new(10.0, 5.0, 10.0);
+        let steps = lod.steps(eye, cell, 500.0, 1.0);
+        // The chunk under the eye is drawn whole; the farthest is no finer.
+        let near = steps[(side / 2) * side + side / 2];
+        assert_eq!(near, 1);
+        assert!(steps.iter().all(|&s| s >= near && s <= LOD_CHUNK));
+        assert!(steps[0] >= near);
+        // A flat field is one quad per chunk everywhere, however near.
+        assert!(
+            flat.steps(eye, cell, 500.0, 1.0)
+                .iter()
+                .all(|&s| s == LOD_CHUNK)
+        );
+        // A looser tolerance never asks for finer chunks.
+        let loose = lod.steps(eye, cell, 500.0, 4.0);
+        assert!(loose.iter().zip(&steps).all(|(l, s)| l >= s));
+        assert!(loose.iter().sum::<usize>() > steps.iter().sum::<usize>());
+    }
 
     #[test]
     fn normal_texels_follow_the_vertex_normals_and_wrap() {

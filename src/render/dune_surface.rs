@@ -3,6 +3,7 @@
 //! ripple shadows. Textures are made once per scene/light; the culled quad list per
 //! frame.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use glam::{Vec3, Vec4};
@@ -25,10 +26,9 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 pub struct DunePush {
     /// x ripple tile size (world), y ripple strength, z grain tile size, w field period.
     pub tile: Vec4,
-    /// xy cos/sin of the wind direction, z LOD on (1) or level 0 only (0).
+    /// xy cos/sin of the wind direction (zw unused).
     pub wind: Vec4,
-    /// x dune shadows, y ripple shadows (1 on), z ripple-shadow softness (radians),
-    /// w dune shadows marched per pixel (1) instead of read from the map (0).
+    /// z ripple-shadow softness (radians; xyw unused).
     pub shadows: Vec4,
     /// rgb sand albedo.
     pub albedo: Vec4,
@@ -39,12 +39,50 @@ pub struct DunePush {
     pub air_scattering: Vec4,
     /// The footprints' detail field: world x, z of its corner and its size (m).
     pub detail_rect: Vec4,
-    /// x footprints on (1), y the slope range of the detail texture's encoding, z LOD
-    /// chosen per quad (1), w the dune grid's side.
+    /// y the slope range of the detail texture's encoding, w the dune grid's side (xz
+    /// unused).
     pub detail: Vec4,
 }
 // SAFETY: repr(C), eight Vec4 (128 bytes, the guaranteed push-constant size).
 unsafe impl Pod for DunePush {}
+
+/// What the dune shading does, fixed per pipeline as `surface.frag`'s specialization
+/// constants (in this order): on lavapipe a switch read from a uniform costs what it
+/// turns off (the per-pixel shadow march alone a fifth of the frame while off).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct DuneSwitches {
+    /// Level of detail over the ripple chain (off: level 0 everywhere).
+    pub lod: bool,
+    /// With `lod`: the paper's level per quad (`DuneSurfacePass::set_levels`).
+    pub lod_per_quad: bool,
+    /// Dune shadows.
+    pub dune_shadows: bool,
+    /// Dune shadows marched per pixel instead of read from the map.
+    pub dune_shadows_marched: bool,
+    /// Ripple shadows from the horizon map.
+    pub ripple_shadows: bool,
+    /// The footprints' detail field.
+    pub footprints: bool,
+    /// Draw the dune-shadow term alone (red) instead of shading (tests).
+    pub shadow_mask: bool,
+}
+
+impl DuneSwitches {
+    /// The specialization constants, `constant_id` 0 up.
+    fn constants(self) -> Vec<u32> {
+        [
+            self.lod,
+            self.lod_per_quad,
+            self.dune_shadows,
+            self.dune_shadows_marched,
+            self.ripple_shadows,
+            self.footprints,
+            self.shadow_mask,
+        ]
+        .map(u32::from)
+        .to_vec()
+    }
+}
 
 const FRAME: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
 const NORMALS: DescriptorBinding = DescriptorBinding::new(0, 1, DescriptorKind::SampledImage);
@@ -295,8 +333,8 @@ fn positions_only() -> VertexLayout {
     layout
 }
 
-/// The dune surface pipeline (no culling), its frame uniforms and per-quad levels, and
-/// one descriptor set over a `DuneTextures`.
+/// The dune surface pipelines (no culling; one per `DuneSwitches` asked for), its
+/// frame uniforms and per-quad levels, and one descriptor set over a `DuneTextures`.
 pub struct DuneSurfacePass {
     set: DescriptorSet,
     _sampler: Sampler,
@@ -304,31 +342,29 @@ pub struct DuneSurfacePass {
     /// The paper's per-quad ripple levels (`model::dune_mesh::quad_levels`), when LOD
     /// is chosen per quad.
     levels: Buffer,
-    pipeline: Pipeline,
+    /// The switches the next draws use, and a pipeline for each set of switches
+    /// used so far (lavapipe compiles one in about 0.1-0.3 s).
+    switches: DuneSwitches,
+    pipelines: HashMap<DuneSwitches, Pipeline>,
+    target: TargetFormat,
     layout: PipelineLayout,
+    ctx: Arc<Context>,
 }
 
 impl DuneSurfacePass {
-    /// For `quads` dune quads (the tiled field's).
+    /// For `quads` dune quads (the tiled field's), drawing with `switches`.
     pub fn new(
         ctx: &Arc<Context>,
         target: TargetFormat,
         textures: &DuneTextures,
         quads: usize,
+        switches: DuneSwitches,
     ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "dune surface layout",
             &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
         )?;
-        let mut desc = GraphicsPipelineDesc::new("dune surface", VERTEX_INTERFACE.shader)
-            .fragment(FRAGMENT_INTERFACE.shader)
-            .vertex_layout(positions_only())
-            .target(target);
-        // Back faces are dropped per quad on the CPU when culling is on (the paper's
-        // comparison needs them drawn when it is off).
-        desc.cull_mode = vk::CullModeFlags::NONE;
-        let pipeline = desc.build(ctx, &layout)?;
         let frame = Buffer::new(
             ctx,
             "dune frame uniforms",
@@ -358,14 +394,37 @@ impl DuneSurfacePass {
             ),
         )?;
         set.write_buffer(LEVELS.binding, &levels)?;
-        Ok(Self {
+        let mut pass = Self {
             set,
             _sampler: repeat,
             frame,
             levels,
-            pipeline,
+            switches,
+            pipelines: HashMap::new(),
+            target,
             layout,
-        })
+            ctx: ctx.clone(),
+        };
+        pass.set_switches(switches)?;
+        Ok(pass)
+    }
+
+    /// The switches of the next draws; builds their pipeline the first time.
+    pub fn set_switches(&mut self, switches: DuneSwitches) -> Result<()> {
+        if !self.pipelines.contains_key(&switches) {
+            let mut desc = GraphicsPipelineDesc::new("dune surface", VERTEX_INTERFACE.shader)
+                .fragment(FRAGMENT_INTERFACE.shader)
+                .vertex_layout(positions_only())
+                .target(self.target);
+            // Back faces are dropped per quad on the CPU when culling is on (the
+            // paper's comparison needs them drawn when it is off).
+            desc.cull_mode = vk::CullModeFlags::NONE;
+            desc.constants = switches.constants();
+            let pipeline = desc.build(&self.ctx, &self.layout)?;
+            self.pipelines.insert(switches, pipeline);
+        }
+        self.switches = switches;
+        Ok(())
     }
 
     /// Sets the camera and lights for the next submission (call between frames).
@@ -383,7 +442,10 @@ impl DuneSurfacePass {
         if geometry.index_count == 0 {
             return Ok(());
         }
-        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
+        let pipeline = self.pipelines.get(&self.switches).ok_or_else(|| {
+            crate::error::Error::internal("dune surface", "no pipeline for its switches")
+        })?;
+        cmd.bind_pipeline(pipeline, &self.layout, &[&self.set]);
         cmd.push_constants(&self.layout, push)?;
         cmd.bind_vertex_buffer(&geometry.vertices, 0);
         cmd.bind_index_buffer(&geometry.indices);

@@ -207,6 +207,11 @@ pub struct DunesScene {
     pub lod_per_quad: bool,
     /// Back-face and frustum culling of dune quads (`--cull`).
     pub cull: bool,
+    /// Geometric level of detail of the dune mesh (`--mesh-lod`, beyond the paper):
+    /// the pixels a far chunk drawn with fewer vertices may move the surface by; 0
+    /// draws every quad. Only with culling (the paper's comparison without it draws
+    /// every quad).
+    pub mesh_lod_pixels: f32,
     /// Which shadows are drawn (`--shadows`).
     pub shadows: Shadows,
     /// Bump mapping of ripples at all (the paper's Fig. 12 has none).
@@ -253,6 +258,7 @@ impl Default for DunesScene {
             lod: true,
             lod_per_quad: false,
             cull: true,
+            mesh_lod_pixels: 2.0,
             shadows: Shadows::DuneAndRipple,
             ripples: true,
             dune_shadows_per_pixel: false,
@@ -433,6 +439,13 @@ pub struct Params {
     /// Back-face and frustum culling of dune quads: on or off (default on).
     #[arg(long, value_name = "on|off", value_parser = on_off)]
     pub cull: Option<bool>,
+    /// Geometric level of detail of the dune mesh, beyond the paper: with culling on,
+    /// far chunks of 8x8 quads are drawn with every 2nd, 4th or 8th vertex where the
+    /// heights left out would move the surface by at most this many pixels (their
+    /// shading does not change: it reads the dunes' normals from a texture); 0 draws
+    /// every quad, as the paper; 0..=16 pixels (default 2).
+    #[arg(long, value_name = "PIXELS", allow_hyphen_values = true)]
+    pub mesh_lod: Option<f32>,
     /// Shadows: none, dune, or dune+ripple (default dune+ripple).
     #[arg(long, value_name = "none|dune|dune+ripple")]
     pub shadows: Option<Shadows>,
@@ -550,6 +563,7 @@ impl SceneParams for Params {
         way.field(&mut self.lod_choice, &mut choice);
         s.lod_per_quad = choice == LodChoice::Quad;
         way.field(&mut self.cull, &mut s.cull);
+        way.field(&mut self.mesh_lod, &mut s.mesh_lod_pixels);
         way.field(&mut self.shadows, &mut s.shadows);
         let mut method = if s.dune_shadows_per_pixel {
             DuneShadowMethod::Pixel
@@ -630,6 +644,11 @@ impl DunesScene {
             self.exposure > 0.0 && self.exposure <= 64.0,
             "--exposure",
             "(0, 64]",
+        )?;
+        check(
+            (0.0..=16.0).contains(&self.mesh_lod_pixels),
+            "--mesh-lod",
+            "0..=16 pixels",
         )?;
         check(
             self.sun_azimuth_degrees.is_finite(),

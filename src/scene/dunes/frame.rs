@@ -13,7 +13,9 @@ use crate::error::{Error, Result};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::model::atmosphere::Atmosphere;
-use crate::model::dune_mesh::{dune_mesh_tiled, normal_texels, quad_levels, visible_quads};
+use crate::model::dune_mesh::{
+    DuneLod, dune_mesh_tiled, normal_texels, quad_levels, visible_quads,
+};
 use crate::model::dune_shadow::DuneGrid;
 use crate::model::dust::{DustCloud, DustGround, DustParams};
 use crate::model::footprints::{self, DetailField, FootprintParams};
@@ -25,7 +27,7 @@ use crate::render::atmosphere::{
 };
 use crate::render::dune_shadow::DuneShadowPass;
 use crate::render::dune_surface::{
-    DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSurfacePass, DuneTextures,
+    DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSurfacePass, DuneSwitches, DuneTextures,
 };
 use crate::render::dust::{DustLight, DustPass};
 use crate::render::ripple_maps::{HorizonWalk, RippleMaps};
@@ -146,6 +148,8 @@ pub struct DunesFrame {
     geometry: DuneGeometry,
     /// Three periods each way: the field reaches toward the horizon without a seam.
     mesh: Mesh,
+    /// The mesh's chunks, simplified far away (`--mesh-lod`).
+    lod: DuneLod,
     /// The sun the shadow map was made for.
     sun: Vec3,
     /// GPU time of the precomputations (ripple maps, dune shadow map).
@@ -159,6 +163,7 @@ pub struct DunesFrame {
 /// What `set_frame` fixes for the next frame.
 struct DunesView {
     view_proj: glam::Mat4,
+    fov_y_degrees: f32,
     eye: Vec3,
     target: Vec3,
     push: DunePush,
@@ -169,6 +174,24 @@ struct DunesView {
 /// The sand grain texture: its side in texels and the metres one tile covers.
 pub(super) const GRAIN_SIZE: u32 = 128;
 pub(super) const GRAIN_TILE_M: f32 = 0.35;
+
+/// The ripple shadows' edge: half the width of the transition from lit to shadowed
+/// around the horizon, radians (about 2.3 degrees; the mips' spread widens it).
+const RIPPLE_SHADOW_SOFTNESS: f32 = 0.04;
+
+/// What the dune shading does for `scene`, with or without footprints, or drawing the
+/// dune-shadow term alone (`show_shadow_mask`).
+fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwitches {
+    DuneSwitches {
+        lod: scene.lod,
+        lod_per_quad: scene.lod && scene.lod_per_quad,
+        dune_shadows: scene.shadows != Shadows::None,
+        dune_shadows_marched: scene.dune_shadows_per_pixel,
+        ripple_shadows: scene.shadows == Shadows::DuneAndRipple && scene.ripples,
+        footprints,
+        shadow_mask,
+    }
+}
 
 /// The grain texture of a scene (RGBA8, grey).
 pub(super) fn sand_grain(scene: &DunesScene) -> Vec<u8> {
@@ -217,7 +240,13 @@ impl DunesFrame {
             GRAIN_SIZE,
             detail_texels(prints.as_ref(), sun).as_ref(),
         )?;
-        let surface = DuneSurfacePass::new(ctx, ctx.frame_format(), &textures, 9 * n * n)?;
+        let surface = DuneSurfacePass::new(
+            ctx,
+            ctx.frame_format(),
+            &textures,
+            9 * n * n,
+            switches(&scene, prints.is_some(), false),
+        )?;
         // The dust: released whether or not it is shown (the viewer's `u` shows it).
         let cloud = scene.dust.as_ref().map(|params| {
             let height = dune_height(n, scene.cell, &terrain.dune_heights);
@@ -235,6 +264,7 @@ impl DunesFrame {
         });
         let blobs = cloud.as_ref().map_or(&[][..], |(_, c)| c.blobs());
         let mesh = dune_mesh_tiled(n, scene.cell, &terrain.dune_heights, 3);
+        let lod = DuneLod::new(n, &terrain.dune_heights, 3);
         let atmosphere = scene.atmosphere();
         let multiple = scene
             .multiple_scattering
@@ -243,6 +273,7 @@ impl DunesFrame {
         Ok(Self {
             geometry: DuneGeometry::new(ctx, &mesh)?,
             mesh,
+            lod,
             dust: DustPass::new(ctx, ctx.frame_format(), blobs, &shadow.heights, n as u32)?,
             dust_blobs: blobs.len(),
             dust_cloud: cloud,
@@ -363,6 +394,7 @@ impl Scene for DunesFrame {
                 ctx.frame_format(),
                 &textures,
                 9 * self.scene.dune_size * self.scene.dune_size,
+                switches(&self.scene, self.prints.is_some(), self.shadow_mask),
             )?;
             self._textures = textures;
             self.sun = sun;
@@ -384,13 +416,8 @@ impl Scene for DunesFrame {
             .lighting(sun, scene.exposure)
             .frame_uniforms(camera, aspect);
         self.surface.set_frame(&frame)?;
-        self.geometry.set_visible(&visible_quads(
-            &self.mesh,
-            camera.eye,
-            frame.view_proj,
-            scene.cull,
-        ))?;
-        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        self.surface
+            .set_switches(switches(scene, self.prints.is_some(), self.shadow_mask))?;
         let wind = scene.wind_degrees.to_radians();
         let push = DunePush {
             tile: glam::Vec4::new(
@@ -403,18 +430,8 @@ impl Scene for DunesFrame {
                 GRAIN_TILE_M,
                 scene.field_size(),
             ),
-            wind: glam::Vec4::new(
-                wind.cos(),
-                wind.sin(),
-                flag(scene.lod),
-                flag(self.shadow_mask),
-            ),
-            shadows: glam::Vec4::new(
-                flag(scene.shadows != Shadows::None),
-                flag(scene.shadows == Shadows::DuneAndRipple && scene.ripples),
-                0.04,
-                flag(scene.dune_shadows_per_pixel),
-            ),
+            wind: glam::Vec4::new(wind.cos(), wind.sin(), 0.0, 0.0),
+            shadows: glam::Vec4::new(0.0, 0.0, RIPPLE_SHADOW_SOFTNESS, 0.0),
             albedo: SAND_ALBEDO.extend(1.0),
             air_extinction: self
                 .atmosphere
@@ -432,12 +449,7 @@ impl Scene for DunesFrame {
                     d.height as f32 * d.cell,
                 )
             }),
-            detail: glam::Vec4::new(
-                flag(self.prints.is_some()),
-                footprints::SLOPE_RANGE,
-                flag(scene.lod && scene.lod_per_quad),
-                scene.dune_size as f32,
-            ),
+            detail: glam::Vec4::new(0.0, footprints::SLOPE_RANGE, 0.0, scene.dune_size as f32),
         };
         let sky = AtmosphereSkyPush {
             inverse_view_proj: frame.view_proj.inverse(),
@@ -448,6 +460,7 @@ impl Scene for DunesFrame {
         };
         self.view = Some(DunesView {
             view_proj: frame.view_proj,
+            fov_y_degrees: camera.fov_y_degrees,
             eye: camera.eye,
             target: camera.target,
             push,
@@ -478,6 +491,17 @@ impl Scene for DunesFrame {
             .view
             .as_ref()
             .ok_or_else(|| Error::internal("dunes", "set_frame must come before record"))?;
+        // The quads to draw: culled, and simplified far away, for this target's size.
+        let quads = if self.scene.cull && self.scene.mesh_lod_pixels > 0.0 {
+            let focal = target.height() as f32 / (2.0 * (0.5 * v.fov_y_degrees.to_radians()).tan());
+            let steps = self
+                .lod
+                .steps(v.eye, self.scene.cell, focal, self.scene.mesh_lod_pixels);
+            self.lod.quads(&self.mesh, &steps, v.eye, v.view_proj, true)
+        } else {
+            visible_quads(&self.mesh, v.eye, v.view_proj, self.scene.cull)
+        };
+        self.geometry.set_visible(&quads)?;
         if self.scene.lod && self.scene.lod_per_quad {
             // Texels of the ripple tile across one dune quad (the paper: 64).
             let texels = self.scene.cell / self.scene.ripple_tile * self.scene.ripple_size as f32;
