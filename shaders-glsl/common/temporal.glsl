@@ -7,8 +7,10 @@
 // is not the one its history saw (a disocclusion, growth), the depths differ and the
 // mean starts over from this frame.
 //
-// The body of `temporal.frag` (the camera moved: reprojection) and `temporal_still.frag`
-// (it did not: the history at the same pixel).
+// The body of `temporal.frag` (the camera moved: reprojection), `temporal_still.frag`
+// (it did not, but the scene changed: the history at the same pixel, kept where the
+// depth shows the same surface) and `temporal_settled.frag` (nothing moved: every
+// history kept, no depth read or written).
 
 layout(set = 0, binding = 0) uniform texture2D current;        // this frame, linear (sRGB view)
 layout(set = 0, binding = 1) uniform texture2D depth;          // this frame's depth
@@ -29,7 +31,7 @@ layout(push_constant) uniform Resolve {
 
 layout(location = 0) in vec2 in_ndc;
 
-#ifndef STILL
+#if !defined(STILL) && !defined(SETTLED)
 // The history at `uv` through a Catmull-Rom filter in five bilinear fetches (the four
 // corner taps, whose weights are small, left out): bilinear resampling every frame
 // would blur the mean a little more with each frame the camera moves.
@@ -64,6 +66,10 @@ layout(location = 2) out float out_depth;
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec3 c = texelFetch(sampler2D(current, clamp_sampler), p, 0).rgb;
+#ifdef SETTLED
+    vec4 h = texelFetch(sampler2D(history, clamp_sampler), p, 0);
+    bool kept = resolve.params.z < 0.5;
+#else
     float d = texelFetch(sampler2D(depth, nearest_sampler), p, 0).r;
 #ifdef STILL
     vec4 h = texelFetch(sampler2D(history, clamp_sampler), p, 0);
@@ -94,10 +100,13 @@ void main() {
     float widen = resolve.params.y * (abs(ex) + abs(ey)) + 1e-6;
     bool same = seen >= lo - widen && seen <= hi + widen;
     bool kept = inside && same && resolve.params.z < 0.5;
+#endif
     // (A select, not a weight of 0: a history never written may hold NaNs.)
     float n = kept ? min(round(h.a * 256.0), resolve.params.x) : 0.0;
     vec3 mean = kept ? mix(h.rgb, c, 1.0 / (n + 1.0)) : c;
     out_color = vec4(mean, 1.0);
     out_history = vec4(mean, (n + 1.0) / 256.0);
+#ifndef SETTLED
     out_depth = d;
+#endif
 }

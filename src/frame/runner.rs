@@ -133,7 +133,7 @@ impl FrameRunner {
     ) -> Result<()> {
         self.timer.reset(cmd);
         scene.record(cmd, &self.target, &mut self.timer)?;
-        if let Some(t) = &self.temporal {
+        if let Some(t) = &mut self.temporal {
             let span = self.timer.begin(cmd, "anti-aliasing")?;
             t.record(cmd, &self.target)?;
             self.timer.end(cmd, span);

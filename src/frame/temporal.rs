@@ -15,7 +15,7 @@ use crate::gpu::{
     Commands, Context, DescriptorSet, Image, ImageDesc, ImageTransition, OffscreenTarget, vk,
 };
 use crate::render::temporal::{
-    HISTORY_DEPTH_FORMAT, HISTORY_FORMAT, ResolveImages, ResolvePush, TemporalPass,
+    HISTORY_DEPTH_FORMAT, HISTORY_FORMAT, ResolveImages, ResolveMode, ResolvePush, TemporalPass,
 };
 use crate::scene::Size;
 use crate::scene::camera::Jitter;
@@ -60,15 +60,21 @@ pub fn sample_offset(k: u64) -> Vec2 {
 /// The resolve, its output and the two histories it alternates between, for frames
 /// drawn into one sampled target.
 pub struct Temporal {
-    // Read `drawn`'s images and the histories: dropped before them.
-    sets: [DescriptorSet; 2],
+    // Read `drawn`'s images and the histories: dropped before them. Set `[c][d]` reads
+    // colour history `c` and depth history `d`.
+    sets: [[DescriptorSet; 2]; 2],
     pass: TemporalPass,
-    /// Two histories, each a colour (the mean) and a depth image.
-    history: [[Image; 2]; 2],
+    /// Two histories each of the mean's colour and of the depth it was last seen at
+    /// (a frame where nothing moved writes no depth: the two alternate apart).
+    colour: [Image; 2],
+    depth: [Image; 2],
     /// The frame shown: the mean after this frame.
     shown: OffscreenTarget,
-    /// Which history this frame reads (it writes the other).
+    /// Which colour and which depth history this frame reads (it writes the others).
     read: usize,
+    read_depth: usize,
+    /// Whether this frame writes a depth history.
+    writes_depth: bool,
     /// Frames resolved so far.
     frame: u64,
     /// This frame's and the last frame's view-projection, without jitter.
@@ -92,37 +98,38 @@ impl Temporal {
             "reduce --size",
         )?;
         let pass = TemporalPass::new(ctx, drawn.format().color)?;
-        let history_image = |k: usize| -> Result<[Image; 2]> {
-            let image = |what: &str, format| {
-                Image::new(
-                    ctx,
-                    &format!("temporal history {k} {what}"),
-                    ImageDesc::new_2d(
-                        w,
-                        h,
-                        format,
-                        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
-                    ),
-                )
-            };
-            Ok([
-                image("colour", HISTORY_FORMAT)?,
-                image("depth", HISTORY_DEPTH_FORMAT)?,
-            ])
-        };
-        let history = [history_image(0)?, history_image(1)?];
-        let bind = |k: usize| {
-            pass.bind(
-                &format!("temporal set {k}"),
-                drawn.color(),
-                drawn.depth(),
-                [&history[k][0], &history[k][1]],
+        let image = |name: String, format| {
+            Image::new(
+                ctx,
+                &name,
+                ImageDesc::new_2d(
+                    w,
+                    h,
+                    format,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+                ),
             )
         };
-        let sets = [bind(0)?, bind(1)?];
+        let colour = [
+            image("temporal history 0 colour".into(), HISTORY_FORMAT)?,
+            image("temporal history 1 colour".into(), HISTORY_FORMAT)?,
+        ];
+        let depth = [
+            image("temporal history 0 depth".into(), HISTORY_DEPTH_FORMAT)?,
+            image("temporal history 1 depth".into(), HISTORY_DEPTH_FORMAT)?,
+        ];
+        let bind = |c: usize, d: usize| {
+            pass.bind(
+                &format!("temporal set {c}{d}"),
+                drawn.color(),
+                drawn.depth(),
+                [&colour[c], &depth[d]],
+            )
+        };
+        let sets = [[bind(0, 0)?, bind(0, 1)?], [bind(1, 0)?, bind(1, 1)?]];
         // Both histories start readable; the first frame starts over and reads neither.
         ctx.submit_and_wait("temporal histories", |cmd| {
-            let images = history.iter().flatten();
+            let images = colour.iter().chain(&depth);
             let transitions: Vec<ImageTransition> = images
                 .map(|image| ImageTransition {
                     image: image.raw(),
@@ -154,9 +161,12 @@ impl Temporal {
         Ok(Self {
             sets,
             pass,
-            history,
+            colour,
+            depth,
             shown,
             read: 0,
+            read_depth: 0,
+            writes_depth: true,
             frame: 0,
             current: Mat4::IDENTITY,
             last: None,
@@ -202,27 +212,32 @@ impl Temporal {
     }
 
     /// Records the resolve of the frame just drawn into `drawn` (its rendering ended).
-    pub fn record(&self, cmd: &Commands<'_>, drawn: &OffscreenTarget) -> Result<()> {
+    pub fn record(&mut self, cmd: &Commands<'_>, drawn: &OffscreenTarget) -> Result<()> {
         drawn.to_shader_read(cmd);
         let still = self.last == Some(self.current);
         let reproject = self.last.unwrap_or(self.current) * self.current.inverse();
-        let (frames, same_surface) = match (still, self.animated) {
-            (true, false) => (STILL_FRAMES, KEEP_ALL),
-            (true, true) => (ANIMATED_FRAMES, SAME_SURFACE),
-            (false, _) => (MOVING_FRAMES, SAME_SURFACE),
+        let (mode, frames, same_surface) = match (still, self.animated) {
+            (true, false) => (ResolveMode::Settled, STILL_FRAMES, KEEP_ALL),
+            (true, true) => (ResolveMode::Still, ANIMATED_FRAMES, SAME_SURFACE),
+            (false, _) => (ResolveMode::Moving, MOVING_FRAMES, SAME_SURFACE),
         };
+        // The first frame after a start writes the depth its history saw.
+        let mode = if self.last.is_none() && mode == ResolveMode::Settled {
+            ResolveMode::Still
+        } else {
+            mode
+        };
+        self.writes_depth = mode != ResolveMode::Settled;
         let start_over = self.start_over || self.last.is_none() || !reproject.is_finite();
         self.pass.record(
             cmd,
             &ResolveImages {
-                set: &self.sets[self.read],
-                history_out: [
-                    &self.history[1 - self.read][0],
-                    &self.history[1 - self.read][1],
-                ],
+                set: &self.sets[self.read][self.read_depth],
+                colour_out: &self.colour[1 - self.read],
+                depth_out: &self.depth[1 - self.read_depth],
                 shown: self.shown.color(),
             },
-            still,
+            mode,
             &ResolvePush {
                 reproject,
                 params: Vec4::new(
@@ -238,6 +253,9 @@ impl Temporal {
     /// After the frame's submission finished: the history written becomes the one read.
     pub fn advance(&mut self) {
         self.read = 1 - self.read;
+        if self.writes_depth {
+            self.read_depth = 1 - self.read_depth;
+        }
         self.frame += 1;
         self.last = Some(self.current);
         self.start_over = false;

@@ -51,6 +51,7 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &temporal::VERTEX_INTERFACE,
         &temporal::FRAGMENT_INTERFACE,
         &temporal::STILL_FRAGMENT_INTERFACE,
+        &temporal::SETTLED_FRAGMENT_INTERFACE,
         &xfb_selftest::VERTEX_INTERFACE,
         &xfb_selftest::GEOMETRY_INTERFACE,
     ]

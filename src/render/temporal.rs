@@ -65,23 +65,45 @@ pub static STILL_FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<ResolvePush>() as u32,
 };
 
+/// `frame/temporal_settled.frag`: the same interface (it reads no depth).
+pub static SETTLED_FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::FRAME_TEMPORAL_SETTLED_FRAG,
+    bindings: BINDINGS,
+    push_constant_bytes: size_of::<ResolvePush>() as u32,
+};
+
+/// What changed since the last frame, which picks the resolve's pipeline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ResolveMode {
+    /// The camera moved: the history reprojected through the depth.
+    Moving,
+    /// The camera stood but the scene changed: the history at the same pixel, kept
+    /// where the depth shows the same surface.
+    Still,
+    /// Nothing moved: every history kept; no depth read or written.
+    Settled,
+}
+
 /// What one resolve reads and writes.
 pub struct ResolveImages<'a> {
     /// This frame's colour (SHADER_READ_ONLY) and depth (DEPTH_READ_ONLY), one sample.
     pub set: &'a DescriptorSet,
-    /// The history written, colour and depth (SHADER_READ_ONLY after, for the next
-    /// frame; their contents are replaced).
-    pub history_out: [&'a Image; 2],
+    /// The history's colour written (SHADER_READ_ONLY after, for the next frame; its
+    /// contents are replaced).
+    pub colour_out: &'a Image,
+    /// The history's depth written likewise (not by `ResolveMode::Settled`).
+    pub depth_out: &'a Image,
     /// The frame shown (COLOR_ATTACHMENT after; replaced).
     pub shown: &'a Image,
 }
 
-/// The resolve's two pipelines (camera moved / still), layout and sampler.
+/// The resolve's pipelines (one per `ResolveMode`), layout and samplers.
 pub struct TemporalPass {
     sampler: Sampler,
     nearest: Sampler,
     moving: Pipeline,
     still: Pipeline,
+    settled: Pipeline,
     layout: PipelineLayout,
 }
 
@@ -93,18 +115,28 @@ impl TemporalPass {
             "temporal resolve layout",
             &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
         )?;
-        let build = |name: &str, fragment: &ShaderInterface| {
+        let build = |name: &str, fragment: &ShaderInterface, targets: &[vk::Format]| {
             let mut desc = GraphicsPipelineDesc::new(name, VERTEX_INTERFACE.shader)
                 .fragment(fragment.shader)
-                .targets(&[color, HISTORY_FORMAT, HISTORY_DEPTH_FORMAT], None);
+                .targets(targets, None);
             desc.cull_mode = vk::CullModeFlags::NONE;
             desc.build(ctx, &layout)
         };
+        let all = [color, HISTORY_FORMAT, HISTORY_DEPTH_FORMAT];
         Ok(Self {
             sampler: Sampler::linear_clamp(ctx, "temporal history sampler")?,
             nearest: Sampler::nearest_clamp(ctx, "temporal depth sampler")?,
-            moving: build("temporal resolve", &FRAGMENT_INTERFACE)?,
-            still: build("temporal resolve (still camera)", &STILL_FRAGMENT_INTERFACE)?,
+            moving: build("temporal resolve", &FRAGMENT_INTERFACE, &all)?,
+            still: build(
+                "temporal resolve (still camera)",
+                &STILL_FRAGMENT_INTERFACE,
+                &all,
+            )?,
+            settled: build(
+                "temporal resolve (nothing moved)",
+                &SETTLED_FRAGMENT_INTERFACE,
+                &all[..2],
+            )?,
             layout,
         })
     }
@@ -129,13 +161,13 @@ impl TemporalPass {
         Ok(set)
     }
 
-    /// Records the resolve (outside any rendering scope): `still` when the camera did
-    /// not move since the last frame (no reprojection, no depth read).
+    /// Records the resolve (outside any rendering scope) for what changed since the
+    /// last frame.
     pub fn record(
         &self,
         cmd: &Commands<'_>,
         images: &ResolveImages<'_>,
-        still: bool,
+        mode: ResolveMode,
         push: &ResolvePush,
     ) -> Result<()> {
         let to_attachment = |image: &Image| ImageTransition {
@@ -152,19 +184,21 @@ impl TemporalPass {
                 vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
             ),
         };
-        let [colour_out, depth_out] = images.history_out;
-        cmd.transition_images(&[
-            to_attachment(images.shown),
-            to_attachment(colour_out),
-            to_attachment(depth_out),
-        ]);
+        let mut written = vec![images.shown, images.colour_out];
+        if mode != ResolveMode::Settled {
+            written.push(images.depth_out);
+        }
+        let transitions: Vec<ImageTransition> =
+            written.iter().map(|&image| to_attachment(image)).collect();
+        cmd.transition_images(&transitions);
+        let views: Vec<vk::ImageView> = written.iter().map(|image| image.view()).collect();
         let desc = images.shown.desc();
-        cmd.begin_rendering_colors(
-            &[images.shown.view(), colour_out.view(), depth_out.view()],
-            desc.width,
-            desc.height,
-        );
-        let pipeline = if still { &self.still } else { &self.moving };
+        cmd.begin_rendering_colors(&views, desc.width, desc.height);
+        let pipeline = match mode {
+            ResolveMode::Moving => &self.moving,
+            ResolveMode::Still => &self.still,
+            ResolveMode::Settled => &self.settled,
+        };
         cmd.bind_pipeline(pipeline, &self.layout, &[images.set]);
         cmd.push_constants(&self.layout, push)?;
         cmd.draw(3, 1);
@@ -184,7 +218,9 @@ impl TemporalPass {
                 vk::AccessFlags2::SHADER_SAMPLED_READ,
             ),
         };
-        cmd.transition_images(&[to_read(colour_out), to_read(depth_out)]);
+        let transitions: Vec<ImageTransition> =
+            written[1..].iter().map(|&image| to_read(image)).collect();
+        cmd.transition_images(&transitions);
         Ok(())
     }
 }
