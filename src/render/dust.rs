@@ -1,6 +1,7 @@
-//! Sand dust billboards (Onoue & Nishita 3.7): points expanded into camera-facing
-//! quads in a geometry shader, alpha blended, lit by the sun (forward scattering) and
-//! the sky, and faded where they meet the sand (`shaders-glsl/dunes/dust.*`).
+//! Sand dust billboards (Onoue & Nishita 3.7): blobs drawn as camera-facing quads (one
+//! instance of a four-vertex strip each), alpha blended, lit by the sun (forward
+//! scattering) and the sky, and faded where they meet the sand
+//! (`shaders-glsl/dunes/dust.*`).
 
 use std::sync::Arc;
 
@@ -9,12 +10,12 @@ use glam::{Mat4, Vec3, Vec4};
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
-    Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, VertexLayout, vk,
+    Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, vk,
 };
 use crate::model::dust::DustBlob;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
-/// Push constants of the dust geometry shader.
+/// Push constants of the dust vertex shader.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct DustPush {
@@ -28,7 +29,7 @@ pub struct DustPush {
 // SAFETY: repr(C), Mat4 + two Vec4.
 unsafe impl Pod for DustPush {}
 
-/// `Light` uniform block of `dust.geom` and `dust.frag`.
+/// `Light` uniform block of `dust.vert` and `dust.frag`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DustLight {
@@ -42,7 +43,8 @@ pub struct DustLight {
     pub albedo: Vec4,
     /// xyz the eye, w the dune cell size (m).
     pub eye: Vec4,
-    /// x exposure, y tone-mapping operator (`ToneMap::code`), z dune grid side.
+    /// x exposure, y tone-mapping operator (`ToneMap::code`), z dune grid side, w the
+    /// dunes' highest point (m; `DustPass::set_light` fills it in).
     pub tone: Vec4,
 }
 // SAFETY: repr(C), six Vec4.
@@ -51,82 +53,96 @@ unsafe impl Pod for DustLight {}
 const LIGHT: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
 const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 1, DescriptorKind::SampledImage);
 const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 2, DescriptorKind::Sampler);
+const BLOBS: DescriptorBinding = DescriptorBinding::new(0, 3, DescriptorKind::StorageBuffer);
 
-/// `dust.vert`: no resources; passes each blob's centre and radius (one vec4) through.
+/// `dunes/dust.vert`: the light (binding 0), the blobs (3) and `DustPush`.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUST_VERT,
-    bindings: &[],
-    push_constant_bytes: 0,
-};
-
-/// Declared by hand (naga has no geometry stage); drawn in `tests/dunes.rs`.
-pub static GEOMETRY_INTERFACE: ShaderInterface = ShaderInterface {
-    shader: &compiled::DUNES_DUST_GEOM,
-    bindings: &[LIGHT],
+    bindings: &[LIGHT, BLOBS],
     push_constant_bytes: size_of::<DustPush>() as u32,
 };
 
-/// `dust.frag`: the `DustLight` buffer (0), the dune heights image (1) and its repeating
-/// sampler (2), for the fade where blobs meet the sand.
+/// `dunes/dust.frag`: the light (binding 0), the dune heights (1) and their
+/// repeating sampler (2).
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUST_FRAG,
     bindings: &[LIGHT, HEIGHTS, REPEAT],
     push_constant_bytes: 0,
 };
 
-/// The dust pipeline (points to blended billboards; depth tested, not written), the
-/// blobs' vertex buffer, the light uniforms and a sampled copy of the dune heights.
+/// The blobs (a storage buffer, rewritten as they drift), the light, the dune
+/// heights and the blended billboard pipeline.
 pub struct DustPass {
-    /// The blobs' centres and radii, rewritten when the dust moves.
-    blobs: Option<Buffer>,
+    /// One vec4 a blob (at least one, unused without dust).
+    blobs: Buffer,
     count: u32,
     light: Buffer,
     set: DescriptorSet,
     _heights: Image,
+    /// The dunes' highest point (m): the heights' scale.
+    highest: f32,
     _sampler: Sampler,
     pipeline: Pipeline,
     layout: PipelineLayout,
 }
 
 impl DustPass {
-    /// For `blobs` over the dune field whose heights (cell units, `n` x `n`, one
-    /// period) are in `heights`, a buffer with TRANSFER_SRC usage.
+    /// For `blobs` over one period of `n` x `n` dune `heights` (metres, lowest at 0),
+    /// drawn into `target` over the terrain (depth tested, not written).
     pub fn new(
         ctx: &Arc<Context>,
         target: TargetFormat,
         blobs: &[DustBlob],
-        heights: &Buffer,
+        heights: &[f32],
         n: u32,
     ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "dust layout",
-            &[&VERTEX_INTERFACE, &GEOMETRY_INTERFACE, &FRAGMENT_INTERFACE],
+            &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
         )?;
         let mut desc = GraphicsPipelineDesc::new("dust", VERTEX_INTERFACE.shader)
-            .geometry(GEOMETRY_INTERFACE.shader)
             .fragment(FRAGMENT_INTERFACE.shader)
-            .vertex_layout(VertexLayout {
-                stride: 16,
-                attributes: vec![(0, vk::Format::R32G32B32A32_SFLOAT, 0)],
-            })
             .target(target);
-        desc.topology = vk::PrimitiveTopology::POINT_LIST;
+        desc.topology = vk::PrimitiveTopology::TRIANGLE_STRIP;
         desc.cull_mode = vk::CullModeFlags::NONE;
         desc.alpha_blend = true;
-        // Hidden behind dunes, but never hiding each other by depth.
         desc.depth_write = false;
         let points: Vec<Vec4> = blobs.iter().map(|b| b.position.extend(b.radius)).collect();
-        let buffer = if points.is_empty() {
-            None
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        // One blob's worth at least: every binding is written, nothing drawn without.
+        let stored = if points.is_empty() {
+            vec![Vec4::ZERO]
         } else {
-            Some(Buffer::with_data(
-                ctx,
-                "dust blobs",
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-                &points,
-            )?)
+            points.clone()
         };
+        let buffer = Buffer::with_data(ctx, "dust blobs", storage, &stored)?;
+        let expected = (n * n) as usize;
+        if heights.len() != expected {
+            return Err(crate::error::Error::internal(
+                "dust",
+                format!("{} heights for a {n}x{n} grid", heights.len()),
+            ));
+        }
+        let highest = heights.iter().copied().fold(0.0f32, f32::max).max(1e-6);
+        let bytes: Vec<u8> = heights
+            .iter()
+            .map(|&h| ((h / highest).clamp(0.0, 1.0) * 255.0).round() as u8)
+            .collect();
+        let staging = Buffer::with_data(
+            ctx,
+            "dust's dune heights staging",
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            &bytes,
+        )?;
+        let image = Image::sampled_from_buffer(
+            ctx,
+            "dust's dune heights",
+            ImageDesc::new_2d(n, n, vk::Format::R8_UNORM, vk::ImageUsageFlags::SAMPLED),
+            &staging,
+            &[0],
+        )?;
+        let sampler = Sampler::linear_repeat(ctx, "dust heights sampler")?;
         let light = Buffer::new(
             ctx,
             "dust light",
@@ -135,14 +151,6 @@ impl DustPass {
                 vk::BufferUsageFlags::UNIFORM_BUFFER,
             ),
         )?;
-        let image = Image::sampled_from_buffer(
-            ctx,
-            "dust's dune heights",
-            ImageDesc::new_2d(n, n, vk::Format::R32_SFLOAT, vk::ImageUsageFlags::SAMPLED),
-            heights,
-            &[0],
-        )?;
-        let sampler = Sampler::linear_repeat(ctx, "dust heights sampler")?;
         let set = layout.allocate_set("dust set", 0)?;
         set.write_buffer(LIGHT.binding, &light)?;
         set.write_image(
@@ -151,12 +159,14 @@ impl DustPass {
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         )?;
         set.write_sampler(REPEAT.binding, &sampler)?;
+        set.write_buffer(BLOBS.binding, &buffer)?;
         Ok(Self {
             blobs: buffer,
             count: points.len() as u32,
             light,
             set,
             _heights: image,
+            highest,
             _sampler: sampler,
             pipeline: desc.build(ctx, &layout)?,
             layout,
@@ -166,27 +176,26 @@ impl DustPass {
     /// Moves the blobs (as many as at creation). Call between frames, not while one
     /// that draws them is in flight.
     pub fn set_blobs(&mut self, blobs: &[DustBlob]) -> Result<()> {
-        if let Some(buffer) = &mut self.blobs {
-            let points: Vec<Vec4> = blobs
-                .iter()
-                .take(self.count as usize)
-                .map(|b| b.position.extend(b.radius))
-                .collect();
-            buffer.write(0, &points)?;
-        }
-        Ok(())
+        let points: Vec<Vec4> = blobs
+            .iter()
+            .take(self.count as usize)
+            .map(|b| b.position.extend(b.radius))
+            .collect();
+        self.blobs.write(0, &points)
     }
 
     /// The light for the next frame.
     pub fn set_light(&mut self, light: &DustLight) -> Result<()> {
-        self.light.write(0, std::slice::from_ref(light))
+        let mut light = *light;
+        light.tone.w = self.highest;
+        self.light.write(0, std::slice::from_ref(&light))
     }
 
     /// Draws the blobs inside an open rendering scope, after the opaque surfaces.
     pub fn draw(&self, cmd: &Commands<'_>, view_proj: Mat4, eye: Vec3, target: Vec3) -> Result<()> {
-        let Some(blobs) = &self.blobs else {
+        if self.count == 0 {
             return Ok(());
-        };
+        }
         let forward = (target - eye).normalize_or(Vec3::NEG_Z);
         let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
         let up = right.cross(forward);
@@ -199,8 +208,7 @@ impl DustPass {
                 up: up.extend(0.0),
             },
         )?;
-        cmd.bind_vertex_buffer(blobs, 0);
-        cmd.draw(self.count, 1);
+        cmd.draw(4, self.count);
         Ok(())
     }
 }

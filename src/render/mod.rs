@@ -32,7 +32,6 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &dune_surface::VERTEX_INTERFACE,
         &dune_surface::FRAGMENT_INTERFACE,
         &dust::VERTEX_INTERFACE,
-        &dust::GEOMETRY_INTERFACE,
         &dust::FRAGMENT_INTERFACE,
         &sky::VERTEX_INTERFACE,
         &sky::FRAGMENT_INTERFACE,
