@@ -15,6 +15,7 @@ use crate::error::{Error, Result};
 use crate::frame::{BenchScene, Scene};
 use crate::gpu::Context;
 use crate::model::dust::DustParams;
+use crate::model::footprints::fig18_walk;
 use crate::model::sand::{Heightfield, SandParams, SandSim};
 use crate::scene::Size;
 use crate::scene::camera::Camera;
@@ -28,6 +29,8 @@ struct Variant {
     lod_per_quad: bool,
     shadows: Shadows,
     dust: bool,
+    /// Fig. 18's footprints in the detail field (issue 15's "every effect").
+    footprints: bool,
 }
 
 const fn variant(
@@ -44,6 +47,7 @@ const fn variant(
         lod_per_quad: false,
         shadows,
         dust,
+        footprints: false,
     }
 }
 
@@ -56,14 +60,21 @@ const VARIANTS: [Variant; 7] = [
         ..variant("cull-on-lod-quad", true, true, Shadows::None, false)
     },
     variant("dune-shadows", true, true, Shadows::Dune, false),
-    variant(
-        "dune-ripple-shadows",
-        true,
-        true,
-        Shadows::DuneAndRipple,
-        false,
-    ),
-    variant("all-with-dust", true, true, Shadows::DuneAndRipple, true),
+    // Every effect (issue 15's budgets): both shadows and the footprints, and dust.
+    Variant {
+        footprints: true,
+        ..variant(
+            "dune-ripple-shadows",
+            true,
+            true,
+            Shadows::DuneAndRipple,
+            false,
+        )
+    },
+    Variant {
+        footprints: true,
+        ..variant("all-with-dust", true, true, Shadows::DuneAndRipple, true)
+    },
 ];
 
 const NAMES: &[&str] = &[
@@ -120,7 +131,12 @@ impl BenchScene for DunesBench {
             dust: v.dust.then(DustParams::default),
             ..base.clone()
         };
+        // Every variant from Fig. 17's camera (a walk would take the walker's).
         let camera = default_camera(&scene, terrain);
+        let scene = DunesScene {
+            footprints: v.footprints.then(|| fig18_walk(scene.field_size())),
+            ..scene
+        };
         Ok((Box::new(DunesFrame::new(ctx, scene, terrain)?), camera))
     }
 
