@@ -95,7 +95,9 @@ vec2 sky_view_uv(vec3 view, float sun_azimuth) {
     float e = asin(clamp(view.y, -1.0, 1.0));
     float s = sqrt(abs(e) / (0.5 * PI)) * sign(e);
     float az = atan(view.z, view.x) - sun_azimuth;
-    float rel = abs(atan(sin(az), cos(az)));
+    // The azimuth from the sun's wrapped into -pi..pi (a round, not atan(sin, cos):
+    // the same angle for two transcendentals fewer in every sky pixel).
+    float rel = abs(az - 2.0 * PI * round(az / (2.0 * PI)));
     return vec2(rel / PI, 0.5 + 0.5 * s);
 }
 

@@ -361,7 +361,7 @@ pub fn sky_view_uv(view: Vec3, sun_azimuth: f32) -> (f32, f32) {
     let e = v3.y.clamp(-1.0, 1.0).asin();
     let s = (e.abs() / std::f32::consts::FRAC_PI_2).sqrt() * e.signum();
     let az = v3.z.atan2(v3.x) - sun_azimuth;
-    let rel = az.sin().atan2(az.cos()).abs();
+    let rel = (az - std::f32::consts::TAU * (az / std::f32::consts::TAU).round()).abs();
     (rel / std::f32::consts::PI, 0.5 + 0.5 * s)
 }
 
