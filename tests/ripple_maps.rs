@@ -103,6 +103,38 @@ fn the_linear_horizon_pass_equals_the_brute_walk() {
 }
 
 #[test]
+fn the_linear_horizon_pass_along_16_directions_equals_the_brute_walk() {
+    // Issue 19 item 1 times the sweep along 16 directions (the knight's moves between
+    // the axes and diagonals): each against the CPU brute walk over its whole cycle,
+    // on ripples, noise and a tile smaller than a workgroup.
+    use sediment::model::ripple_maps::{
+        HORIZON_DIRECTIONS_16, horizon_map_along, horizon_map_linear_along,
+    };
+    use sediment::render::ripple_maps::horizon_map_linear_gpu;
+    common::with_gpu(|ctx| {
+        for (name, field, scale) in [
+            ("ripples", ripples(64), 0.4f32),
+            ("noise", Heightfield::random(128, 128, 0.0, 1.0, 4), 1.0),
+            ("small noise", Heightfield::random(16, 16, 0.0, 1.0, 2), 1.0),
+        ] {
+            let (gpu, ms) = horizon_map_linear_gpu(ctx, &field, scale, 16).expect("sweep");
+            assert!(ms > 0.0, "{name}: the pass is timed");
+            let brute = horizon_map_along(&field, scale, field.width - 1, &HORIZON_DIRECTIONS_16);
+            let cpu_linear = horizon_map_linear_along(&field, scale, &HORIZON_DIRECTIONS_16);
+            assert_eq!(gpu.len(), 4 * field.data.len());
+            for (what, other) in [("CPU brute", &brute), ("CPU linear", &cpu_linear)] {
+                let worst = gpu
+                    .iter()
+                    .zip(other)
+                    .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+                    .fold(0.0f32, f32::max);
+                assert!(worst <= 1e-5, "{name}: GPU linear vs {what}: {worst}");
+            }
+        }
+    });
+}
+
+#[test]
 fn dune_shadow_map_matches_the_cpu_reference() {
     use sediment::model::dune_shadow::{DuneGrid, shadow_map};
     use sediment::render::dune_shadow::DuneShadowPass;

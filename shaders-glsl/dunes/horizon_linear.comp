@@ -1,134 +1,200 @@
 #version 450
 // The horizon map in time linear in the tile's size (Timonen & Westerholm 2010,
 // "Scalable Height Field Self-Shadowing"): the same map as horizon.comp over the whole
-// periodic row. One invocation per (direction, line): on the periodic N x N tile every
-// line along an axis or a diagonal is a cycle of N texels. The line is swept backwards
-// once round, starting just behind its highest texel, keeping the upper convex hull of
-// the heights ahead on a stack (in the `hull` buffer, N entries per invocation); the
-// hull's top after popping what a texel sees past is its horizon. Texels beyond the
-// highest one never set a horizon (the highest is nearer and at least as high), so one
-// lap sees all that matters; the highest texel itself is walked directly.
-// The CPU twin is `horizon_map_linear` in src/model/ripple_maps.rs.
+// periodic row. On the periodic N x N tile every line of texels along one of the
+// directions (axes, diagonals and, with 16, the knight's moves (2, 1) between them) is
+// a cycle of N texels. One invocation per line sweeps it backwards once round,
+// starting just behind its highest texel, keeping the upper convex hull of the heights
+// ahead; the hull's top after popping what a texel sees past is its horizon. Texels
+// beyond the highest one never set a horizon (the highest is nearer and at least as
+// high), so one lap sees all that matters; the highest texel's own horizon (below zero:
+// everything else is lower) is taken as the sweep passes.
+//
+// What makes it fast on llvmpipe, which reads or writes a storage buffer for 8
+// invocations as a loop over the 8 (measured in one process, 1024 x 1024 noise, 8
+// directions: 175 ms before these, about 80 after): the hull's top eight entries live
+// in registers and memory is touched only to spill or refill four of them (a window
+// of four: 10 % slower; the top two, as before: twice as slow); each invocation writes
+// its own line position by position (the map is stored by line: `planes_from_lines`
+// in src/render/ripple_maps.rs reorders it for the CPU); and lines steeper in y read a
+// transposed copy of the heights, so that columns, like rows, step one texel further
+// in memory.
+// The CPU twin is `horizon_map_linear_along` in src/model/ripple_maps.rs.
 
 layout(local_size_x = 64) in;
 
+// The heights (row-major), then the same heights transposed.
 layout(set = 0, binding = 0, std430) readonly buffer Heights {
     float h[];
 } heights;
 
-// Two planes of vec4 as floats: directions 0-3 for every texel, then directions 4-7.
+// By line: direction d's line l at (d * N + l) * N, position by position from the
+// line's start.
 layout(set = 0, binding = 1, std430) buffer Horizon {
     float s[];
 } horizon;
 
-// Scratch: N stack entries per invocation (2N reserved), each (position along the
-// line, height), so the sweep never looks a popped-to height up again.
+// The hull stacks below the entries held in registers: N entries for each invocation
+// of a dispatch (a stack never holds more than a lap).
 layout(set = 0, binding = 2, std430) buffer Hull {
     vec2 at[];
 } hull;
 
 layout(push_constant) uniform Params {
     uint size;
-    uint unused0;
+    // 8 (axes and diagonals) or 16 (and the knight's moves).
+    uint directions;
     float height_scale;
-    uint unused1;
+    // The direction of this dispatch's first line (dispatches share the hull buffer).
+    uint first_direction;
 } pc;
 
-int n;
-int start_x;
-int start_y;
-int dir_x;
-int dir_y;
+// Direction k of 16, counter-clockwise from +x: even k the axes and diagonals, odd k
+// the knight's moves between them.
+ivec2 direction16(int k) {
+    int octant = k / 2;
+    float angle = radians(45.0 * float(octant));
+    ivec2 axis = ivec2(round(cos(angle)), round(sin(angle)));
+    if (k % 2 == 0) {
+        return axis;
+    }
+    float next = radians(45.0 * float(octant + 1));
+    return axis + ivec2(round(cos(next)), round(sin(next)));
+}
+
+int wrap(int i, int n) {
+    return i < 0 ? i + n : (i >= n ? i - n : i);
+}
 
 void main() {
-    n = int(pc.size);
+    int n = int(pc.size);
     int id = int(gl_GlobalInvocationID.x);
-    if (id >= 8 * n) {
+    int d = int(pc.first_direction) + id / n;
+    if (d >= int(pc.directions)) {
         return;
     }
-    int d = id / n;
     int line = id % n;
-    float angle = radians(45.0 * float(d));
-    dir_x = int(round(cos(angle)));
-    dir_y = int(round(sin(angle)));
-    // Rows start on the left edge, columns and diagonals on the bottom one: each
-    // start is on a different line, and the n of them cover the tile.
-    start_x = dir_y == 0 ? 0 : line;
-    start_y = dir_y == 0 ? line : 0;
-    float step_len = sqrt(float(dir_x * dir_x + dir_y * dir_y));
-    uint base = uint(id) * uint(2 * n);
-    uint plane = d < 4 ? 0u : uint(n * n) * 4u;
-    uint component = uint(d % 4);
+    ivec2 dir = direction16(pc.directions == 8u ? 2 * d : d);
+    // The line's frame: the heights transposed where the direction is steeper in y,
+    // so that a line steps +-1 along rows (axes: one texel further in memory) or
+    // +-1 row and su along it (diagonals, knight's moves).
+    bool transposed = abs(dir.y) > abs(dir.x);
+    int su = transposed ? dir.y : dir.x;
+    int sv = transposed ? dir.x : dir.y;
+    int frame = transposed ? n * n : 0;
+    float step_len = sqrt(float(dir.x * dir.x + dir.y * dir.y));
+    // Along a row, line k is row k; across rows, the line through (k, 0).
+    int u = sv == 0 ? 0 : line;
+    int v = sv == 0 ? line : 0;
+    // This invocation's hull stack and its line of the map, position by position.
+    uint hull_base = uint(id) * uint(n);
+    uint out_base = uint(d * n + line) * uint(n);
 
-    // The line's highest texel (the first of equals), position p from the start.
-    int x = start_x;
-    int y = start_y;
-    int peak = 0;
-    int peak_x = x;
-    int peak_y = y;
-    float highest = heights.h[y * n + x];
+    // The line's highest texel (the first of equals), position p.
+    int p = 0;
+    int pu = u;
+    int pv = v;
+    float highest = heights.h[frame + v * n + u];
     for (int t = 1; t < n; ++t) {
-        x += dir_x;
-        y += dir_y;
-        x = x < 0 ? x + n : (x >= n ? x - n : x);
-        y = y < 0 ? y + n : (y >= n ? y - n : y);
-        float v = heights.h[y * n + x];
-        if (v > highest) {
-            highest = v;
-            peak = t;
-            peak_x = x;
-            peak_y = y;
+        u = wrap(u + su, n);
+        v = wrap(v + sv, n);
+        float here = heights.h[frame + v * n + u];
+        if (here > highest) {
+            highest = here;
+            p = t;
+            pu = u;
+            pv = v;
         }
-    }
-    // Sweep backwards from the texel behind the peak (position peak + n - 1) to the
-    // one after it (peak + 1), the peak itself (at peak + n) first on the hull.
-    int top = 1;
-    hull.at[base] = vec2(float(peak + n), highest);
-    x = peak_x - dir_x;
-    y = peak_y - dir_y;
-    x = x < 0 ? x + n : (x >= n ? x - n : x);
-    y = y < 0 ? y + n : (y >= n ? y - n : y);
-    for (int t = peak + n - 1; t > peak; --t) {
-        int i = y * n + x;
-        float here = heights.h[i];
-        float ft = float(t);
-        while (top >= 2) {
-            vec2 a = hull.at[base + uint(top - 1)];
-            vec2 b = hull.at[base + uint(top - 2)];
-            // The same expression as the brute walk's (there - here) * s / (k * len).
-            float to_a = (a.y - here) * pc.height_scale / ((a.x - ft) * step_len);
-            float to_b = (b.y - here) * pc.height_scale / ((b.x - ft) * step_len);
-            if (to_a <= to_b) {
-                top -= 1;
-            } else {
-                break;
-            }
-        }
-        vec2 a = hull.at[base + uint(top - 1)];
-        horizon.s[plane + uint(i) * 4u + component] =
-            (a.y - here) * pc.height_scale / ((a.x - ft) * step_len);
-        hull.at[base + uint(top)] = vec2(ft, here);
-        top += 1;
-        x -= dir_x;
-        y -= dir_y;
-        x = x < 0 ? x + n : (x >= n ? x - n : x);
-        y = y < 0 ? y + n : (y >= n ? y - n : y);
     }
 
-    // The peak: its horizon over the n - 1 texels ahead, walked (its own copy must not
-    // count, and the hull has dropped what it would need).
-    {
-        float best = -3.402823e38;
-        x = peak_x;
-        y = peak_y;
-        for (int k = 1; k < n; ++k) {
-            x += dir_x;
-            y += dir_y;
-            x = x < 0 ? x + n : (x >= n ? x - n : x);
-            y = y < 0 ? y + n : (y >= n ? y - n : y);
-            float there = heights.h[y * n + x];
-            best = max(best, (there - highest) * pc.height_scale / (float(k) * step_len));
+    // One lap backwards from the texel behind the peak (position p + N - 1) to the
+    // one after it (p + 1), the peak's copy at p + N first on the hull.
+    // The hull's top eight entries in registers (r0 the top; w of them valid), the
+    // rest in memory, moved four at a time: memory is touched only when the window is
+    // full before a push (four spilled) or down to one entry with more below (up to
+    // four refilled), so a hull that grows and shrinks by a few entries, as it does
+    // over ripples and noise, stays in registers.
+    vec2 r0 = vec2(float(p + n), highest);
+    vec2 r1 = vec2(0.0);
+    vec2 r2 = vec2(0.0);
+    vec2 r3 = vec2(0.0);
+    vec2 r4 = vec2(0.0);
+    vec2 r5 = vec2(0.0);
+    vec2 r6 = vec2(0.0);
+    vec2 r7 = vec2(0.0);
+    int w = 1;
+    int count = 1;
+    // The peak's own horizon, the largest (h - highest) / k, kept as a fraction.
+    float best_rise = -3.402823e38;
+    float best_k = 1.0;
+    u = pu;
+    v = pv;
+    for (int t = p + n - 1; t > p; --t) {
+        u = wrap(u - su, n);
+        v = wrap(v - sv, n);
+        float here = heights.h[frame + v * n + u];
+        float ft = float(t);
+        // Pop the top while the one below it is seen at least as steeply (slopes
+        // compared by cross-multiplying: both distances are positive).
+        // The pops touch registers only; where a line's window runs down to its top
+        // with more below, entries come back from memory and the pops go on.
+        bool refill;
+        do {
+            while (w >= 2 && (r0.y - here) * (r1.x - ft) <= (r1.y - here) * (r0.x - ft)) {
+                r0 = r1;
+                r1 = r2;
+                r2 = r3;
+                r3 = r4;
+                r4 = r5;
+                r5 = r6;
+                r6 = r7;
+                w -= 1;
+                count -= 1;
+            }
+            refill = w == 1 && count >= 2;
+            if (refill) {
+                // Memory holds entries 0 .. count - 2, the top last.
+                int top = int(hull_base) + count - 2;
+                r1 = hull.at[top];
+                if (count >= 3) {
+                    r2 = hull.at[top - 1];
+                }
+                if (count >= 4) {
+                    r3 = hull.at[top - 2];
+                }
+                if (count >= 5) {
+                    r4 = hull.at[top - 3];
+                }
+                w = min(count, 5);
+            }
+        } while (refill);
+        // The same expression as the brute walk's (there - here) * s / (k * len).
+        horizon.s[out_base + uint(t >= n ? t - n : t)] =
+            (r0.y - here) * pc.height_scale / ((r0.x - ft) * step_len);
+        float k = float(t - p);
+        if ((here - highest) * best_k > best_rise * k) {
+            best_rise = here - highest;
+            best_k = k;
         }
-        horizon.s[plane + uint(peak_y * n + peak_x) * 4u + component] = best;
+        if (w == 8) {
+            // Memory holds entries 0 .. count - 9; the window's bottom four follow.
+            uint bottom = hull_base + uint(count - 8);
+            hull.at[bottom] = r7;
+            hull.at[bottom + 1u] = r6;
+            hull.at[bottom + 2u] = r5;
+            hull.at[bottom + 3u] = r4;
+            w = 4;
+        }
+        r7 = r6;
+        r6 = r5;
+        r5 = r4;
+        r4 = r3;
+        r3 = r2;
+        r2 = r1;
+        r1 = r0;
+        r0 = vec2(ft, here);
+        w += 1;
+        count += 1;
     }
+    horizon.s[out_base + uint(p)] = best_rise * pc.height_scale / (best_k * step_len);
 }

@@ -67,33 +67,65 @@ pub const HORIZON_DIRECTIONS: [(i32, i32); 8] = [
     (1, -1),
 ];
 
+/// 16 horizon directions, counter-clockwise from +x: the 8 of [`HORIZON_DIRECTIONS`]
+/// and between each two the knight's move (2, 1), (1, 2), ... — the lattice lines
+/// through texel centres nearest to every 22.5 degrees (26.6, 63.4, ...), so the walk
+/// along each still meets texels exactly. Issue 19 times the linear sweep with these.
+pub const HORIZON_DIRECTIONS_16: [(i32, i32); 16] = [
+    (1, 0),
+    (2, 1),
+    (1, 1),
+    (1, 2),
+    (0, 1),
+    (-1, 2),
+    (-1, 1),
+    (-2, 1),
+    (-1, 0),
+    (-2, -1),
+    (-1, -1),
+    (-1, -2),
+    (0, -1),
+    (1, -2),
+    (1, -1),
+    (2, -1),
+];
+
 /// Horizon map (Max 1988; paper 3.5.1): for every texel and each of the 8 directions,
 /// the largest elevation slope `(H(p + k d) - H(p)) s / (k |d|)` over `k = 1..=steps`
 /// along the periodic tile (the paper walks the whole row: `steps = size - 1`). Slopes
 /// below zero are kept (a texel on a crest sees down to its horizon). Returned as two
 /// planes of vec4: directions 0–3 for every texel, then directions 4–7.
 pub fn horizon_map(field: &Heightfield, height_scale: f32, steps: usize) -> Vec<[f32; 4]> {
+    horizon_map_along(field, height_scale, steps, &HORIZON_DIRECTIONS)
+}
+
+/// [`horizon_map`] along any directions (a multiple of 4 of them): one plane of vec4
+/// per 4 directions.
+pub fn horizon_map_along(
+    field: &Heightfield,
+    height_scale: f32,
+    steps: usize,
+    directions: &[(i32, i32)],
+) -> Vec<[f32; 4]> {
     let (w, h) = (field.width as isize, field.height as isize);
-    let mut first = Vec::with_capacity(field.data.len());
-    let mut second = Vec::with_capacity(field.data.len());
+    let n = field.data.len();
+    let mut planes = vec![[f32::MIN; 4]; n * directions.len().div_ceil(4)];
     for y in 0..h {
         for x in 0..w {
             let here = field.at(x, y) as f32;
-            let mut slopes = [f32::MIN; 8];
-            for (slot, &(dx, dy)) in slopes.iter_mut().zip(HORIZON_DIRECTIONS.iter()) {
+            let texel = (y * w + x) as usize;
+            for (slot, &(dx, dy)) in directions.iter().enumerate() {
                 let step_len = ((dx * dx + dy * dy) as f32).sqrt();
+                let best = &mut planes[slot / 4 * n + texel][slot % 4];
                 for k in 1..=steps as isize {
                     let there = field.at(x + k * dx as isize, y + k * dy as isize) as f32;
                     let slope = (there - here) * height_scale / (k as f32 * step_len);
-                    *slot = slot.max(slope);
+                    *best = best.max(slope);
                 }
             }
-            first.push([slopes[0], slopes[1], slopes[2], slopes[3]]);
-            second.push([slopes[4], slopes[5], slopes[6], slopes[7]]);
         }
     }
-    first.extend(second);
-    first
+    planes
 }
 
 /// The same horizon map as [`horizon_map`] over the whole periodic row (`steps = size -
@@ -107,19 +139,31 @@ pub fn horizon_map(field: &Heightfield, height_scale: f32, steps: usize) -> Vec<
 /// The sweep starts just behind the line's highest texel, with that texel first on the
 /// hull: a texel's horizon never comes from beyond the highest one (it is nearer and
 /// at least as high, so it is seen at a steeper slope), so one lap sees all that
-/// matters. The highest texel itself is walked directly (its own copy one cycle ahead
-/// must not count): one O(size) walk per line, still linear. The remaining difference
-/// from the brute walk is rounding among near-equal slopes (tested within 1e-5).
+/// matters. The highest texel's own horizon (its own copy one cycle ahead must not
+/// count) is the largest `(h - highest) / k` over the lap, kept as the sweep passes.
+/// Slopes are compared by cross-multiplying, as `horizon_linear.comp` does; the
+/// remaining difference from the brute walk is rounding among near-equal slopes
+/// (tested within 1e-5).
 pub fn horizon_map_linear(field: &Heightfield, height_scale: f32) -> Vec<[f32; 4]> {
+    horizon_map_linear_along(field, height_scale, &HORIZON_DIRECTIONS)
+}
+
+/// [`horizon_map_linear`] along any directions (a multiple of 4 of them), equal to
+/// [`horizon_map_along`] over the whole cycle of each line within rounding.
+pub fn horizon_map_linear_along(
+    field: &Heightfield,
+    height_scale: f32,
+    directions: &[(i32, i32)],
+) -> Vec<[f32; 4]> {
     let (w, h) = (field.width, field.height);
     let n = w * h;
-    let mut slopes = vec![[f32::MIN; 8]; n];
+    let mut planes = vec![[f32::MIN; 4]; n * directions.len().div_ceil(4)];
     let mut cycle: Vec<usize> = Vec::with_capacity(w.max(h));
-    let mut heights: Vec<f32> = Vec::with_capacity(2 * w.max(h));
-    let mut hull: Vec<usize> = Vec::with_capacity(w.max(h));
+    let mut hull: Vec<(f32, f32)> = Vec::with_capacity(w.max(h));
     let mut visited = vec![false; n];
-    for (slot, &(dx, dy)) in HORIZON_DIRECTIONS.iter().enumerate() {
+    for (slot, &(dx, dy)) in directions.iter().enumerate() {
         let step_len = ((dx * dx + dy * dy) as f32).sqrt();
+        let (plane, component) = (slot / 4 * n, slot % 4);
         visited.iter_mut().for_each(|v| *v = false);
         for start in 0..n {
             if visited[start] {
@@ -138,42 +182,39 @@ pub fn horizon_map_linear(field: &Heightfield, height_scale: f32) -> Vec<[f32; 4
                 y = (y + dy as isize).rem_euclid(h as isize);
             }
             let l = cycle.len();
-            // The cycle's heights twice round, so positions peak..peak + l index it.
-            heights.clear();
-            heights.extend(cycle.iter().map(|&i| field.data[i] as f32));
-            heights.extend_from_within(..);
-            // Slope from position t to position s > t, as the brute walk computes it
-            // for k = s - t.
-            let slope = |t: usize, s: usize| {
-                (heights[s] - heights[t]) * height_scale / ((s - t) as f32 * step_len)
-            };
+            let height = |t: usize| field.data[cycle[t % l]] as f32;
             // The highest texel (the first of equals).
-            let peak = (0..l).fold(
-                0,
-                |best, t| if heights[t] > heights[best] { t } else { best },
-            );
+            let peak = (0..l).fold(0, |best, t| if height(t) > height(best) { t } else { best });
+            let highest = height(peak);
+            let (mut best_rise, mut best_k) = (f32::MIN, 1.0f32);
             hull.clear();
-            hull.push(peak + l);
+            hull.push(((peak + l) as f32, highest));
             for t in (peak + 1..peak + l).rev() {
-                while let [.., second, top] = hull[..] {
-                    if slope(t, top) <= slope(t, second) {
+                let (here, ft) = (height(t), t as f32);
+                while let [.., (bx, by), (ax, ay)] = hull[..] {
+                    if (ay - here) * (bx - ft) <= (by - here) * (ax - ft) {
                         hull.pop();
                     } else {
                         break;
                     }
                 }
-                if let Some(&top) = hull.last() {
-                    slopes[cycle[t % l]][slot] = slope(t, top);
+                if let Some(&(ax, ay)) = hull.last() {
+                    planes[plane + cycle[t % l]][component] =
+                        (ay - here) * height_scale / ((ax - ft) * step_len);
                 }
-                hull.push(t);
+                let k = (t - peak) as f32;
+                if (here - highest) * best_k > best_rise * k {
+                    (best_rise, best_k) = (here - highest, k);
+                }
+                hull.push((ft, here));
             }
-            slopes[cycle[peak]][slot] = (1..l)
-                .map(|k| slope(peak, peak + k))
-                .fold(f32::MIN, f32::max);
+            planes[plane + cycle[peak]][component] = if l > 1 {
+                best_rise * height_scale / (best_k * step_len)
+            } else {
+                f32::MIN
+            };
         }
     }
-    let mut planes: Vec<[f32; 4]> = slopes.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect();
-    planes.extend(slopes.iter().map(|s| [s[4], s[5], s[6], s[7]]));
     planes
 }
 
@@ -374,15 +415,22 @@ mod tests {
             ("flat", &flat, 1.0),
             ("ripples", sim.field(), 0.1),
         ] {
-            let brute = horizon_map(field, scale, field.width - 1);
-            let linear = horizon_map_linear(field, scale);
-            assert_eq!(brute.len(), linear.len());
-            let worst = brute
-                .iter()
-                .zip(&linear)
-                .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
-                .fold(0.0f32, f32::max);
-            assert!(worst <= 1e-5, "{name}: largest difference {worst}");
+            for directions in [&HORIZON_DIRECTIONS[..], &HORIZON_DIRECTIONS_16[..]] {
+                let brute = horizon_map_along(field, scale, field.width - 1, directions);
+                let linear = horizon_map_linear_along(field, scale, directions);
+                assert_eq!(brute.len(), linear.len());
+                assert_eq!(brute.len(), field.data.len() * directions.len() / 4);
+                let worst = brute
+                    .iter()
+                    .zip(&linear)
+                    .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+                    .fold(0.0f32, f32::max);
+                let k = directions.len();
+                assert!(
+                    worst <= 1e-5,
+                    "{name}, {k} directions: largest difference {worst}"
+                );
+            }
         }
     }
 }

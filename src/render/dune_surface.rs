@@ -179,7 +179,7 @@ impl DuneTextures {
         let s = maps.size;
         let normals = maps.levels.read::<[f32; 4]>()?;
         let phi = tile_azimuth(bake.sun.to_array(), bake.wind_radians);
-        let horizon = horizon_chain_toward(&maps.horizon.read::<[f32; 4]>()?, s as usize, phi);
+        let horizon = horizon_chain_toward(&maps.horizon_slopes()?, s as usize, phi);
         let right_angle = std::f32::consts::FRAC_PI_2;
         let packed: Vec<u8> = normals
             .iter()

@@ -1,12 +1,16 @@
 //! The ripple tile's normal-map chain and horizon map, built on the GPU in compute
-//! passes (`shaders-glsl/dunes/normal_mip.comp`, `horizon.comp`) from a ripple
+//! passes (`shaders-glsl/dunes/normal_mip.comp`; the horizons by the paper's walk,
+//! `horizon.comp`, or the linear-time sweep, `horizon_linear.comp`) from a ripple
 //! heightfield; their CPU twins are in `model::ripple_maps`, compared in
 //! `tests/ripple_maps.rs`.
 
 use std::sync::Arc;
 
 use crate::error::{Error, Result};
-use crate::gpu::{Buffer, BufferDesc, Context, GpuTimer, Pipeline, PipelineLayout, Pod, Span, vk};
+use crate::gpu::{
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, GpuTimer, Pipeline, PipelineLayout, Pod,
+    Span, vk,
+};
 use crate::model::ripple_maps::normal_level0;
 use crate::model::sand::Heightfield;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
@@ -61,9 +65,25 @@ pub static HORIZON_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<HorizonPush>() as u32,
 };
 
-/// `horizon_linear.comp`: heights (binding 0), the two-plane horizon map (binding 1)
-/// and the hull stacks (binding 2, 2 x size vec2 per line and direction) as storage
-/// buffers, and `HorizonPush` (`steps` unused: the whole row).
+/// Push constants of `horizon_linear.comp`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct SweepPush {
+    /// Side of the periodic tile in texels.
+    pub size: u32,
+    /// 8 (axes and diagonals) or 16 (and the knight's moves between them).
+    pub directions: u32,
+    /// Factor on the stored heights before slopes are taken.
+    pub height_scale: f32,
+    /// The direction of the dispatch's first line.
+    pub first_direction: u32,
+}
+// SAFETY: repr(C), four 4-byte fields.
+unsafe impl Pod for SweepPush {}
+
+/// `horizon_linear.comp`: the heights and their transpose (binding 0), the horizon
+/// map's planes (binding 1) and the hull stacks (binding 2) as storage buffers, and
+/// `SweepPush`.
 pub static HORIZON_LINEAR_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_HORIZON_LINEAR_COMP,
     bindings: &[
@@ -71,8 +91,205 @@ pub static HORIZON_LINEAR_INTERFACE: ShaderInterface = ShaderInterface {
         DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer),
         DescriptorBinding::new(0, 2, DescriptorKind::StorageBuffer),
     ],
-    push_constant_bytes: size_of::<HorizonPush>() as u32,
+    push_constant_bytes: size_of::<SweepPush>() as u32,
 };
+
+/// The hull stacks of one dispatch are kept under this many bytes; directions beyond
+/// it are swept in further dispatches that reuse them.
+const HULL_BUDGET_BYTES: u64 = 64 << 20;
+
+/// The linear-time horizon sweep (`horizon_linear.comp`) of one tile, ready to record:
+/// its pipeline, the heights with their transpose, and the hull stacks.
+pub struct HorizonSweep {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+    set: DescriptorSet,
+    _heights: Buffer,
+    _hull: Buffer,
+    size: u32,
+    directions: u32,
+    per_dispatch: u32,
+}
+
+impl HorizonSweep {
+    /// Prepares the sweep of a square, power-of-two `field` along 8 or 16 directions,
+    /// writing `directions / 4` planes of vec4 into `horizon`.
+    pub fn new(
+        ctx: &Arc<Context>,
+        field: &Heightfield,
+        directions: u32,
+        horizon: &Buffer,
+    ) -> Result<Self> {
+        let size = field.width as u32;
+        if field.width != field.height || !size.is_power_of_two() || size < 2 {
+            return Err(Error::internal(
+                "horizon sweep",
+                format!(
+                    "{}x{} must be square with a power-of-two side >= 2",
+                    field.width, field.height
+                ),
+            ));
+        }
+        if directions != 8 && directions != 16 {
+            return Err(Error::internal(
+                "horizon sweep",
+                format!("{directions} directions: 8 or 16"),
+            ));
+        }
+        let planes_bytes = u64::from(size * size) * u64::from(directions) * 4;
+        if horizon.size() < planes_bytes {
+            return Err(Error::internal(
+                "horizon sweep",
+                format!(
+                    "the map needs {planes_bytes} bytes, the buffer has {}",
+                    horizon.size()
+                ),
+            ));
+        }
+        // Row-major heights, then transposed: lines along x read the transpose so
+        // that every line steps one row a texel.
+        let n = size as usize;
+        let mut heights: Vec<f32> = field.data.iter().map(|&h| h as f32).collect();
+        heights.extend((0..n * n).map(|i| field.data[(i % n) * n + i / n] as f32));
+        let heights = Buffer::with_data(
+            ctx,
+            "horizon sweep heights",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &heights,
+        )?;
+        let entries = u64::from(size);
+        let per_direction = entries * u64::from(size) * 8;
+        let per_dispatch =
+            (HULL_BUDGET_BYTES / per_direction).clamp(1, u64::from(directions)) as u32;
+        let lanes = u64::from((per_dispatch * size).div_ceil(64) * 64);
+        let hull = Buffer::new(
+            ctx,
+            "horizon hull stacks",
+            BufferDesc::gpu_only(entries * lanes * 8, vk::BufferUsageFlags::STORAGE_BUFFER),
+        )?;
+        let layout =
+            PipelineLayout::new(ctx, "horizon sweep layout", &[&HORIZON_LINEAR_INTERFACE])?;
+        let pipeline = Pipeline::compute(
+            ctx,
+            "horizon sweep",
+            HORIZON_LINEAR_INTERFACE.shader,
+            &layout,
+        )?;
+        let set = layout.allocate_set("horizon sweep set", 0)?;
+        set.write_buffer(0, &heights)?;
+        set.write_buffer(1, horizon)?;
+        set.write_buffer(2, &hull)?;
+        Ok(Self {
+            layout,
+            pipeline,
+            set,
+            _heights: heights,
+            _hull: hull,
+            size,
+            directions,
+            per_dispatch,
+        })
+    }
+
+    /// Records the sweep: one dispatch per group of directions whose stacks fit the
+    /// budget, a barrier between (they reuse the stacks).
+    pub fn record(&self, cmd: &Commands, height_scale: f32) -> Result<()> {
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
+        let mut first = 0;
+        while first < self.directions {
+            if first > 0 {
+                cmd.full_barrier();
+            }
+            cmd.push_constants(
+                &self.layout,
+                &SweepPush {
+                    size: self.size,
+                    directions: self.directions,
+                    height_scale,
+                    first_direction: first,
+                },
+            )?;
+            cmd.dispatch((self.per_dispatch * self.size).div_ceil(64), 1, 1);
+            first += self.per_dispatch;
+        }
+        Ok(())
+    }
+}
+
+/// The horizon map of `field` along 8 or 16 directions by the linear sweep on the GPU
+/// (`directions / 4` planes of vec4, as [`horizon_map_linear_along`] lays them out),
+/// with the sweep's GPU time in milliseconds.
+///
+/// [`horizon_map_linear_along`]: crate::model::ripple_maps::horizon_map_linear_along
+pub fn horizon_map_linear_gpu(
+    ctx: &Arc<Context>,
+    field: &Heightfield,
+    height_scale: f32,
+    directions: u32,
+) -> Result<(Vec<[f32; 4]>, f64)> {
+    let horizon = Buffer::new(
+        ctx,
+        "horizon map",
+        BufferDesc::readback(
+            (field.data.len() * directions as usize * 4) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        ),
+    )?;
+    let sweep = HorizonSweep::new(ctx, field, directions, &horizon)?;
+    let mut timer = GpuTimer::new(ctx, "horizon sweep timer", 1)?;
+    ctx.submit_and_wait("horizon sweep", |cmd| {
+        timer.reset(cmd);
+        let span = timer.begin(cmd, "horizon map")?;
+        sweep.record(cmd, height_scale)?;
+        timer.end(cmd, span);
+        cmd.shader_to_host_barrier();
+        Ok(())
+    })?;
+    let ms = timer.read()?.first().map_or(0.0, |s| s.milliseconds);
+    let lines: Vec<f32> = horizon.read()?;
+    Ok((
+        planes_from_lines(&lines, field.width, directions as usize),
+        ms,
+    ))
+}
+
+/// The texel that position `pos` of line `line` along `dir` is, in an `n` x `n`
+/// tile: `horizon_linear.comp`'s frame (transposed where the direction is steeper in
+/// y; along a row, line k is row k; across rows, the line through (k, 0)).
+fn sweep_texel(n: usize, dir: (i32, i32), line: usize, pos: usize) -> usize {
+    let transposed = dir.1.abs() > dir.0.abs();
+    let (su, sv) = if transposed {
+        (dir.1, dir.0)
+    } else {
+        (dir.0, dir.1)
+    };
+    let (u0, v0) = if sv == 0 { (0, line) } else { (line, 0) };
+    let at = |start: usize, step: i32| {
+        (start as i64 + pos as i64 * i64::from(step)).rem_euclid(n as i64) as usize
+    };
+    let (u, v) = (at(u0, su), at(v0, sv));
+    if transposed { u * n + v } else { v * n + u }
+}
+
+/// The sweep's output (for each direction, each line's horizons position by position,
+/// as each invocation writes them in order) as planes of vec4 per texel (directions
+/// 0-3, then 4-7, ...: [`horizon_map_linear_along`]'s layout).
+///
+/// [`horizon_map_linear_along`]: crate::model::ripple_maps::horizon_map_linear_along
+pub fn planes_from_lines(lines: &[f32], n: usize, directions: usize) -> Vec<[f32; 4]> {
+    let table = &crate::model::ripple_maps::HORIZON_DIRECTIONS_16;
+    let mut planes = vec![[0.0f32; 4]; n * n * directions.div_ceil(4)];
+    for d in 0..directions {
+        let dir = table[if directions == 8 { 2 * d } else { d }];
+        for line in 0..n {
+            for pos in 0..n {
+                let texel = sweep_texel(n, dir, line, pos);
+                planes[d / 4 * n * n + texel][d % 4] = lines[(d * n + line) * n + pos];
+            }
+        }
+    }
+    planes
+}
 
 /// How the horizon map is computed: both give the map of the whole periodic row
 /// (`Brute { steps: size - 1 }` and `Linear` agree within rounding, `tests/ripple_maps.rs`).
@@ -94,7 +311,9 @@ pub enum HorizonWalk {
 pub struct RippleMaps {
     /// Every level of the normal chain, packed from level 0 (vec4 per texel).
     pub levels: Buffer,
-    /// Horizon slopes of level 0: a plane of vec4 (directions 0–3), then another (4–7).
+    /// Horizon slopes of level 0: by the brute walk a plane of vec4 (directions 0–3),
+    /// then another (4–7); by the linear sweep each line's in order
+    /// ([`planes_from_lines`]). [`RippleMaps::horizon_slopes`] reads either as planes.
     pub horizon: Buffer,
     /// Side of level 0 in texels (a power of two, at least 2).
     pub size: u32,
@@ -102,6 +321,8 @@ pub struct RippleMaps {
     pub level_offsets: Vec<u32>,
     /// GPU time of the two builds.
     pub spans: Vec<Span>,
+    /// How `horizon` is laid out: by line (the linear sweep) or by texel.
+    walk: HorizonWalk,
 }
 
 /// Offsets of each level of a `size` chain down to 1x1.
@@ -172,31 +393,15 @@ impl RippleMaps {
         let mip = Pipeline::compute(ctx, "normal mip", NORMAL_MIP_INTERFACE.shader, &mip_layout)?;
         let mip_set = mip_layout.allocate_set("normal mip set", 0)?;
         mip_set.write_buffer(0, &levels)?;
-        let (interface, steps) = match walk {
-            HorizonWalk::Brute { steps } => (&HORIZON_INTERFACE, steps),
-            HorizonWalk::Linear => (&HORIZON_LINEAR_INTERFACE, size - 1),
-        };
-        let hz_layout = PipelineLayout::new(ctx, "horizon layout", &[interface])?;
-        let hz = Pipeline::compute(ctx, "horizon", interface.shader, &hz_layout)?;
+        // The paper's walk as a pipeline of its own here; the linear sweep as a pass.
+        let hz_layout = PipelineLayout::new(ctx, "horizon layout", &[&HORIZON_INTERFACE])?;
+        let hz = Pipeline::compute(ctx, "horizon", HORIZON_INTERFACE.shader, &hz_layout)?;
         let hz_set = hz_layout.allocate_set("horizon set", 0)?;
         hz_set.write_buffer(0, &height_buffer)?;
         hz_set.write_buffer(1, &horizon)?;
-        // The linear sweep's stacks: 2 x size (position, height) for each of 8 x size
-        // lines.
-        let hull = match walk {
-            HorizonWalk::Linear => {
-                let hull = Buffer::new(
-                    ctx,
-                    "horizon hull stacks",
-                    BufferDesc::gpu_only(
-                        u64::from(size) * 8 * u64::from(size) * 2 * 8,
-                        vk::BufferUsageFlags::STORAGE_BUFFER,
-                    ),
-                )?;
-                hz_set.write_buffer(2, &hull)?;
-                Some(hull)
-            }
-            HorizonWalk::Brute { .. } => None,
+        let (sweep, steps) = match walk {
+            HorizonWalk::Linear => (Some(HorizonSweep::new(ctx, field, 8, &horizon)?), 0),
+            HorizonWalk::Brute { steps } => (None, steps),
         };
 
         let mut timer = GpuTimer::new(ctx, "ripple maps timer", 2)?;
@@ -222,32 +427,33 @@ impl RippleMaps {
             }
             timer.end(cmd, span);
             let span = timer.begin(cmd, "horizon map")?;
-            cmd.bind_pipeline(&hz, &hz_layout, &[&hz_set]);
-            cmd.push_constants(
-                &hz_layout,
-                &HorizonPush {
-                    size,
-                    steps,
-                    height_scale: horizon_height_scale,
-                    unused: 0,
-                },
-            )?;
-            match walk {
-                HorizonWalk::Brute { .. } => cmd.dispatch(size.div_ceil(8), size.div_ceil(8), 1),
-                // One invocation per line and direction.
-                HorizonWalk::Linear => cmd.dispatch((8 * size).div_ceil(64), 1, 1),
+            if let Some(sweep) = &sweep {
+                sweep.record(cmd, horizon_height_scale)?;
+            } else {
+                cmd.bind_pipeline(&hz, &hz_layout, &[&hz_set]);
+                cmd.push_constants(
+                    &hz_layout,
+                    &HorizonPush {
+                        size,
+                        steps,
+                        height_scale: horizon_height_scale,
+                        unused: 0,
+                    },
+                )?;
+                cmd.dispatch(size.div_ceil(8), size.div_ceil(8), 1);
             }
             timer.end(cmd, span);
             cmd.shader_to_host_barrier();
             Ok(())
         })?;
-        drop(hull);
+        drop(sweep);
         Ok(Self {
             spans: timer.read()?,
             levels,
             horizon,
             size,
             level_offsets: offsets,
+            walk,
         })
     }
 
@@ -262,8 +468,15 @@ impl RippleMaps {
         Ok(all[start..start + side * side].to_vec())
     }
 
-    /// The horizon map as read back (two planes).
+    /// The horizon map as read back (two planes of vec4 per texel).
     pub fn horizon_slopes(&self) -> Result<Vec<[f32; 4]>> {
-        self.horizon.read()
+        match self.walk {
+            HorizonWalk::Linear => Ok(planes_from_lines(
+                &self.horizon.read::<f32>()?,
+                self.size as usize,
+                8,
+            )),
+            HorizonWalk::Brute { .. } => self.horizon.read(),
+        }
     }
 }

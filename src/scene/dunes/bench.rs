@@ -261,7 +261,8 @@ impl DunesBench {
 
     /// The horizon map on the GPU both ways (issue 19 item 1): the paper's brute walk
     /// and the linear-time sweep on the scene's ripple tile, and the sweep on a
-    /// 1024 x 1024 tile; the median of three builds each (GPU timestamps of the pass).
+    /// 1024 x 1024 tile along 8 and 16 directions; the median of three builds each (GPU
+    /// timestamps of the pass).
     fn horizon_metrics(&mut self, ctx: &Arc<Context>) -> Result<BTreeMap<String, f64>> {
         use crate::render::ripple_maps::{HorizonWalk, RippleMaps};
         let (base, terrain) = self.base()?;
@@ -293,6 +294,17 @@ impl DunesBench {
         m.insert(
             "horizon_map_linear_1024_gpu_ms".to_owned(),
             time(&large, HorizonWalk::Linear)?,
+        );
+        // The issue's size: 16 directions (the knight's moves between the 8).
+        let mut ms = Vec::new();
+        for _ in 0..3 {
+            let (_, gpu_ms) =
+                crate::render::ripple_maps::horizon_map_linear_gpu(ctx, &large, scale, 16)?;
+            ms.push(gpu_ms);
+        }
+        m.insert(
+            "horizon_map_linear_1024x16_gpu_ms".to_owned(),
+            crate::bench::report::Stats::of(&ms).median,
         );
         Ok(m)
     }
