@@ -105,6 +105,17 @@ impl Commands<'_> {
         };
     }
 
+    /// Draws `index_count` indices from `first_index` of the bound index buffer, one
+    /// instance.
+    pub fn draw_indexed_range(&self, first_index: u32, index_count: u32) {
+        // SAFETY: `raw` is recording inside a rendering scope with bound pipeline/buffers.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_draw_indexed(self.raw, index_count, 1, first_index, 0, 0)
+        };
+    }
+
     /// Dispatches `x` x `y` x `z` workgroups (not invocations) of the bound compute
     /// pipeline, with no barrier after it.
     pub fn dispatch(&self, x: u32, y: u32, z: u32) {

@@ -284,6 +284,9 @@ pub struct DuneGeometry {
     vertices: Buffer,
     indices: Buffer,
     index_count: u32,
+    /// The first indices, the triangles over the footprints' detail field: the rest
+    /// are drawn without the footprints' texture fetch (`DuneSurfacePass::draw`).
+    detail_count: u32,
 }
 
 impl DuneGeometry {
@@ -307,15 +310,23 @@ impl DuneGeometry {
                 ),
             )?,
             index_count: 0,
+            detail_count: 0,
         })
     }
 
     /// Sets the quads to draw (a subset of the mesh's indices).
     pub fn set_visible(&mut self, indices: &[u32]) -> Result<()> {
+        self.set_visible_split(indices, indices.len())
+    }
+
+    /// `set_visible`, the first `detail` indices the triangles that reach the
+    /// footprints' detail field (the rest are shaded without it).
+    pub fn set_visible_split(&mut self, indices: &[u32], detail: usize) -> Result<()> {
         if !indices.is_empty() {
             self.indices.write(0, indices)?;
         }
         self.index_count = indices.len() as u32;
+        self.detail_count = detail.min(indices.len()) as u32;
         Ok(())
     }
 
@@ -411,6 +422,20 @@ impl DuneSurfacePass {
 
     /// The switches of the next draws; builds their pipeline the first time.
     pub fn set_switches(&mut self, switches: DuneSwitches) -> Result<()> {
+        // With footprints, the one without too (for the triangles away from them).
+        if switches.footprints {
+            self.add_pipeline(DuneSwitches {
+                footprints: false,
+                ..switches
+            })?;
+        }
+        self.add_pipeline(switches)?;
+        self.switches = switches;
+        Ok(())
+    }
+
+    /// Builds the pipeline for `switches` unless it exists.
+    fn add_pipeline(&mut self, switches: DuneSwitches) -> Result<()> {
         if !self.pipelines.contains_key(&switches) {
             let mut desc = GraphicsPipelineDesc::new("dune surface", VERTEX_INTERFACE.shader)
                 .fragment(FRAGMENT_INTERFACE.shader)
@@ -423,7 +448,6 @@ impl DuneSurfacePass {
             let pipeline = desc.build(&self.ctx, &self.layout)?;
             self.pipelines.insert(switches, pipeline);
         }
-        self.switches = switches;
         Ok(())
     }
 
@@ -442,14 +466,39 @@ impl DuneSurfacePass {
         if geometry.index_count == 0 {
             return Ok(());
         }
-        let pipeline = self.pipelines.get(&self.switches).ok_or_else(|| {
-            crate::error::Error::internal("dune surface", "no pipeline for its switches")
-        })?;
-        cmd.bind_pipeline(pipeline, &self.layout, &[&self.set]);
-        cmd.push_constants(&self.layout, push)?;
+        // With footprints, the triangles away from their detail field are drawn by the
+        // pipeline without them: a CPU rasteriser would fetch the detail texture in
+        // every pixel, inside the field or not (in Fig. 17's view, a fifth of the
+        // frame).
+        let split = if self.switches.footprints {
+            geometry.detail_count
+        } else {
+            geometry.index_count
+        };
+        let ranges = [
+            (self.switches, 0, split),
+            (
+                DuneSwitches {
+                    footprints: false,
+                    ..self.switches
+                },
+                split,
+                geometry.index_count - split,
+            ),
+        ];
         cmd.bind_vertex_buffer(&geometry.vertices, 0);
         cmd.bind_index_buffer(&geometry.indices);
-        cmd.draw_indexed(geometry.index_count, 1);
+        for (switches, first, count) in ranges {
+            if count == 0 {
+                continue;
+            }
+            let pipeline = self.pipelines.get(&switches).ok_or_else(|| {
+                crate::error::Error::internal("dune surface", "no pipeline for its switches")
+            })?;
+            cmd.bind_pipeline(pipeline, &self.layout, &[&self.set]);
+            cmd.push_constants(&self.layout, push)?;
+            cmd.draw_indexed_range(first, count);
+        }
         Ok(())
     }
 }

@@ -507,7 +507,13 @@ impl Scene for DunesFrame {
         } else {
             visible_quads(&self.mesh, v.eye, v.view_proj, self.scene.cull)
         };
-        self.geometry.set_visible(&quads)?;
+        match &self.prints {
+            Some(prints) => {
+                let (quads, detail) = over_detail_first(&self.mesh, quads, prints);
+                self.geometry.set_visible_split(&quads, detail)?;
+            }
+            None => self.geometry.set_visible(&quads)?,
+        }
         if self.scene.lod && self.scene.lod_per_quad {
             // Texels of the ripple tile across one dune quad (the paper: 64).
             let texels = self.scene.cell / self.scene.ripple_tile * self.scene.ripple_size as f32;
@@ -625,6 +631,30 @@ const DUST_ALBEDO: Vec3 = Vec3::new(0.97, 0.93, 0.85);
 const DUST_PHASE_G: f32 = 0.7;
 /// Opacity at a blob's centre.
 const DUST_OPACITY: f32 = 0.4;
+
+/// `indices` (triangles of `mesh`) reordered so that those whose extent in x, z
+/// reaches `prints`' rectangle come first, and how many indices they take: the dune
+/// shading fetches the footprints only for those.
+fn over_detail_first(mesh: &Mesh, indices: Vec<u32>, prints: &DetailField) -> (Vec<u32>, usize) {
+    let lo = glam::Vec2::from(prints.origin);
+    let hi = lo + glam::Vec2::new(prints.width as f32, prints.height as f32) * prints.cell;
+    let (mut near, mut far): (Vec<u32>, Vec<u32>) = (Vec::new(), Vec::with_capacity(indices.len()));
+    for tri in indices.chunks_exact(3) {
+        let corners = tri.iter().map(|&i| {
+            let p = mesh.positions[i as usize];
+            glam::Vec2::new(p.x, p.z)
+        });
+        let (min, max) = corners.fold(
+            (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN)),
+            |(min, max), p| (min.min(p), max.max(p)),
+        );
+        let reaches = min.x <= hi.x && max.x >= lo.x && min.y <= hi.y && max.y >= lo.y;
+        if reaches { &mut near } else { &mut far }.extend_from_slice(tri);
+    }
+    let detail = near.len();
+    near.extend(far);
+    (near, detail)
+}
 
 /// The footprints' detail texture for `sun`.
 fn detail_texels(prints: Option<&DetailField>, sun: Vec3) -> Option<DetailTexels> {
@@ -868,5 +898,50 @@ impl SceneKind for Kind {
 
     fn bench(&self) -> Option<Box<dyn crate::frame::BenchScene>> {
         Some(Box::new(super::bench::DunesBench::default()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn triangles_over_the_detail_field_come_first_and_none_is_lost() {
+        // A 10 x 10 grid over -5..5 m, the detail field over 1..2.5 x -3..-2 m.
+        let mesh = Mesh::height_grid(5.0, 0.0, 10, true, |_, _| 0.0);
+        let prints = DetailField {
+            origin: [1.0, -3.0],
+            cell: 0.5,
+            width: 3,
+            height: 2,
+            data: vec![0.0; 6],
+            compacted: 0.0,
+            trodden: vec![0.0; 6],
+        };
+        let (indices, detail) = over_detail_first(&mesh, mesh.indices.clone(), &prints);
+        let key = |t: &[u32]| {
+            let mut t = t.to_vec();
+            t.sort_unstable();
+            t
+        };
+        let mut before: Vec<Vec<u32>> = mesh.indices.chunks(3).map(key).collect();
+        let mut after: Vec<Vec<u32>> = indices.chunks(3).map(key).collect();
+        before.sort();
+        after.sort();
+        assert_eq!(before, after, "the same triangles");
+        assert_eq!(detail % 3, 0);
+        let reaches = |t: &[u32]| {
+            let xs = t.iter().map(|&i| mesh.positions[i as usize]);
+            let (lo, hi) = xs.fold(
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                |(a, b), p| (a.min(p), b.max(p)),
+            );
+            lo.x <= 2.5 && hi.x >= 1.0 && lo.z <= -2.0 && hi.z >= -3.0
+        };
+        assert!(indices[..detail].chunks(3).all(reaches));
+        assert!(!indices[detail..].chunks(3).any(reaches));
+        // The 1 m cells it overlaps or touches: x 0..3 and z -4..-1, 3 x 3 of them
+        // (a triangle's extent is its cell's), two triangles each.
+        assert_eq!(detail / 3, 2 * 3 * 3, "{detail}");
     }
 }
