@@ -94,6 +94,22 @@ pub static HORIZON_LINEAR_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<SweepPush>() as u32,
 };
 
+/// The side of a square, power-of-two tile of at least 2 texels, or an error naming
+/// `what`.
+fn tile_side(field: &Heightfield, what: &str) -> Result<u32> {
+    let size = field.width as u32;
+    if field.width != field.height || !size.is_power_of_two() || size < 2 {
+        return Err(Error::internal(
+            what,
+            format!(
+                "{}x{} must be square with a power-of-two side >= 2",
+                field.width, field.height
+            ),
+        ));
+    }
+    Ok(size)
+}
+
 /// The hull stacks of one dispatch are kept under this many bytes; directions beyond
 /// it are swept in further dispatches that reuse them.
 const HULL_BUDGET_BYTES: u64 = 64 << 20;
@@ -113,23 +129,15 @@ pub struct HorizonSweep {
 
 impl HorizonSweep {
     /// Prepares the sweep of a square, power-of-two `field` along 8 or 16 directions,
-    /// writing `directions / 4` planes of vec4 into `horizon`.
+    /// writing each line's horizons in order into `horizon` (`directions` x the
+    /// field's texels floats; [`planes_from_lines`] reads them as planes).
     pub fn new(
         ctx: &Arc<Context>,
         field: &Heightfield,
         directions: u32,
         horizon: &Buffer,
     ) -> Result<Self> {
-        let size = field.width as u32;
-        if field.width != field.height || !size.is_power_of_two() || size < 2 {
-            return Err(Error::internal(
-                "horizon sweep",
-                format!(
-                    "{}x{} must be square with a power-of-two side >= 2",
-                    field.width, field.height
-                ),
-            ));
-        }
+        let size = tile_side(field, "horizon sweep")?;
         if directions != 8 && directions != 16 {
             return Err(Error::internal(
                 "horizon sweep",
@@ -352,16 +360,7 @@ impl RippleMaps {
         horizon_height_scale: f32,
         walk: HorizonWalk,
     ) -> Result<Self> {
-        let size = field.width as u32;
-        if field.width != field.height || !size.is_power_of_two() || size < 2 {
-            return Err(Error::internal(
-                "ripple tile",
-                format!(
-                    "{}x{} must be square with a power-of-two side >= 2",
-                    field.width, field.height
-                ),
-            ));
-        }
+        let size = tile_side(field, "ripple tile")?;
         let offsets = level_offsets(size);
         let total: u32 = offsets.last().copied().unwrap_or(0) + 1;
         let mut levels = Buffer::new(
