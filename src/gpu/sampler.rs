@@ -29,13 +29,7 @@ impl Sampler {
             .address_mode_v(vk::SamplerAddressMode::REPEAT)
             .address_mode_w(vk::SamplerAddressMode::REPEAT)
             .max_lod(max_lod);
-        // SAFETY: valid device and create info.
-        let raw = unsafe { ctx.device.create_sampler(&info, None) }.vk("vkCreateSampler")?;
-        ctx.name(raw, name);
-        Ok(Self {
-            raw,
-            ctx: ctx.clone(),
-        })
+        Self::create(ctx, name, &info)
     }
 
     /// Bilinear filtering clamped to the edge (maps over a bounded field).
@@ -48,13 +42,7 @@ impl Sampler {
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .max_lod(0.0);
-        // SAFETY: valid device and create info.
-        let raw = unsafe { ctx.device.create_sampler(&info, None) }.vk("vkCreateSampler")?;
-        ctx.name(raw, name);
-        Ok(Self {
-            raw,
-            ctx: ctx.clone(),
-        })
+        Self::create(ctx, name, &info)
     }
 
     /// Nearest texel, one level, clamped to the edge: for formats that cannot be
@@ -68,13 +56,7 @@ impl Sampler {
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .max_lod(0.0);
-        // SAFETY: valid device and create info.
-        let raw = unsafe { ctx.device.create_sampler(&info, None) }.vk("vkCreateSampler")?;
-        ctx.name(raw, name);
-        Ok(Self {
-            raw,
-            ctx: ctx.clone(),
-        })
+        Self::create(ctx, name, &info)
     }
 
     /// Trilinear filtering over every mip level, clamped to the edge (a cube map read
@@ -88,8 +70,13 @@ impl Sampler {
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .max_lod(vk::LOD_CLAMP_NONE);
+        Self::create(ctx, name, &info)
+    }
+
+    /// Creates and names the sampler `info` describes.
+    fn create(ctx: &Arc<Context>, name: &str, info: &vk::SamplerCreateInfo<'_>) -> Result<Self> {
         // SAFETY: valid device and create info.
-        let raw = unsafe { ctx.device.create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        let raw = unsafe { ctx.device.create_sampler(info, None) }.vk("vkCreateSampler")?;
         ctx.name(raw, name);
         Ok(Self {
             raw,
