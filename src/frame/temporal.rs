@@ -131,19 +131,12 @@ impl Temporal {
         ctx.submit_and_wait("temporal histories", |cmd| {
             let images = colour.iter().chain(&depth);
             let transitions: Vec<ImageTransition> = images
-                .map(|image| ImageTransition {
-                    image: image.raw(),
-                    range: image.full_range(),
-                    from: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::TOP_OF_PIPE,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    to: (
-                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                        vk::AccessFlags2::SHADER_SAMPLED_READ,
-                    ),
+                .map(|image| {
+                    ImageTransition::whole(
+                        image,
+                        ImageTransition::DISCARDED,
+                        ImageTransition::FRAGMENT_SAMPLED,
+                    )
                 })
                 .collect();
             cmd.transition_images(&transitions);

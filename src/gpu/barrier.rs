@@ -64,23 +64,51 @@ pub struct ImageTransition {
     /// Mip levels, array layers and aspects that change layout.
     pub range: vk::ImageSubresourceRange,
     /// Old layout, and the stages and accesses that must finish before the transition.
-    pub from: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+    pub from: LayoutScope,
     /// New layout, and the stages and accesses that wait for the transition.
-    pub to: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+    pub to: LayoutScope,
 }
 
+/// A side of a layout transition: layout, stages and accesses.
+pub type LayoutScope = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+
 impl ImageTransition {
+    /// Whatever the image held, nothing to wait for (its contents are discarded).
+    pub const DISCARDED: LayoutScope = (
+        vk::ImageLayout::UNDEFINED,
+        vk::PipelineStageFlags2::TOP_OF_PIPE,
+        vk::AccessFlags2::NONE,
+    );
+    /// Written as a colour attachment.
+    pub const COLOR_WRITTEN: LayoutScope = (
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+    );
+    /// Sampled by fragment shaders.
+    pub const FRAGMENT_SAMPLED: LayoutScope = (
+        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+        vk::AccessFlags2::SHADER_SAMPLED_READ,
+    );
+
+    /// Every level and layer of `image` from `from` to `to`.
+    pub fn whole(image: &super::Image, from: LayoutScope, to: LayoutScope) -> Self {
+        Self {
+            image: image.raw(),
+            range: image.full_range(),
+            from,
+            to,
+        }
+    }
+
     /// `range` of `image`, whatever it held, becomes the destination of copies or
     /// blits.
     pub fn discard_to_transfer_dst(image: vk::Image, range: vk::ImageSubresourceRange) -> Self {
         Self {
             image,
             range,
-            from: (
-                vk::ImageLayout::UNDEFINED,
-                vk::PipelineStageFlags2::TOP_OF_PIPE,
-                vk::AccessFlags2::NONE,
-            ),
+            from: Self::DISCARDED,
             to: (
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 vk::PipelineStageFlags2::ALL_TRANSFER,

@@ -262,20 +262,11 @@ impl OffscreenTarget {
             cmd.ctx,
             cmd.raw,
             &[
-                ImageTransition {
-                    image: self.color.raw(),
-                    range: self.color.full_range(),
-                    from: (
-                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    ),
-                    to: (
-                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                        vk::AccessFlags2::SHADER_SAMPLED_READ,
-                    ),
-                },
+                ImageTransition::whole(
+                    &self.color,
+                    ImageTransition::COLOR_WRITTEN,
+                    ImageTransition::FRAGMENT_SAMPLED,
+                ),
                 ImageTransition {
                     image: self.depth.raw(),
                     range: self.depth.full_range(),

@@ -170,19 +170,17 @@ impl TemporalPass {
         mode: ResolveMode,
         push: &ResolvePush,
     ) -> Result<()> {
-        let to_attachment = |image: &Image| ImageTransition {
-            image: image.raw(),
-            range: image.full_range(),
-            from: (
-                vk::ImageLayout::UNDEFINED,
-                vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::ALL_TRANSFER,
-                vk::AccessFlags2::NONE,
-            ),
-            to: (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
+        let to_attachment = |image: &Image| {
+            ImageTransition::whole(
+                image,
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::PipelineStageFlags2::FRAGMENT_SHADER
+                        | vk::PipelineStageFlags2::ALL_TRANSFER,
+                    vk::AccessFlags2::NONE,
+                ),
+                ImageTransition::COLOR_WRITTEN,
+            )
         };
         let mut written = vec![images.shown, images.colour_out];
         if mode != ResolveMode::Settled {
@@ -204,22 +202,16 @@ impl TemporalPass {
         cmd.draw(3, 1);
         cmd.end_rendering();
         // The history just written is the next frame's to read.
-        let to_read = |image: &Image| ImageTransition {
-            image: image.raw(),
-            range: image.full_range(),
-            from: (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-            to: (
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                vk::AccessFlags2::SHADER_SAMPLED_READ,
-            ),
-        };
-        let transitions: Vec<ImageTransition> =
-            written[1..].iter().map(|&image| to_read(image)).collect();
+        let transitions: Vec<ImageTransition> = written[1..]
+            .iter()
+            .map(|&image| {
+                ImageTransition::whole(
+                    image,
+                    ImageTransition::COLOR_WRITTEN,
+                    ImageTransition::FRAGMENT_SAMPLED,
+                )
+            })
+            .collect();
         cmd.transition_images(&transitions);
         Ok(())
     }
