@@ -30,7 +30,20 @@ fn normalize(v: [f32; 3]) -> [f32; 4] {
 /// neighbouring normals of the level above, down to 1x1. `level0` is `size` x `size`
 /// with `size` a power of two.
 pub fn normal_mip_chain(level0: &[[f32; 4]], size: usize) -> Vec<Vec<[f32; 4]>> {
-    let mut chain = vec![level0.to_vec()];
+    mip_chain(level0.to_vec(), size, |[a, b, c, d]| {
+        // Same order of additions as normal_mip.comp.
+        normalize([
+            (a[0] + b[0]) + (c[0] + d[0]),
+            (a[1] + b[1]) + (c[1] + d[1]),
+            (a[2] + b[2]) + (c[2] + d[2]),
+        ])
+    })
+}
+
+/// A chain down to 1x1 from a `size` x `size` level 0 (`size` a power of two), each
+/// texel of a level `reduce` of its four children (x, then y, in the level above).
+fn mip_chain<T: Copy>(level0: Vec<T>, size: usize, reduce: impl Fn([T; 4]) -> T) -> Vec<Vec<T>> {
+    let mut chain = vec![level0];
     let mut s = size;
     while s > 1 {
         let prev = chain.last().map(Vec::as_slice).unwrap_or(&[]);
@@ -38,15 +51,10 @@ pub fn normal_mip_chain(level0: &[[f32; 4]], size: usize) -> Vec<Vec<[f32; 4]>> 
         let mut next = Vec::with_capacity(half * half);
         for y in 0..half {
             for x in 0..half {
-                let texel = |dx: usize, dy: usize| prev[(2 * y + dy) * s + 2 * x + dx];
-                let (a, b, c, d) = (texel(0, 0), texel(1, 0), texel(0, 1), texel(1, 1));
-                // Same order of additions as normal_mip.comp.
-                let sum = [
-                    (a[0] + b[0]) + (c[0] + d[0]),
-                    (a[1] + b[1]) + (c[1] + d[1]),
-                    (a[2] + b[2]) + (c[2] + d[2]),
-                ];
-                next.push(normalize(sum));
+                next.push(reduce(
+                    [(0, 0), (1, 0), (0, 1), (1, 1)]
+                        .map(|(dx, dy)| prev[(2 * y + dy) * s + 2 * x + dx]),
+                ));
             }
         }
         chain.push(next);
@@ -254,30 +262,16 @@ pub fn horizon_chain_toward(horizon: &[[f32; 4]], size: usize, phi: f32) -> Vec<
             [horizon_toward(&slopes, phi).max(0.0).atan(), 0.0]
         })
         .collect();
-    let mut chain = vec![level0];
-    let mut s = size;
-    while s > 1 {
-        let prev = chain.last().map(Vec::as_slice).unwrap_or(&[]);
-        let half = s / 2;
-        let mut next = Vec::with_capacity(half * half);
-        for y in 0..half {
-            for x in 0..half {
-                let texels = [(0, 0), (1, 0), (0, 1), (1, 1)]
-                    .map(|(dx, dy)| prev[(2 * y + dy) * s + 2 * x + dx]);
-                let mean = texels.iter().map(|t| t[0]).sum::<f32>() / 4.0;
-                // The children's spreads and their means' scatter about this mean.
-                let variance = texels
-                    .iter()
-                    .map(|t| t[1] * t[1] + (t[0] - mean) * (t[0] - mean))
-                    .sum::<f32>()
-                    / 4.0;
-                next.push([mean, variance.sqrt()]);
-            }
-        }
-        chain.push(next);
-        s = half;
-    }
-    chain
+    mip_chain(level0, size, |texels| {
+        let mean = texels.iter().map(|t| t[0]).sum::<f32>() / 4.0;
+        // The children's spreads and their means' scatter about this mean.
+        let variance = texels
+            .iter()
+            .map(|t| t[1] * t[1] + (t[0] - mean) * (t[0] - mean))
+            .sum::<f32>()
+            / 4.0;
+        [mean, variance.sqrt()]
+    })
 }
 
 #[cfg(test)]
