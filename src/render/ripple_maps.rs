@@ -299,6 +299,65 @@ pub fn planes_from_lines(lines: &[f32], n: usize, directions: usize) -> Vec<[f32
     planes
 }
 
+/// The paper's walk (`horizon.comp`) of one tile, ready to record.
+struct BruteWalk {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+    set: DescriptorSet,
+    _heights: Buffer,
+    size: u32,
+    steps: u32,
+}
+
+impl BruteWalk {
+    /// Prepares the walk of `steps` texels along 8 directions over `field`, writing
+    /// two planes of vec4 into `horizon`.
+    fn new(ctx: &Arc<Context>, field: &Heightfield, steps: u32, horizon: &Buffer) -> Result<Self> {
+        let heights: Vec<f32> = field.data.iter().map(|&h| h as f32).collect();
+        let heights = Buffer::with_data(
+            ctx,
+            "ripple heights",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &heights,
+        )?;
+        let layout = PipelineLayout::new(ctx, "horizon layout", &[&HORIZON_INTERFACE])?;
+        let pipeline = Pipeline::compute(ctx, "horizon", HORIZON_INTERFACE.shader, &layout)?;
+        let set = layout.allocate_set("horizon set", 0)?;
+        set.write_buffer(0, &heights)?;
+        set.write_buffer(1, horizon)?;
+        Ok(Self {
+            layout,
+            pipeline,
+            set,
+            _heights: heights,
+            size: tile_side(field, "ripple tile")?,
+            steps,
+        })
+    }
+
+    fn record(&self, cmd: &Commands, height_scale: f32) -> Result<()> {
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
+        cmd.push_constants(
+            &self.layout,
+            &HorizonPush {
+                size: self.size,
+                steps: self.steps,
+                height_scale,
+                unused: 0,
+            },
+        )?;
+        cmd.dispatch(self.size.div_ceil(8), self.size.div_ceil(8), 1);
+        Ok(())
+    }
+}
+
+/// Whichever horizon pass `RippleMaps::build` was asked for (only its pipeline is
+/// built).
+enum HorizonPass {
+    Walk(BruteWalk),
+    Sweep(HorizonSweep),
+}
+
 /// How the horizon map is computed: both give the map of the whole periodic row
 /// (`Brute { steps: size - 1 }` and `Linear` agree within rounding, `tests/ripple_maps.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -372,13 +431,6 @@ impl RippleMaps {
             ),
         )?;
         levels.write(0, &normal_level0(field, height_scale))?;
-        let heights: Vec<f32> = field.data.iter().map(|&h| h as f32).collect();
-        let height_buffer = Buffer::with_data(
-            ctx,
-            "ripple heights",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            &heights,
-        )?;
         let horizon = Buffer::new(
             ctx,
             "ripple horizon map",
@@ -392,15 +444,11 @@ impl RippleMaps {
         let mip = Pipeline::compute(ctx, "normal mip", NORMAL_MIP_INTERFACE.shader, &mip_layout)?;
         let mip_set = mip_layout.allocate_set("normal mip set", 0)?;
         mip_set.write_buffer(0, &levels)?;
-        // The paper's walk as a pipeline of its own here; the linear sweep as a pass.
-        let hz_layout = PipelineLayout::new(ctx, "horizon layout", &[&HORIZON_INTERFACE])?;
-        let hz = Pipeline::compute(ctx, "horizon", HORIZON_INTERFACE.shader, &hz_layout)?;
-        let hz_set = hz_layout.allocate_set("horizon set", 0)?;
-        hz_set.write_buffer(0, &height_buffer)?;
-        hz_set.write_buffer(1, &horizon)?;
-        let (sweep, steps) = match walk {
-            HorizonWalk::Linear => (Some(HorizonSweep::new(ctx, field, 8, &horizon)?), 0),
-            HorizonWalk::Brute { steps } => (None, steps),
+        let pass = match walk {
+            HorizonWalk::Linear => HorizonPass::Sweep(HorizonSweep::new(ctx, field, 8, &horizon)?),
+            HorizonWalk::Brute { steps } => {
+                HorizonPass::Walk(BruteWalk::new(ctx, field, steps, &horizon)?)
+            }
         };
 
         let mut timer = GpuTimer::new(ctx, "ripple maps timer", 2)?;
@@ -426,26 +474,15 @@ impl RippleMaps {
             }
             timer.end(cmd, span);
             let span = timer.begin(cmd, "horizon map")?;
-            if let Some(sweep) = &sweep {
-                sweep.record(cmd, horizon_height_scale)?;
-            } else {
-                cmd.bind_pipeline(&hz, &hz_layout, &[&hz_set]);
-                cmd.push_constants(
-                    &hz_layout,
-                    &HorizonPush {
-                        size,
-                        steps,
-                        height_scale: horizon_height_scale,
-                        unused: 0,
-                    },
-                )?;
-                cmd.dispatch(size.div_ceil(8), size.div_ceil(8), 1);
+            match &pass {
+                HorizonPass::Sweep(sweep) => sweep.record(cmd, horizon_height_scale)?,
+                HorizonPass::Walk(brute) => brute.record(cmd, horizon_height_scale)?,
             }
             timer.end(cmd, span);
             cmd.shader_to_host_barrier();
             Ok(())
         })?;
-        drop(sweep);
+        drop(pass);
         Ok(Self {
             spans: timer.read()?,
             levels,
