@@ -295,6 +295,31 @@ fn view_matches_headless(
 }
 
 #[test]
+fn the_grow_viewers_tone_mapping_key_matches_the_headless_option() {
+    // `o` cycles the tone mapping from Ashikhmin's (the default) to ACES: the viewer
+    // then draws with the pipelines built for ACES (the operator is a specialization
+    // constant), as `--tonemap aces` does headless.
+    let x = Xvfb::start();
+    let dir = common::cli::scratch("view-tonemap");
+    let grow = ["--preset", "fig9b", "--passes", "2"];
+    view_matches_headless(&x, &dir, "grow", &grow, "0:o", &["--tonemap", "aces"], "-o");
+    // The two operators draw visibly different pictures (so the match above says
+    // which one the viewer used).
+    let mut ashikhmin = AS_THE_VIEWER_DRAWS.to_vec();
+    ashikhmin.extend(["--size", "320x200", "grow"]);
+    ashikhmin.extend(grow);
+    let png = dir.join("ashikhmin.png");
+    let png = png.to_string_lossy();
+    ashikhmin.extend(["-o", &png]);
+    common::cli::assert_success(&common::cli::sediment(&ashikhmin), "sediment grow");
+    let (_, d) = common::difference(
+        &load(&dir.join("ashikhmin.png")),
+        &load(&dir.join("grow-headless.png")),
+    );
+    assert!(d.mean > 3.0, "Ashikhmin against ACES: mean {:.3}", d.mean);
+}
+
+#[test]
 fn cave_dunes_and_layers_views_match_their_headless_renders_and_toggles() {
     let x = Xvfb::start();
     let dir = common::cli::scratch("view-scenes");

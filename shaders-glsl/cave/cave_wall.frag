@@ -48,5 +48,5 @@ void main() {
     }
     float fog = 1.0 - exp(-frame.fog.w * dist);
     hdr = mix(hdr, frame.fog.rgb, fog);
-    out_color = vec4(tonemap(hdr, frame.params), 1.0);
+    out_color = vec4(tonemap(hdr, frame.params.x), 1.0);
 }

@@ -1,9 +1,20 @@
-// Tone mapping shared by every scene: exposure, then one of three operators (the
-// frame's params.y): 0 Narkowicz's fit of the ACES filmic curve, 1 Reinhard's
-// L / (1 + L) on luminance, 2 Ashikhmin's (2002) global operator, which Tortelli &
-// Walter cite. The colour target is sRGB, so the hardware applies the transfer curve.
+// Tone mapping shared by every scene: exposure, then one of three operators: Narkowicz's
+// fit of the ACES filmic curve, Reinhard's L / (1 + L) on luminance, Ashikhmin's (2002)
+// global operator, which Tortelli & Walter cite. The colour target is sRGB, so the
+// hardware applies the transfer curve.
+//
+// The operator is a specialization constant (ids 16..18, `ToneMap::constants`), fixed
+// per pipeline: read from a uniform, llvmpipe ran all three operators in every pixel
+// (a CPU rasteriser runs both sides of a branch), which cost a quarter of the desert's
+// frame.
 #ifndef SEDIMENT_TONEMAP_GLSL
 #define SEDIMENT_TONEMAP_GLSL
+
+// Every false: ACES. At most one is true. (Three switches, not one number: naga reads
+// no expression of specialization constants, such as a comparison.)
+layout(constant_id = 16) const bool TONE_MAP_REINHARD = false;
+layout(constant_id = 17) const bool TONE_MAP_ASHIKHMIN = false;
+layout(constant_id = 18) const bool TONE_MAP_LINEAR = false;
 
 vec3 tonemap_aces(vec3 hdr, float exposure) {
     vec3 x = hdr * exposure;
@@ -69,18 +80,19 @@ vec3 tonemap_ashikhmin(vec3 hdr, float exposure) {
     return with_luminance(hdr, clamp(ld, 0.0, 1.0));
 }
 
-// The operator the frame asks for: `params.x` exposure, `params.y` 0 ACES, 1 Reinhard,
-// 2 Ashikhmin, 3 none (radiance times exposure, for a floating-point target: the
-// environment map's faces).
-vec3 tonemap(vec3 hdr, vec4 params) {
-    if (params.y > 2.5) {
-        return hdr * params.x;
-    } else if (params.y > 1.5) {
-        return tonemap_ashikhmin(hdr, params.x);
-    } else if (params.y > 0.5) {
-        return tonemap_reinhard(hdr, params.x);
+// The pipeline's operator (above) after `exposure`; `TONE_MAP_LINEAR`: radiance times
+// exposure, for a floating-point target (the environment map's faces).
+vec3 tonemap(vec3 hdr, float exposure) {
+    if (TONE_MAP_LINEAR) {
+        return hdr * exposure;
     }
-    return tonemap_aces(hdr, params.x);
+    if (TONE_MAP_ASHIKHMIN) {
+        return tonemap_ashikhmin(hdr, exposure);
+    }
+    if (TONE_MAP_REINHARD) {
+        return tonemap_reinhard(hdr, exposure);
+    }
+    return tonemap_aces(hdr, exposure);
 }
 
 #endif

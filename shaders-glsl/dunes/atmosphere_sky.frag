@@ -13,7 +13,6 @@ layout(push_constant) uniform Sky {
     vec4 sun;      // xyz unit direction toward the sun, w its azimuth (radians)
     vec4 camera;   // xyz eye, w exposure
     vec4 disk;     // rgb the sun disk's radiance, w cos of its angular radius
-    vec4 params;   // x tone-mapping operator
 } sky;
 
 layout(location = 0) in vec2 in_ndc;
@@ -30,5 +29,5 @@ void main() {
     float c = dot(dir, sun);
     float edge = max(fwidth(c), 1e-6);
     hdr += sky.disk.rgb * smoothstep(sky.disk.w - edge, sky.disk.w + edge, c) * step(0.0, dir.y);
-    out_color = vec4(tonemap(hdr, vec4(sky.camera.w, sky.params.x, 0.0, 0.0)), 1.0);
+    out_color = vec4(tonemap(hdr, sky.camera.w), 1.0);
 }

@@ -21,7 +21,7 @@ layout(set = 0, binding = 0) uniform Light {
     vec4 sky;      // rgb mean radiance all round, w peak opacity
     vec4 albedo;   // rgb single-scattering albedo, w fade height (m)
     vec4 eye;      // xyz eye, w dune cell size (m)
-    vec4 tone;     // x exposure, y operator
+    vec4 tone;     // x exposure (the tone-mapping operator is the pipeline's), z dune grid side
 } light;
 
 layout(set = 0, binding = 3, std430) readonly buffer Blobs {
@@ -49,7 +49,7 @@ void main() {
     float mu = dot(view, normalize(light.sun_dir.xyz));
     vec3 radiance = light.albedo.rgb
         * (light.sun.rgb * henyey_greenstein(mu, light.sun.w) + light.sky.rgb);
-    out_color = tonemap(radiance, vec4(light.tone.xy, 0.0, 0.0));
+    out_color = tonemap(radiance, light.tone.x);
     out_disc = corner;
     out_world = p;
     // A blob of no radius collapses to a point: nothing drawn.

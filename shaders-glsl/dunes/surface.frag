@@ -15,7 +15,7 @@ layout(set = 0, binding = 0) uniform Frame {
     vec4 sun_color;
     vec4 sky_color;
     vec4 ground_color;
-    vec4 params;       // x exposure, y tone-mapping operator, z texture LOD bias
+    vec4 params;       // x exposure, z texture LOD bias (the tone-mapping operator is the pipeline's)
 } frame;
 
 // Our LOD chain as mips: rg the ripple normal's x, y; b the horizon toward the sun as
@@ -218,5 +218,5 @@ void main() {
     vec3 hdr = albedo * (frame.sun_color.rgb * max(dot(n, l), 0.0) * lit + ambient);
     // Aerial perspective (surface.vert).
     hdr = hdr * in_transmit + in_inscatter;
-    out_color = vec4(tonemap(hdr, frame.params), 1.0);
+    out_color = vec4(tonemap(hdr, frame.params.x), 1.0);
 }

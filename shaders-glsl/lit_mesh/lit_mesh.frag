@@ -34,5 +34,5 @@ void main() {
     vec3 hdr = albedo * hemisphere_ambient(n, frame.sky_color.rgb, frame.ground_color.rgb)
              + sun_light(n, v, l, albedo, radiance, object.material.x, object.material.y)
              + albedo * object.material.z;
-    out_color = vec4(tonemap(hdr, frame.params), 1.0);
+    out_color = vec4(tonemap(hdr, frame.params.x), 1.0);
 }

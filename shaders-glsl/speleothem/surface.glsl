@@ -98,5 +98,5 @@ void main() {
     float lod = surface.look.y * sqrt(2.0 / (shininess + 2.0));
     vec3 env = textureLod(samplerCube(environment, environment_sampler), r, lod).rgb;
     hdr += surface.look.x * fresnel * env;
-    out_color = vec4(tonemap(hdr, frame.params), 1.0);
+    out_color = vec4(tonemap(hdr, frame.params.x), 1.0);
 }

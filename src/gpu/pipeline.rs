@@ -363,11 +363,11 @@ pub struct GraphicsPipelineDesc<'a> {
     pub depth_bias: Option<(f32, f32)>,
     /// Samples per pixel of the attachments drawn into.
     pub samples: vk::SampleCountFlags,
-    /// Specialization constants of every stage: entry `i` is `constant_id = i`, 32
-    /// bits (a `bool` is 0 or 1). A pass's switches, fixed per pipeline: a CPU
-    /// rasteriser runs both sides of a branch on a uniform, so a switch read from a
-    /// uniform costs what it turns off.
-    pub constants: Vec<u32>,
+    /// Specialization constants of every stage as (`constant_id`, 32-bit value; a
+    /// `bool` is 0 or 1); an id a stage does not declare leaves it alone. A pass's
+    /// switches, fixed per pipeline: a CPU rasteriser runs both sides of a branch on a
+    /// uniform, so a switch read from a uniform costs what it turns off.
+    pub constants: Vec<(u32, u32)>,
 }
 
 impl<'a> GraphicsPipelineDesc<'a> {
@@ -429,6 +429,13 @@ impl<'a> GraphicsPipelineDesc<'a> {
         self
     }
 
+    /// Adds specialization constants (`constant_id`, value), e.g.
+    /// `ToneMap::constants`.
+    pub fn specialize(mut self, constants: &[(u32, u32)]) -> Self {
+        self.constants.extend_from_slice(constants);
+        self
+    }
+
     /// Turns rasterization off (`on`) for passes whose only output is transform feedback.
     pub fn rasterizer_discard(mut self, on: bool) -> Self {
         self.rasterizer_discard = on;
@@ -446,14 +453,16 @@ impl<'a> GraphicsPipelineDesc<'a> {
         if let Some(f) = self.fragment {
             modules.push(ShaderModule::new(ctx, f)?);
         }
-        let entries: Vec<vk::SpecializationMapEntry> = (0..self.constants.len() as u32)
-            .map(|id| vk::SpecializationMapEntry {
+        let entries: Vec<vk::SpecializationMapEntry> = (0u32..)
+            .zip(&self.constants)
+            .map(|(i, &(id, _))| vk::SpecializationMapEntry {
                 constant_id: id,
-                offset: 4 * id,
+                offset: 4 * i,
                 size: 4,
             })
             .collect();
-        let constant_bytes = super::as_bytes(&self.constants);
+        let values: Vec<u32> = self.constants.iter().map(|&(_, value)| value).collect();
+        let constant_bytes = super::as_bytes(&values);
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(constant_bytes);

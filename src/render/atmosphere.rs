@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
 
+use super::tone_map::ToneMap;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
@@ -225,10 +226,8 @@ pub struct AtmosphereSkyPush {
     pub camera: Vec4,
     /// rgb the sun disk's radiance, w the cosine of its angular radius.
     pub disk: Vec4,
-    /// x tone-mapping operator (`ToneMap::code`).
-    pub params: Vec4,
 }
-// SAFETY: repr(C), Mat4 + four Vec4.
+// SAFETY: repr(C), Mat4 + three Vec4.
 unsafe impl Pod for AtmosphereSkyPush {}
 
 /// `atmosphere_sky.frag`: the sky-view image (0), its sampler (1) and
@@ -252,9 +251,14 @@ pub struct AtmosphereSkyPass {
 
 impl AtmosphereSkyPass {
     /// Builds the full-screen-triangle pipeline for `target` (no culling, depth tested
-    /// but not written) and binds `table`'s image with a linear clamping sampler; the
-    /// caller keeps `table` alive as long as this pass.
-    pub fn new(ctx: &Arc<Context>, target: TargetFormat, table: &SkyViewPass) -> Result<Self> {
+    /// but not written, tone-mapping with `tone`) and binds `table`'s image with a
+    /// linear clamping sampler; the caller keeps `table` alive as long as this pass.
+    pub fn new(
+        ctx: &Arc<Context>,
+        target: TargetFormat,
+        tone: ToneMap,
+        table: &SkyViewPass,
+    ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "atmosphere sky layout",
@@ -263,7 +267,8 @@ impl AtmosphereSkyPass {
         let mut desc =
             GraphicsPipelineDesc::new("atmosphere sky", super::sky::VERTEX_INTERFACE.shader)
                 .fragment(SKY_FRAGMENT_INTERFACE.shader)
-                .target(target);
+                .target(target)
+                .specialize(&tone.constants());
         desc.cull_mode = vk::CullModeFlags::NONE;
         // Drawn after the terrain at the far plane: the depth test keeps it to the
         // pixels no surface covered.

@@ -12,6 +12,7 @@ use crate::gpu::{
     PipelineLayout, Pod, TargetFormat, vk,
 };
 use crate::render::lit_mesh::{self, FrameUniforms, GpuMesh, ObjectPush};
+use crate::render::tone_map::ToneMap;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
 /// The `Frame` block of `cave_wall.frag`: the lit-mesh frame, then the lamp and fog.
@@ -67,9 +68,9 @@ pub enum Style {
 }
 
 impl CaveWallPass {
-    /// Builds the three pipelines for `target` over `lit_mesh.vert` and the host-visible
-    /// `CaveFrame` uniform buffer they share.
-    pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
+    /// Builds the three pipelines for `target` over `lit_mesh.vert`, tone-mapping with
+    /// `tone`, and the host-visible `CaveFrame` uniform buffer they share.
+    pub fn new(ctx: &Arc<Context>, target: TargetFormat, tone: ToneMap) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "cave layout",
@@ -80,6 +81,7 @@ impl CaveWallPass {
                 .fragment(FRAGMENT_INTERFACE.shader)
                 .vertex_layout(lit_mesh::lit_vertex_layout())
                 .target(target)
+                .specialize(&tone.constants())
         };
         let fill = desc("cave faces").build(ctx, &layout)?;
         let mut under = desc("cave faces under lines");

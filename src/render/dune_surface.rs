@@ -11,6 +11,7 @@ use glam::{Vec3, Vec4};
 use super::dune_shadow::DuneShadowPass;
 use super::lit_mesh::{FrameUniforms, lit_vertex_layout, lit_vertices};
 use super::ripple_maps::RippleMaps;
+use super::tone_map::ToneMap;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
@@ -69,7 +70,7 @@ pub struct DuneSwitches {
 
 impl DuneSwitches {
     /// The specialization constants, `constant_id` 0 up.
-    fn constants(self) -> Vec<u32> {
+    fn constants(self) -> Vec<(u32, u32)> {
         [
             self.lod,
             self.lod_per_quad,
@@ -79,8 +80,10 @@ impl DuneSwitches {
             self.footprints,
             self.shadow_mask,
         ]
-        .map(u32::from)
-        .to_vec()
+        .into_iter()
+        .zip(0..)
+        .map(|(on, id)| (id, u32::from(on)))
+        .collect()
     }
 }
 
@@ -358,15 +361,18 @@ pub struct DuneSurfacePass {
     switches: DuneSwitches,
     pipelines: HashMap<DuneSwitches, Pipeline>,
     target: TargetFormat,
+    tone: ToneMap,
     layout: PipelineLayout,
     ctx: Arc<Context>,
 }
 
 impl DuneSurfacePass {
-    /// For `quads` dune quads (the tiled field's), drawing with `switches`.
+    /// For `quads` dune quads (the tiled field's), drawing with `switches`,
+    /// tone-mapping with `tone`.
     pub fn new(
         ctx: &Arc<Context>,
         target: TargetFormat,
+        tone: ToneMap,
         textures: &DuneTextures,
         quads: usize,
         switches: DuneSwitches,
@@ -413,6 +419,7 @@ impl DuneSurfacePass {
             switches,
             pipelines: HashMap::new(),
             target,
+            tone,
             layout,
             ctx: ctx.clone(),
         };
@@ -445,6 +452,7 @@ impl DuneSurfacePass {
             // paper's comparison needs them drawn when it is off).
             desc.cull_mode = vk::CullModeFlags::NONE;
             desc.constants = switches.constants();
+            desc = desc.specialize(&self.tone.constants());
             let pipeline = desc.build(&self.ctx, &self.layout)?;
             self.pipelines.insert(switches, pipeline);
         }

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
 
+use super::tone_map::ToneMap;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
@@ -43,8 +44,8 @@ pub struct DustLight {
     pub albedo: Vec4,
     /// xyz the eye, w the dune cell size (m).
     pub eye: Vec4,
-    /// x exposure, y tone-mapping operator (`ToneMap::code`), z dune grid side, w the
-    /// dunes' highest point (m; `DustPass::set_light` fills it in).
+    /// x exposure, y unused (the tone-mapping operator is the pipeline's), z dune grid
+    /// side, w the dunes' highest point (m; `DustPass::set_light` fills it in).
     pub tone: Vec4,
 }
 // SAFETY: repr(C), six Vec4.
@@ -88,10 +89,12 @@ pub struct DustPass {
 
 impl DustPass {
     /// For `blobs` over one period of `n` x `n` dune `heights` (metres, lowest at 0),
-    /// drawn into `target` over the terrain (depth tested, not written).
+    /// drawn into `target` over the terrain (depth tested, not written), tone-mapped
+    /// with `tone`.
     pub fn new(
         ctx: &Arc<Context>,
         target: TargetFormat,
+        tone: ToneMap,
         blobs: &[DustBlob],
         heights: &[f32],
         n: u32,
@@ -103,7 +106,8 @@ impl DustPass {
         )?;
         let mut desc = GraphicsPipelineDesc::new("dust", VERTEX_INTERFACE.shader)
             .fragment(FRAGMENT_INTERFACE.shader)
-            .target(target);
+            .target(target)
+            .specialize(&tone.constants());
         desc.topology = vk::PrimitiveTopology::TRIANGLE_STRIP;
         desc.cull_mode = vk::CullModeFlags::NONE;
         desc.alpha_blend = true;

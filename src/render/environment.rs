@@ -10,6 +10,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3, Vec4};
 
 use super::lit_mesh::{FrameUniforms, GpuMesh, LitMeshPass, ObjectPush};
+use super::tone_map::ToneMap;
 use crate::error::Result;
 use crate::gpu::{
     Context, DEPTH_FORMAT, Image, ImageDesc, OffscreenTarget, Sampler, TargetFormat, vk,
@@ -81,7 +82,7 @@ impl EnvironmentMap {
         let mut env = Self {
             sampler: Sampler::linear_clamp_mips(ctx, "environment sampler")?,
             target: OffscreenTarget::with_format(ctx, size, size, FACE_FORMAT)?,
-            pass: LitMeshPass::two_sided(ctx, FACE_FORMAT)?,
+            pass: LitMeshPass::two_sided(ctx, FACE_FORMAT, ToneMap::Linear)?,
             cube,
             size,
         };
@@ -92,8 +93,8 @@ impl EnvironmentMap {
             sun_color: Vec4::ZERO,
             sky_color: Vec4::ZERO,
             ground_color: Vec4::ZERO,
-            // Exposure 1, no tone mapping (`ToneMap::Linear`).
-            params: Vec4::new(1.0, 3.0, 0.0, 0.0),
+            // Exposure 1 (the pass does not tone-map: `ToneMap::Linear`).
+            params: Vec4::new(1.0, 0.0, 0.0, 0.0),
         };
         env.render(ctx, Vec3::ZERO, &dark, &[])?;
         Ok(env)
@@ -116,7 +117,7 @@ impl EnvironmentMap {
     }
 
     /// Renders `draws` seen from `eye` into the six faces with `light` (its view and
-    /// projection are replaced per face, its tone mapping should be linear), then the
+    /// projection are replaced per face; the faces are not tone-mapped), then the
     /// mip chain. One submission per face and one for the chain.
     pub fn render(
         &mut self,

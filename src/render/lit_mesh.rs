@@ -11,6 +11,7 @@ use crate::gpu::{
     TargetFormat, VertexLayout, vk,
 };
 use crate::model::mesh::Mesh;
+use crate::render::tone_map::ToneMap;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
 /// Vertex layout of `lit_mesh.vert`: position then normal, interleaved.
@@ -41,7 +42,8 @@ pub struct FrameUniforms {
     pub sky_color: Vec4,
     /// rgb hemispherical ambient from below (normals pointing down get all of it).
     pub ground_color: Vec4,
-    /// x: exposure.
+    /// x exposure, z the texture LOD bias of temporal anti-aliasing's jitter (y, w
+    /// unused; the tone-mapping operator is the pipeline's, `ToneMap::constants`).
     pub params: Vec4,
 }
 // SAFETY: repr(C), Mat4 + six Vec4 (all 16-byte multiples), no padding.
@@ -160,36 +162,38 @@ pub struct LitMeshPass {
     frame_set: DescriptorSet,
     frame_buffer: Buffer,
     pipeline: Pipeline,
+    /// What the pipeline was built for (`set_tone_map` rebuilds it).
+    target: TargetFormat,
+    cull: vk::CullModeFlags,
+    tone: ToneMap,
     layout: PipelineLayout,
+    ctx: Arc<Context>,
 }
 
 impl LitMeshPass {
-    /// Back faces culled (counter-clockwise front faces), drawing into `target`.
-    pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
-        Self::with_culling(ctx, target, vk::CullModeFlags::BACK)
+    /// Back faces culled (counter-clockwise front faces), drawing into `target`
+    /// through the operator `tone`.
+    pub fn new(ctx: &Arc<Context>, target: TargetFormat, tone: ToneMap) -> Result<Self> {
+        Self::with_culling(ctx, target, vk::CullModeFlags::BACK, tone)
     }
 
     /// Drawing both faces (a mirrored projection, as a cube map's faces are).
-    pub fn two_sided(ctx: &Arc<Context>, target: TargetFormat) -> Result<Self> {
-        Self::with_culling(ctx, target, vk::CullModeFlags::NONE)
+    pub fn two_sided(ctx: &Arc<Context>, target: TargetFormat, tone: ToneMap) -> Result<Self> {
+        Self::with_culling(ctx, target, vk::CullModeFlags::NONE, tone)
     }
 
     fn with_culling(
         ctx: &Arc<Context>,
         target: TargetFormat,
         cull: vk::CullModeFlags,
+        tone: ToneMap,
     ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "lit mesh layout",
             &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
         )?;
-        let mut desc = GraphicsPipelineDesc::new("lit mesh", VERTEX_INTERFACE.shader)
-            .fragment(FRAGMENT_INTERFACE.shader)
-            .vertex_layout(lit_vertex_layout())
-            .target(target);
-        desc.cull_mode = cull;
-        let pipeline = desc.build(ctx, &layout)?;
+        let pipeline = Self::pipeline(ctx, &layout, target, cull, tone)?;
         let frame_buffer = Buffer::new(
             ctx,
             "lit mesh frame uniforms",
@@ -204,8 +208,37 @@ impl LitMeshPass {
             frame_set,
             frame_buffer,
             pipeline,
+            target,
+            cull,
+            tone,
             layout,
+            ctx: ctx.clone(),
         })
+    }
+
+    fn pipeline(
+        ctx: &Arc<Context>,
+        layout: &PipelineLayout,
+        target: TargetFormat,
+        cull: vk::CullModeFlags,
+        tone: ToneMap,
+    ) -> Result<Pipeline> {
+        let mut desc = GraphicsPipelineDesc::new("lit mesh", VERTEX_INTERFACE.shader)
+            .fragment(FRAGMENT_INTERFACE.shader)
+            .vertex_layout(lit_vertex_layout())
+            .target(target)
+            .specialize(&tone.constants());
+        desc.cull_mode = cull;
+        desc.build(ctx, layout)
+    }
+
+    /// Tone-maps the next draws with `tone` (builds its pipeline when it changes).
+    pub fn set_tone_map(&mut self, tone: ToneMap) -> Result<()> {
+        if tone != self.tone {
+            self.pipeline = Self::pipeline(&self.ctx, &self.layout, self.target, self.cull, tone)?;
+            self.tone = tone;
+        }
+        Ok(())
     }
 
     /// Sets the camera and lights for the next submission.

@@ -17,6 +17,7 @@ pub mod ripple_maps;
 pub mod sky;
 pub mod speleothem_surface;
 pub mod temporal;
+pub mod tone_map;
 pub mod xfb_selftest;
 
 use crate::shaders::ShaderInterface;

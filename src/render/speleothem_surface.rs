@@ -10,6 +10,7 @@ use super::environment::EnvironmentMap;
 use super::growth::MeshSource;
 use super::lit_mesh::FrameUniforms;
 use super::ring_growth::ring_vertex_layout;
+use super::tone_map::ToneMap;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, Pipeline,
@@ -118,17 +119,24 @@ pub struct SpeleothemSurfacePass {
     /// The same stages with `cap.geom` between them: the caps of open fronts.
     caps: Pipeline,
     caps_on: bool,
+    /// What the pipelines were built for (`set_tone_map` rebuilds them).
+    fragment: &'static ShaderInterface,
+    target: TargetFormat,
+    tone: ToneMap,
     layout: PipelineLayout,
     push: SurfacePush,
+    ctx: Arc<Context>,
 }
 
 impl SpeleothemSurfacePass {
-    /// Builds the surface pipeline and its caps variant (no culling) for `target`, a
-    /// 128² calcite normal map from `seed`, and the info buffer for `plan`'s whole
-    /// growth; binds `environment`'s cube, which must outlive the pass.
+    /// Builds the surface pipeline and its caps variant (no culling) for `target`
+    /// through the operator `tone`, a 128² calcite normal map from `seed`, and the
+    /// info buffer for `plan`'s whole growth; binds `environment`'s cube, which must
+    /// outlive the pass.
     pub fn new(
         ctx: &Arc<Context>,
         target: TargetFormat,
+        tone: ToneMap,
         plan: &GrowthPlan,
         seed: u64,
         environment: &EnvironmentMap,
@@ -147,21 +155,7 @@ impl SpeleothemSurfacePass {
             "speleothem surface layout",
             &[&VERTEX_INTERFACE, &CAP_GEOMETRY_INTERFACE, fragment],
         )?;
-        let mut desc = GraphicsPipelineDesc::new("speleothem surface", VERTEX_INTERFACE.shader)
-            .fragment(fragment.shader)
-            .vertex_layout(ring_vertex_layout())
-            .target(target);
-        // Back faces culled: with the caps every speleothem is closed but for its
-        // base ring, which is in the rock, so no back face shows. Culled, the
-        // rasteriser sets up half the triangles (the pass is geometry-bound on
-        // lavapipe; the fig9 presets differ in 3-24 edge samples). The caps pipeline
-        // keeps both sides, as before.
-        desc.cull_mode = vk::CullModeFlags::BACK;
-        let pipeline = desc.build(ctx, &layout)?;
-        desc.cull_mode = vk::CullModeFlags::NONE;
-        let caps = desc
-            .geometry(CAP_GEOMETRY_INTERFACE.shader)
-            .build(ctx, &layout)?;
+        let (pipeline, caps) = Self::pipelines(ctx, &layout, fragment, target, tone)?;
         let frame = Buffer::new(
             ctx,
             "speleothem frame uniforms",
@@ -210,7 +204,11 @@ impl SpeleothemSurfacePass {
             pipeline,
             caps,
             caps_on: true,
+            fragment,
+            target,
+            tone,
             layout,
+            ctx: ctx.clone(),
             push: SurfacePush {
                 params: Vec4::new(plan.segments as f32, 2.5, 1.0, 0.0),
                 look: Vec4::new(
@@ -221,6 +219,43 @@ impl SpeleothemSurfacePass {
                 ),
             },
         })
+    }
+
+    /// The surface pipeline and the caps'.
+    fn pipelines(
+        ctx: &Arc<Context>,
+        layout: &PipelineLayout,
+        fragment: &ShaderInterface,
+        target: TargetFormat,
+        tone: ToneMap,
+    ) -> Result<(Pipeline, Pipeline)> {
+        let mut desc = GraphicsPipelineDesc::new("speleothem surface", VERTEX_INTERFACE.shader)
+            .fragment(fragment.shader)
+            .vertex_layout(ring_vertex_layout())
+            .target(target)
+            .specialize(&tone.constants());
+        // Back faces culled: with the caps every speleothem is closed but for its
+        // base ring, which is in the rock, so no back face shows. Culled, the
+        // rasteriser sets up half the triangles (the pass is geometry-bound on
+        // lavapipe; the fig9 presets differ in 3-24 edge samples). The caps pipeline
+        // keeps both sides, as before.
+        desc.cull_mode = vk::CullModeFlags::BACK;
+        let pipeline = desc.build(ctx, layout)?;
+        desc.cull_mode = vk::CullModeFlags::NONE;
+        let caps = desc
+            .geometry(CAP_GEOMETRY_INTERFACE.shader)
+            .build(ctx, layout)?;
+        Ok((pipeline, caps))
+    }
+
+    /// Tone-maps the next draws with `tone` (builds its pipelines when it changes).
+    pub fn set_tone_map(&mut self, tone: ToneMap) -> Result<()> {
+        if tone != self.tone {
+            (self.pipeline, self.caps) =
+                Self::pipelines(&self.ctx, &self.layout, self.fragment, self.target, tone)?;
+            self.tone = tone;
+        }
+        Ok(())
     }
 
     /// Draws the caps of open fronts (on unless a test compares without them).

@@ -132,64 +132,7 @@ impl Camera {
     }
 }
 
-/// The tone-mapping operator (`tonemap.glsl`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum ToneMap {
-    /// Narkowicz's fit of the ACES filmic curve, per channel.
-    #[default]
-    Aces,
-    /// Reinhard's `L / (1 + L)` on luminance.
-    Reinhard,
-    /// Ashikhmin's (2002) global operator on luminance, which Tortelli & Walter cite.
-    Ashikhmin,
-    /// None: radiance times exposure, for floating-point targets (the environment
-    /// map's faces); not offered to users.
-    Linear,
-}
-
-impl ToneMap {
-    /// The operator's number in the frame uniforms (`params.y`).
-    pub fn code(self) -> f32 {
-        match self {
-            ToneMap::Aces => 0.0,
-            ToneMap::Reinhard => 1.0,
-            ToneMap::Ashikhmin => 2.0,
-            ToneMap::Linear => 3.0,
-        }
-    }
-
-    /// The operators users may choose (`--tonemap`; not `Linear`), in the order the
-    /// viewer's key cycles through them.
-    pub const ALL: [ToneMap; 3] = [ToneMap::Ashikhmin, ToneMap::Aces, ToneMap::Reinhard];
-}
-
-impl std::fmt::Display for ToneMap {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            ToneMap::Aces => "aces",
-            ToneMap::Reinhard => "reinhard",
-            ToneMap::Ashikhmin => "ashikhmin",
-            ToneMap::Linear => "linear",
-        })
-    }
-}
-
-impl std::str::FromStr for ToneMap {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "aces" => Ok(ToneMap::Aces),
-            "reinhard" => Ok(ToneMap::Reinhard),
-            "ashikhmin" => Ok(ToneMap::Ashikhmin),
-            other => Err(Error::invalid(
-                "--tonemap",
-                format!("\"{other}\" is not one of: ashikhmin, aces, reinhard"),
-            )),
-        }
-    }
-}
-
-crate::serde_as_text!(ToneMap);
+pub use crate::render::tone_map::ToneMap;
 
 /// A sun (or a lamp) and a sky/ground hemisphere, in linear colours, plus exposure.
 #[derive(Clone, Debug, PartialEq)]
@@ -249,12 +192,7 @@ impl Lighting {
             sun_color: self.sun_color.extend(0.0),
             sky_color: self.sky_color.extend(0.0),
             ground_color: self.ground_color.extend(0.0),
-            params: Vec4::new(
-                self.exposure,
-                self.tonemap.code(),
-                camera.jitter.lod_bias,
-                0.0,
-            ),
+            params: Vec4::new(self.exposure, 0.0, camera.jitter.lod_bias, 0.0),
         }
     }
 }

@@ -139,6 +139,7 @@ impl CaveFrame {
                     surface: SpeleothemSurfacePass::new(
                         ctx,
                         ctx.frame_format(),
+                        cave_lighting().tonemap,
                         &plan,
                         scene.cave.volume.seed,
                         &environment,
@@ -151,7 +152,7 @@ impl CaveFrame {
             None => None,
         };
         let mut frame = Self {
-            pass: CaveWallPass::new(ctx, ctx.frame_format())?,
+            pass: CaveWallPass::new(ctx, ctx.frame_format(), cave_lighting().tonemap)?,
             walls: [(None, None), (None, None)],
             short,
             grown,

@@ -32,7 +32,7 @@ use crate::render::dune_surface::{
 use crate::render::dust::{DustLight, DustPass};
 use crate::render::ripple_maps::{HorizonWalk, RippleMaps};
 use crate::scene::Size;
-use crate::scene::camera::{Camera, Lighting};
+use crate::scene::camera::{Camera, Lighting, ToneMap};
 use crate::view::input::Key;
 
 /// The simulated terrain: dune heights (world metres) and the ripple tile.
@@ -179,6 +179,9 @@ pub(super) const GRAIN_TILE_M: f32 = 0.35;
 /// around the horizon, radians (about 2.3 degrees; the mips' spread widens it).
 const RIPPLE_SHADOW_SOFTNESS: f32 = 0.04;
 
+/// The desert's tone mapping, for every pass that draws it.
+const DESERT_TONE_MAP: ToneMap = ToneMap::Aces;
+
 /// What the dune shading does for `scene`, with or without footprints, or drawing the
 /// dune-shadow term alone (`show_shadow_mask`).
 fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwitches {
@@ -243,6 +246,7 @@ impl DunesFrame {
         let surface = DuneSurfacePass::new(
             ctx,
             ctx.frame_format(),
+            DESERT_TONE_MAP,
             &textures,
             9 * n * n,
             switches(&scene, prints.is_some(), false),
@@ -277,6 +281,7 @@ impl DunesFrame {
             dust: DustPass::new(
                 ctx,
                 ctx.frame_format(),
+                DESERT_TONE_MAP,
                 blobs,
                 &terrain.dune_heights,
                 n as u32,
@@ -287,7 +292,7 @@ impl DunesFrame {
             prints,
             dune_heights: terrain.dune_heights.clone(),
             dune_normals,
-            sky: AtmosphereSkyPass::new(ctx, ctx.frame_format(), &sky_view)?,
+            sky: AtmosphereSkyPass::new(ctx, ctx.frame_format(), DESERT_TONE_MAP, &sky_view)?,
             sky_view,
             atmosphere,
             light: None,
@@ -398,6 +403,7 @@ impl Scene for DunesFrame {
             self.surface = DuneSurfacePass::new(
                 ctx,
                 ctx.frame_format(),
+                DESERT_TONE_MAP,
                 &textures,
                 9 * self.scene.dune_size * self.scene.dune_size,
                 switches(&self.scene, self.prints.is_some(), self.shadow_mask),
@@ -462,7 +468,6 @@ impl Scene for DunesFrame {
             sun: sun.extend(scene.sun_azimuth_degrees.to_radians()),
             camera: camera.eye.extend(frame.params.x),
             disk: light.disk.extend(SUN_RADIUS_RADIANS.cos()),
-            params: glam::Vec4::new(frame.params.y, 0.0, 0.0, 0.0),
         };
         self.view = Some(DunesView {
             view_proj: frame.view_proj,
@@ -481,7 +486,7 @@ impl Scene for DunesFrame {
             sky: (0.5 * (light.sky + light.ground)).extend(DUST_OPACITY),
             albedo: DUST_ALBEDO.extend(scene.dust.as_ref().map_or(1.0, |d| d.fade)),
             eye: camera.eye.extend(scene.cell),
-            tone: glam::Vec4::new(frame.params.x, frame.params.y, scene.dune_size as f32, 0.0),
+            tone: glam::Vec4::new(frame.params.x, 0.0, scene.dune_size as f32, 0.0),
         })?;
         Ok(())
     }
@@ -702,7 +707,7 @@ impl DesertLight {
             sky_color: self.sky,
             ground_color: self.ground,
             exposure: exposure * auto_exposure(self.adapt),
-            tonemap: crate::scene::camera::ToneMap::Aces,
+            tonemap: DESERT_TONE_MAP,
         }
     }
 }

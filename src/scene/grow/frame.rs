@@ -81,12 +81,13 @@ struct Chamber {
 }
 
 impl Chamber {
-    fn new(ctx: &Arc<Context>, scene: &GrowthScene) -> Result<Self> {
+    /// The rock drawn through the operator `tone`.
+    fn new(ctx: &Arc<Context>, scene: &GrowthScene, tone: ToneMap) -> Result<Self> {
         let (floor, ceiling) = chamber_meshes(scene);
         let lamp_radius = 0.04 * (scene.ceiling_y - scene.floor_y);
         let at = lamp_lighting(scene, &Look::default()).sun_direction;
         Ok(Self {
-            rock: LitMeshPass::new(ctx, ctx.frame_format())?,
+            rock: LitMeshPass::new(ctx, ctx.frame_format(), tone)?,
             floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
             ceiling: GpuMesh::upload(ctx, "cave ceiling", &ceiling)?,
             lamp: GpuMesh::upload(ctx, "lamp", &Mesh::sphere(at, lamp_radius, 8))?,
@@ -196,7 +197,7 @@ impl GrowthFrame {
 
     /// The speleothems of `scene` in their chamber, shaded with its look.
     pub fn with_look(ctx: &Arc<Context>, scene: SpeleothemScene, path: GrowthPath) -> Result<Self> {
-        let chamber = Some(Chamber::new(ctx, &scene.growth)?);
+        let chamber = Some(Chamber::new(ctx, &scene.growth, scene.look.tonemap)?);
         Self::with(ctx, scene, path, chamber, None)
     }
 
@@ -237,8 +238,15 @@ impl GrowthFrame {
         } = scene;
         let plan = scene.plan()?;
         let environment = EnvironmentMap::new(ctx, ENVIRONMENT_SIZE)?;
-        let mut surface =
-            SpeleothemSurfacePass::new(ctx, ctx.frame_format(), &plan, scene.seed, &environment)?;
+        let tone = bare_lighting.as_ref().map_or(look.tonemap, |l| l.tonemap);
+        let mut surface = SpeleothemSurfacePass::new(
+            ctx,
+            ctx.frame_format(),
+            tone,
+            &plan,
+            scene.seed,
+            &environment,
+        )?;
         surface.set_look(look.bump, look.environment);
         surface.set_age_colours((look.color == ColorBy::Age).then_some(plan.passes));
         let mut frame = Self {
@@ -430,6 +438,7 @@ impl GrowthFrame {
         self.surface = SpeleothemSurfacePass::new(
             ctx,
             ctx.frame_format(),
+            self.lighting().tonemap,
             &plan,
             self.scene.seed,
             &self.environment,
@@ -439,7 +448,7 @@ impl GrowthFrame {
             .set_age_colours((self.look.color == ColorBy::Age).then_some(plan.passes));
         if self.chamber.is_some() {
             // The chamber's relief follows the seed: its reflection too.
-            self.chamber = Some(Chamber::new(ctx, &self.scene)?);
+            self.chamber = Some(Chamber::new(ctx, &self.scene, self.look.tonemap)?);
             self.render_environment(ctx)?;
         }
         self.plan = plan;
@@ -490,10 +499,13 @@ impl Scene for GrowthFrame {
             Time::At(n) => n.min(self.plan.passes).saturating_sub(self.passes_done()),
             Time::Tick => self.due(),
         };
-        let frame = self.lighting().frame_uniforms(camera, aspect);
+        let lighting = self.lighting();
+        let frame = lighting.frame_uniforms(camera, aspect);
         if let Some(c) = &mut self.chamber {
+            c.rock.set_tone_map(lighting.tonemap)?;
             c.rock.set_frame(&frame)?;
         }
+        self.surface.set_tone_map(lighting.tonemap)?;
         self.surface
             .set_frame(&frame, &self.plan, self.passes_done() + self.passes_now)
     }

@@ -43,7 +43,7 @@ impl CutAwayFrame {
         .map(|(m, color, spec)| Ok((GpuMesh::upload(ctx, "stalagmite part", m)?, color, spec)))
         .collect::<Result<_>>()?;
         Ok(Self {
-            pass: LitMeshPass::new(ctx, ctx.frame_format())?,
+            pass: LitMeshPass::new(ctx, ctx.frame_format(), Lighting::default().tonemap)?,
             parts,
             layers,
         })

@@ -51,7 +51,7 @@ impl RockFrame {
             .fold(f32::INFINITY, f32::min)
             + 0.08;
         Ok(Self {
-            pass: LitMeshPass::new(ctx, ctx.frame_format())?,
+            pass: LitMeshPass::new(ctx, ctx.frame_format(), scene.lighting.tonemap)?,
             rock: GpuMesh::upload(ctx, "rock", &rock)?,
             ground: GpuMesh::upload(ctx, "ground", &ground(20.0, floor_y))?,
             albedo: scene.albedo,
