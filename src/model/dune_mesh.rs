@@ -263,71 +263,87 @@ impl DuneLod {
                 steps[cj as usize * side + ci as usize]
             }
         };
+        // Nearest chunks first: the depth test then rejects the dunes they hide before
+        // shading them (a CPU rasteriser tests depth before running the fragment
+        // shader; in grid order it shaded far slopes the near ones then covered).
+        let size = self.chunk as f32
+            * (mesh.positions[index(1, 0) as usize].x - mesh.positions[index(0, 0) as usize].x);
+        let origin = mesh.positions[0];
+        let mut order: Vec<(f32, usize, usize)> = (0..side * side)
+            .map(|k| {
+                let (ci, cj) = (k % side, k / side);
+                let centre = Vec3::new(
+                    origin.x + (ci as f32 + 0.5) * size,
+                    eye.y,
+                    origin.z + (cj as f32 + 0.5) * size,
+                );
+                (centre.distance_squared(eye), ci, cj)
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut out = Vec::new();
-        for cj in 0..side {
-            for ci in 0..side {
-                let s = steps[cj * side + ci];
-                let (i0, j0) = (ci * self.chunk, cj * self.chunk);
-                if cull {
-                    let corners = [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(a, b)| {
-                        mesh.positions[index(i0 + a * self.chunk, j0 + b * self.chunk) as usize]
-                    });
-                    let c = &self.chunks[(cj % (self.n / self.chunk)) * (self.n / self.chunk)
-                        + ci % (self.n / self.chunk)];
-                    let clip: Vec<Vec4> = corners
-                        .iter()
-                        .flat_map(|p| [Vec3::new(p.x, c.low, p.z), Vec3::new(p.x, c.high, p.z)])
-                        .map(|p| view_proj * p.extend(1.0))
-                        .collect();
-                    if outside_one_plane(&clip) {
-                        continue;
-                    }
+        for (_, ci, cj) in order {
+            let s = steps[cj * side + ci];
+            let (i0, j0) = (ci * self.chunk, cj * self.chunk);
+            if cull {
+                let corners = [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(a, b)| {
+                    mesh.positions[index(i0 + a * self.chunk, j0 + b * self.chunk) as usize]
+                });
+                let c = &self.chunks[(cj % (self.n / self.chunk)) * (self.n / self.chunk)
+                    + ci % (self.n / self.chunk)];
+                let clip: Vec<Vec4> = corners
+                    .iter()
+                    .flat_map(|p| [Vec3::new(p.x, c.low, p.z), Vec3::new(p.x, c.high, p.z)])
+                    .map(|p| view_proj * p.extend(1.0))
+                    .collect();
+                if outside_one_plane(&clip) {
+                    continue;
                 }
-                let (ci, cj) = (ci as isize, cj as isize);
-                // The steps of the neighbours below (-z), above (+z), left and right.
-                let below = step_at(ci, cj - 1, s).max(s);
-                let above = step_at(ci, cj + 1, s).max(s);
-                let left = step_at(ci - 1, cj, s).max(s);
-                let right = step_at(ci + 1, cj, s).max(s);
-                let (ci, cj) = (ci as usize, cj as usize);
-                // A vertex on a border shared with a coarser chunk moves down onto that
-                // chunk's vertex.
-                let vertex = |i: usize, j: usize| {
-                    let (mut gi, mut gj) = (i0 + i, j0 + j);
-                    if j == 0 {
-                        gi = i0 + i / below * below;
-                    } else if j == self.chunk {
-                        gi = i0 + i / above * above;
-                    }
-                    if i == 0 {
-                        gj = j0 + j / left * left;
-                    } else if i == self.chunk {
-                        gj = j0 + j / right * right;
-                    }
-                    index(gi, gj)
-                };
-                let _ = (ci, cj);
-                for j in (0..self.chunk).step_by(s) {
-                    for i in (0..self.chunk).step_by(s) {
-                        let (a, b, c, d) = (
-                            vertex(i, j),
-                            vertex(i + s, j),
-                            vertex(i + s, j + s),
-                            vertex(i, j + s),
-                        );
-                        let quad = [a, d, c, a, c, b];
-                        if cull {
-                            let p = |k: u32| mesh.positions[k as usize];
-                            let facing = |t: &[u32]| {
-                                let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
-                                (b - a).cross(c - a).dot(eye - a) > 0.0
-                            };
-                            if !facing(&quad[0..3]) && !facing(&quad[3..6]) {
-                                continue;
-                            }
+            }
+            let (ci, cj) = (ci as isize, cj as isize);
+            // The steps of the neighbours below (-z), above (+z), left and right.
+            let below = step_at(ci, cj - 1, s).max(s);
+            let above = step_at(ci, cj + 1, s).max(s);
+            let left = step_at(ci - 1, cj, s).max(s);
+            let right = step_at(ci + 1, cj, s).max(s);
+            let (ci, cj) = (ci as usize, cj as usize);
+            // A vertex on a border shared with a coarser chunk moves down onto that
+            // chunk's vertex.
+            let vertex = |i: usize, j: usize| {
+                let (mut gi, mut gj) = (i0 + i, j0 + j);
+                if j == 0 {
+                    gi = i0 + i / below * below;
+                } else if j == self.chunk {
+                    gi = i0 + i / above * above;
+                }
+                if i == 0 {
+                    gj = j0 + j / left * left;
+                } else if i == self.chunk {
+                    gj = j0 + j / right * right;
+                }
+                index(gi, gj)
+            };
+            let _ = (ci, cj);
+            for j in (0..self.chunk).step_by(s) {
+                for i in (0..self.chunk).step_by(s) {
+                    let (a, b, c, d) = (
+                        vertex(i, j),
+                        vertex(i + s, j),
+                        vertex(i + s, j + s),
+                        vertex(i, j + s),
+                    );
+                    let quad = [a, d, c, a, c, b];
+                    if cull {
+                        let p = |k: u32| mesh.positions[k as usize];
+                        let facing = |t: &[u32]| {
+                            let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+                            (b - a).cross(c - a).dot(eye - a) > 0.0
+                        };
+                        if !facing(&quad[0..3]) && !facing(&quad[3..6]) {
+                            continue;
                         }
-                        out.extend_from_slice(&quad);
                     }
+                    out.extend_from_slice(&quad);
                 }
             }
         }
@@ -492,6 +508,38 @@ mod tests {
         let loose = lod.steps(eye, cell, 500.0, 4.0);
         assert!(loose.iter().zip(&steps).all(|(l, s)| l >= s));
         assert!(loose.iter().sum::<usize>() > steps.iter().sum::<usize>());
+    }
+
+    #[test]
+    fn lod_quads_come_nearest_chunk_first() {
+        // Front to back, so the depth test hides what near dunes cover before it is
+        // shaded: each quad's distance from the eye never falls by more than a chunk's
+        // diagonal from one quad to the next, and the first lies under the eye.
+        let (n, cell) = (32, 4.0);
+        let heights = bumpy(n);
+        let mesh = dune_mesh_tiled(n, cell, &heights, 3);
+        let lod = DuneLod::new(n, &heights, 3);
+        let eye = Vec3::new(-90.0, 30.0, 70.0);
+        let steps = lod.steps(eye, cell, 500.0, 1.0);
+        let indices = lod.quads(&mesh, &steps, eye, Mat4::IDENTITY, false);
+        let distance = |quad: &[u32]| {
+            let c = quad
+                .iter()
+                .map(|&k| mesh.positions[k as usize])
+                .fold(Vec3::ZERO, |a, p| a + p)
+                / 6.0;
+            glam::Vec2::new(c.x - eye.x, c.z - eye.z).length()
+        };
+        let d: Vec<f32> = indices.chunks(6).map(distance).collect();
+        let diagonal = (LOD_CHUNK as f32 * cell) * std::f32::consts::SQRT_2;
+        assert!(d[0] < diagonal, "first quad {} m away", d[0]);
+        let farthest = d.iter().copied().fold(0.0f32, f32::max);
+        assert!(d[d.len() - 1] > farthest - diagonal);
+        let mut seen = 0.0f32;
+        for &x in &d {
+            assert!(x > seen - diagonal, "a quad {x} m away after one {seen} m away");
+            seen = seen.max(x);
+        }
     }
 
     #[test]
