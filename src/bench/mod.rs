@@ -3,7 +3,9 @@
 //! frame's named passes are timed with GPU timestamps (bracketed by the full barriers
 //! lavapipe needs, `gpu::timing`) and the frame's wall clock on the CPU. Every run also
 //! measures a floor — an empty submission and a trivial full-screen pass at the same
-//! size — so results from different machines compare as multiples of it.
+//! size — so results from different machines compare as multiples of it; each series
+//! also draws a floor frame after each of its measured frames, and its multiple of
+//! the floor is of that floor, measured in the same state of the machine.
 //!
 //! The scenes and their variants come from the registry (`scene::registry`), one series
 //! per scene and variant, each drawn by the one frame runner:
@@ -31,6 +33,10 @@ use crate::render::sky::SkyPass;
 use crate::scene::Size;
 use crate::scene::camera::{Camera, Jitter};
 use report::{Meta, PassResult, Report, SCHEMA, SeriesResult, Stats};
+
+/// The metric holding a series' own floor: the median GPU time of the floor frames
+/// drawn between its measured frames (`Report::times_floor` divides by it).
+pub const SERIES_FLOOR: &str = "floor_between_frames_gpu_ms";
 
 /// The scenes `sediment bench` times, and each one's variants (from the registry).
 pub fn scenes() -> Vec<(&'static str, &'static [&'static str])> {
@@ -126,7 +132,8 @@ pub fn run(
         runs: Vec::new(),
     };
     progress("floor");
-    report.floor = floor(ctx, opts)?;
+    let mut floor_pass = FloorPass::new(ctx, opts.size)?;
+    report.floor = floor(ctx, opts, &mut floor_pass)?;
     let mut runner = FrameRunner::new(ctx, opts.size)?;
     let mut kinds = crate::scene::registry();
     if opts.reversed {
@@ -151,7 +158,11 @@ pub fn run(
                 Some(_) => Some(bench.build(ctx, variant, opts.size)?.0),
                 None => None,
             };
-            let frames = runner.series(
+            // A floor frame after each measured frame: the series' multiple of the
+            // floor then compares the two in the same state of the machine (on a
+            // shared one, its speed drifts by tens of percent over a minute).
+            let mut floor_ms = Vec::new();
+            let frames = runner.series_between(
                 scene.as_mut(),
                 spare
                     .as_mut()
@@ -159,8 +170,15 @@ pub fn run(
                 &camera,
                 opts.warmup,
                 opts.frames,
+                &mut || {
+                    let spans = floor_pass.frame(ctx)?;
+                    floor_ms.push(spans.iter().map(|s| s.milliseconds).sum());
+                    Ok(())
+                },
             )?;
             let mut s = summarise(kind.name(), variant, &frames);
+            s.metrics
+                .insert(SERIES_FLOOR.into(), Stats::of(&floor_ms).median);
             s.metrics.extend(scene.metrics()?);
             s.metrics.extend(bench.frame_metrics(&frames));
             report.series.push(s);
@@ -232,9 +250,71 @@ fn summarise(scene: &str, variant: &str, frames: &[Frame]) -> SeriesResult {
     }
 }
 
+/// The floor's full-screen pass: a clear and a trivial sky over a single-sampled
+/// target at the bench size, the unit every frame time is a multiple of.
+struct FloorPass {
+    target: OffscreenTarget,
+    sky: SkyPass,
+    timer: GpuTimer,
+    view_proj: glam::Mat4,
+    eye: Vec3,
+}
+
+impl FloorPass {
+    fn new(ctx: &Arc<Context>, size: Size) -> Result<Self> {
+        // One sample: the floor stays the trivial pass it was before frames were
+        // multisampled, so multiples of it compare across versions.
+        let single = TargetFormat {
+            samples: crate::gpu::vk::SampleCountFlags::TYPE_1,
+            ..ctx.frame_format()
+        };
+        let camera = Camera {
+            eye: Vec3::new(0.0, 1.0, 3.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_degrees: 50.0,
+            near: 0.1,
+            far: 100.0,
+            jitter: Jitter::NONE,
+        };
+        Ok(Self {
+            target: OffscreenTarget::with_format(ctx, size.width, size.height, single)?,
+            sky: SkyPass::new(ctx, single)?,
+            timer: GpuTimer::new(ctx, "floor timer", 1)?,
+            view_proj: camera.view_proj(size.aspect()),
+            eye: camera.eye,
+        })
+    }
+
+    /// One floor frame, submitted and waited for: its GPU span.
+    fn frame(&mut self, ctx: &Arc<Context>) -> Result<Vec<Span>> {
+        let Self {
+            target,
+            sky,
+            timer,
+            view_proj,
+            eye,
+        } = self;
+        ctx.submit_and_wait("fullscreen", |cmd| {
+            timer.reset(cmd);
+            let span = timer.begin(cmd, "fullscreen")?;
+            target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+            sky.draw(cmd, *view_proj, *eye, Vec3::new(0.3, 0.5, 0.2), 1.0)?;
+            target.end(cmd);
+            timer.end(cmd, span);
+            Ok(())
+        })?;
+        timer.read()
+    }
+}
+
 /// An empty submission, and a full-screen sky pass at the bench size.
-fn floor(ctx: &Arc<Context>, opts: &BenchOptions) -> Result<Vec<SeriesResult>> {
-    let mut timer = GpuTimer::new(ctx, "floor timer", 1)?;
+fn floor(
+    ctx: &Arc<Context>,
+    opts: &BenchOptions,
+    pass: &mut FloorPass,
+) -> Result<Vec<SeriesResult>> {
+    let mut timer = GpuTimer::new(ctx, "empty timer", 1)?;
     let empty = measure("floor", "empty-submit", opts, &mut || {
         ctx.submit_and_wait("empty", |cmd| {
             timer.reset(cmd);
@@ -244,35 +324,6 @@ fn floor(ctx: &Arc<Context>, opts: &BenchOptions) -> Result<Vec<SeriesResult>> {
         })?;
         timer.read()
     })?;
-    // One sample: the floor stays the trivial pass it was before frames were
-    // multisampled, so multiples of it compare across versions.
-    let single = TargetFormat {
-        samples: crate::gpu::vk::SampleCountFlags::TYPE_1,
-        ..ctx.frame_format()
-    };
-    let target = OffscreenTarget::with_format(ctx, opts.size.width, opts.size.height, single)?;
-    let sky = SkyPass::new(ctx, single)?;
-    let camera = Camera {
-        eye: Vec3::new(0.0, 1.0, 3.0),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        fov_y_degrees: 50.0,
-        near: 0.1,
-        far: 100.0,
-        jitter: Jitter::NONE,
-    };
-    let view_proj = camera.view_proj(opts.size.aspect());
-    let full = measure("floor", "fullscreen", opts, &mut || {
-        ctx.submit_and_wait("fullscreen", |cmd| {
-            timer.reset(cmd);
-            let span = timer.begin(cmd, "fullscreen")?;
-            target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
-            sky.draw(cmd, view_proj, camera.eye, Vec3::new(0.3, 0.5, 0.2), 1.0)?;
-            target.end(cmd);
-            timer.end(cmd, span);
-            Ok(())
-        })?;
-        timer.read()
-    })?;
+    let full = measure("floor", "fullscreen", opts, &mut || pass.frame(ctx))?;
     Ok(vec![empty, full])
 }

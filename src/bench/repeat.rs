@@ -299,4 +299,26 @@ mod tests {
         assert!(e.to_string().contains("64x48"), "{e}");
         assert!(merge(Vec::new()).is_err());
     }
+
+    #[test]
+    fn a_series_is_a_multiple_of_its_own_floor_where_it_has_one() {
+        // The run's floor is 2 ms; b drew its frames (20 ms) while the machine ran at
+        // half speed, its own floor frames 4 ms.
+        let mut r = run(1.0, false);
+        r.series[1]
+            .metrics
+            .insert(crate::bench::SERIES_FLOOR.into(), 4.0);
+        assert_eq!(r.times_floor(&r.series[1]), Some(5.0));
+        assert_eq!(
+            r.times_floor(&r.series[0]),
+            Some(5.0),
+            "10 ms over the run's 2"
+        );
+        let md = r.markdown();
+        let row = md
+            .lines()
+            .find(|l| l.starts_with("| grow | b | frame | "))
+            .unwrap_or_default();
+        assert!(row.ends_with("| 5.00 |"), "b's row: {row}");
+    }
 }

@@ -169,9 +169,16 @@ impl Report {
             .find(|s| s.scene == scene && s.variant == variant)
     }
 
-    /// `s`'s median GPU frame as a multiple of this report's floor.
+    /// `s`'s median GPU frame as a multiple of the floor: of its own floor (the floor
+    /// frames drawn between its frames, `bench::SERIES_FLOOR`) where it has one, else
+    /// of this report's.
     pub fn times_floor(&self, s: &SeriesResult) -> Option<f64> {
-        self.floor_ms().map(|f| s.frame_gpu_ms.median / f)
+        s.metrics
+            .get(super::SERIES_FLOOR)
+            .copied()
+            .filter(|f| *f > 0.0)
+            .or(self.floor_ms())
+            .map(|f| s.frame_gpu_ms.median / f)
     }
 
     /// The runs this report stands for: its `--repeat` runs, or itself alone.

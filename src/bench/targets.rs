@@ -32,7 +32,8 @@ pub struct Target {
     /// The series' variant ("xfb-restream", ...).
     pub variant: String,
     /// A metric of the series (`vertices_per_s`, ...), or `frame_gpu_ms` (the frame's
-    /// GPU median) or `frame_x_floor` (that over the run's floor).
+    /// GPU median) or `frame_x_floor` (that over the run's floor, the floor frames
+    /// drawn between the series' own frames: `Report::times_floor`).
     pub value: String,
     /// The value must be at least this.
     pub at_least: Option<f64>,

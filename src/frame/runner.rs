@@ -231,18 +231,39 @@ impl FrameRunner {
         warmup: u32,
         frames: u32,
     ) -> Result<Vec<Frame>> {
-        match scene.steps() {
+        self.series_between(scene, spare, camera, warmup, frames, &mut || Ok(()))
+    }
+
+    /// `series`, calling `between` after each measured frame (the bench draws its
+    /// floor there).
+    pub fn series_between(
+        &mut self,
+        scene: &mut dyn Scene,
+        spare: Option<&mut dyn Scene>,
+        camera: &Camera,
+        warmup: u32,
+        frames: u32,
+        between: &mut dyn FnMut() -> Result<()>,
+    ) -> Result<Vec<Frame>> {
+        let (count, time): (u32, &dyn Fn(u32) -> Time) = match scene.steps() {
             Some(steps) => {
                 if let Some(spare) = spare {
                     self.repeat(spare, camera, warmup, &|i| Time::At(i + 1))?;
                 }
-                self.repeat(scene, camera, steps, &|i| Time::At(i + 1))
+                (steps, &|i| Time::At(i + 1))
             }
             None => {
                 self.repeat(scene, camera, warmup, &|_| Time::At(0))?;
-                self.repeat(scene, camera, frames, &|_| Time::At(0))
+                (frames, &|_| Time::At(0))
             }
-        }
+        };
+        (0..count)
+            .map(|i| {
+                let frame = self.frame(scene, camera, time(i), false)?;
+                between()?;
+                Ok(frame)
+            })
+            .collect()
     }
 }
 

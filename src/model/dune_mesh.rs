@@ -537,7 +537,10 @@ mod tests {
         assert!(d[d.len() - 1] > farthest - diagonal);
         let mut seen = 0.0f32;
         for &x in &d {
-            assert!(x > seen - diagonal, "a quad {x} m away after one {seen} m away");
+            assert!(
+                x > seen - diagonal,
+                "a quad {x} m away after one {seen} m away"
+            );
             seen = seen.max(x);
         }
     }

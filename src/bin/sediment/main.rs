@@ -153,8 +153,9 @@ enum Command {
     /// shaders on first use), then measured frames; GPU time per named pass from
     /// timestamps and CPU frame time, min / median / p95, as a multiple of a floor (an
     /// empty submission and a trivial full-screen pass at --size) measured in the same
-    /// run; device, driver, Vulkan and sediment versions and the git commit in every
-    /// report. Prints Markdown tables.
+    /// run — each series over the floor frames drawn between its own frames, in the same
+    /// state of the machine; device, driver, Vulkan and sediment versions and the git
+    /// commit in every report. Prints Markdown tables.
     Bench(Box<bench::BenchArgs>),
     /// Open a window and render a scene continuously with the same passes as the
     /// headless commands: speleothems growing in real time while you steer the
