@@ -162,7 +162,7 @@ pub fn run(
             // floor then compares the two in the same state of the machine (on a
             // shared one, its speed drifts by tens of percent over a minute).
             let mut floor_ms = Vec::new();
-            let frames = runner.series_between(
+            let frames = runner.series(
                 scene.as_mut(),
                 spare
                     .as_mut()

@@ -219,24 +219,12 @@ impl FrameRunner {
             .collect()
     }
 
-    /// A timed series: `warmup` unmeasured frames, then `frames` measured ones. A
+    /// A timed series: `warmup` unmeasured frames, then `frames` measured ones, with
+    /// `between` called after each measured one (the bench draws its floor there). A
     /// scene with a clock (`Scene::steps`) is measured over every step, one per frame,
     /// and warms up on `spare`, a second copy, so that the measured copy starts at
     /// step 0.
     pub fn series(
-        &mut self,
-        scene: &mut dyn Scene,
-        spare: Option<&mut dyn Scene>,
-        camera: &Camera,
-        warmup: u32,
-        frames: u32,
-    ) -> Result<Vec<Frame>> {
-        self.series_between(scene, spare, camera, warmup, frames, &mut || Ok(()))
-    }
-
-    /// `series`, calling `between` after each measured frame (the bench draws its
-    /// floor there).
-    pub fn series_between(
         &mut self,
         scene: &mut dyn Scene,
         spare: Option<&mut dyn Scene>,
