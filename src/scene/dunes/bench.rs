@@ -168,7 +168,16 @@ impl BenchScene for DunesBench {
                 s.metrics.extend(metrics);
             }
         }
-        let ratio = |a: &str, b: &str| match (medians.get(a), medians.get(b)) {
+        // Between variants, each as a multiple of its own floor (the floor frames drawn
+        // between its frames): two series run a minute apart on a shared machine can
+        // differ by more than the effect they compare.
+        let relative: BTreeMap<String, f64> = report
+            .series
+            .iter()
+            .filter(|s| s.scene == "dunes")
+            .filter_map(|s| report.times_floor(s).map(|x| (s.variant.clone(), x)))
+            .collect();
+        let ratio = |a: &str, b: &str| match (relative.get(a), relative.get(b)) {
             (Some(x), Some(y)) if *y > 0.0 => Some(x / y),
             _ => None,
         };
