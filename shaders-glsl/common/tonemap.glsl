@@ -5,8 +5,8 @@
 //
 // The operator is a specialization constant (ids 16..18, `ToneMap::constants`), fixed
 // per pipeline: read from a uniform, llvmpipe ran all three operators in every pixel
-// (a CPU rasteriser runs both sides of a branch), which cost a quarter of the desert's
-// frame.
+// (a CPU rasteriser runs both sides of a branch), which cost a tenth of the desert's
+// dune pass (an eighth with the dust, which tone-maps per vertex).
 #ifndef SEDIMENT_TONEMAP_GLSL
 #define SEDIMENT_TONEMAP_GLSL
 

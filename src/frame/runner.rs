@@ -214,8 +214,24 @@ impl FrameRunner {
         frames: u32,
         time: &dyn Fn(u32) -> Time,
     ) -> Result<Vec<Frame>> {
+        self.repeat_between(scene, camera, frames, time, &mut || Ok(()))
+    }
+
+    /// `repeat`, calling `between` after each frame.
+    fn repeat_between(
+        &mut self,
+        scene: &mut dyn Scene,
+        camera: &Camera,
+        frames: u32,
+        time: &dyn Fn(u32) -> Time,
+        between: &mut dyn FnMut() -> Result<()>,
+    ) -> Result<Vec<Frame>> {
         (0..frames)
-            .map(|i| self.frame(scene, camera, time(i), false))
+            .map(|i| {
+                let frame = self.frame(scene, camera, time(i), false)?;
+                between()?;
+                Ok(frame)
+            })
             .collect()
     }
 
@@ -245,13 +261,7 @@ impl FrameRunner {
                 (frames, &|_| Time::At(0))
             }
         };
-        (0..count)
-            .map(|i| {
-                let frame = self.frame(scene, camera, time(i), false)?;
-                between()?;
-                Ok(frame)
-            })
-            .collect()
+        self.repeat_between(scene, camera, count, time, between)
     }
 }
 

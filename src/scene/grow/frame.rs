@@ -238,11 +238,10 @@ impl GrowthFrame {
         } = scene;
         let plan = scene.plan()?;
         let environment = EnvironmentMap::new(ctx, ENVIRONMENT_SIZE)?;
-        let tone = bare_lighting.as_ref().map_or(look.tonemap, |l| l.tonemap);
         let mut surface = SpeleothemSurfacePass::new(
             ctx,
             ctx.frame_format(),
-            tone,
+            look.tonemap,
             &plan,
             scene.seed,
             &environment,
