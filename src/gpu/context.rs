@@ -250,6 +250,9 @@ pub struct Context {
 
 impl Context {
     /// Loads Vulkan, picks a device that has everything sediment needs and creates it.
+    /// On a CPU device (lavapipe) the process keeps the memory the driver frees
+    /// (`heap::keep_freed_memory`): its per-draw buffers otherwise page-fault in again
+    /// every frame.
     pub fn new(options: &ContextOptions) -> Result<Arc<Self>> {
         let log = Box::<ValidationLog>::default();
         let parts = create_instance(
@@ -283,7 +286,11 @@ impl Context {
             Err(e) => return Err((e, Some(parts))),
         };
         // SAFETY: `physical` came from this instance.
-        let limits = unsafe { parts.instance.get_physical_device_properties(physical) }.limits;
+        let properties = unsafe { parts.instance.get_physical_device_properties(physical) };
+        let limits = properties.limits;
+        if properties.device_type == vk::PhysicalDeviceType::CPU {
+            super::heap::keep_freed_memory();
+        }
         if options.temporal && options.samples.is_some_and(|n| n != 1) {
             return Err((
                 Error::invalid(
