@@ -38,6 +38,11 @@ use report::{Meta, PassResult, Report, SCHEMA, SeriesResult, Stats};
 /// drawn between its measured frames (`Report::times_floor` divides by it).
 pub const SERIES_FLOOR: &str = "floor_between_frames_gpu_ms";
 
+/// The metric holding the median count of the process's minor page faults during one
+/// measured frame (every thread; Linux only). A CPU driver that hands its per-draw
+/// memory back to the kernel pays for it here (`gpu::keep_freed_memory`).
+pub const PAGE_FAULTS: &str = "page_faults_per_frame";
+
 /// The scenes `sediment bench` times, and each one's variants (from the registry).
 pub fn scenes() -> Vec<(&'static str, &'static [&'static str])> {
     crate::scene::registry()
@@ -162,6 +167,10 @@ pub fn run(
             // floor then compares the two in the same state of the machine (on a
             // shared one, its speed drifts by tens of percent over a minute).
             let mut floor_ms = Vec::new();
+            // The faults of each measured frame but the first (whose start is inside
+            // the warm-up): from the end of one floor frame to the start of the next.
+            let mut faults = Vec::new();
+            let mut after_floor: Option<u64> = None;
             let frames = runner.series(
                 scene.as_mut(),
                 spare
@@ -171,14 +180,23 @@ pub fn run(
                 opts.warmup,
                 opts.frames,
                 &mut || {
+                    let before_floor = crate::gpu::minor_page_faults();
+                    if let (Some(start), Some(end)) = (after_floor, before_floor) {
+                        faults.push(end.saturating_sub(start) as f64);
+                    }
                     let spans = floor_pass.frame(ctx)?;
                     floor_ms.push(spans.iter().map(|s| s.milliseconds).sum());
+                    after_floor = crate::gpu::minor_page_faults();
                     Ok(())
                 },
             )?;
             let mut s = summarise(kind.name(), variant, &frames);
             s.metrics
                 .insert(SERIES_FLOOR.into(), Stats::of(&floor_ms).median);
+            if !faults.is_empty() {
+                s.metrics
+                    .insert(PAGE_FAULTS.into(), Stats::of(&faults).median);
+            }
             s.metrics.extend(scene.metrics()?);
             s.metrics.extend(bench.frame_metrics(&frames));
             report.series.push(s);

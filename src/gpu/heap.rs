@@ -36,3 +36,22 @@ pub fn keep_freed_memory() {
         });
     }
 }
+
+/// Minor page faults of the whole process so far (every thread: the driver's
+/// rasteriser threads too), where the platform counts them; the bench reports them
+/// per frame (`bench::PAGE_FAULTS`).
+pub fn minor_page_faults() -> Option<u64> {
+    #[cfg(target_os = "linux")]
+    {
+        let mut usage = std::mem::MaybeUninit::<libc::rusage>::zeroed();
+        // SAFETY: getrusage writes one rusage into the pointer it is given.
+        let ok = unsafe { libc::getrusage(libc::RUSAGE_SELF, usage.as_mut_ptr()) } == 0;
+        // SAFETY: zeroed is a valid rusage, and getrusage filled it on success.
+        let usage = unsafe { usage.assume_init() };
+        ok.then(|| u64::try_from(usage.ru_minflt).unwrap_or(0))
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        None
+    }
+}

@@ -27,7 +27,7 @@ pub use buffer::{Buffer, BufferDesc};
 pub use commands::Commands;
 pub use context::{Context, ContextOptions, DeviceInfo, probe_devices};
 pub use features::{Capability, DeviceReport};
-pub use heap::keep_freed_memory;
+pub use heap::{keep_freed_memory, minor_page_faults};
 pub use image::{Image, ImageDesc};
 pub use pipeline::{DescriptorSet, GraphicsPipelineDesc, Pipeline, PipelineLayout, VertexLayout};
 pub use sampler::Sampler;
