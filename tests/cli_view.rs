@@ -368,6 +368,14 @@ fn bad_viewer_input_is_refused_before_a_window_opens() {
     for (args, needle) in [
         (vec!["view", "grow", "--script", "x"], "--script"),
         (vec!["view", "grow", "--every", "0"], "--every"),
+        (
+            vec!["view", "grow", "--speleothem-lod", "5"],
+            "--speleothem-lod",
+        ),
+        (
+            vec!["view", "grow", "--speleothem-lod", "NaN"],
+            "--speleothem-lod",
+        ),
         (vec!["view", "grow", "--frames", "0"], "--frames"),
         (
             vec!["view", "grow", "--screenshot", "a.jpg"],

@@ -279,6 +279,70 @@ impl XfbStream {
         Ok(())
     }
 
+    /// Draws the captured vertices from vertex `first` on (`vertex_stride` bytes each)
+    /// to the end of the capture, with the byte count its counter holds less the
+    /// skipped bytes; nothing where `first` is at or past the buffer's end.
+    pub fn draw_from(&self, cmd: &Commands<'_>, vertex_stride: u32, first: u64) -> Result<()> {
+        let skipped = first * u64::from(vertex_stride);
+        if skipped == 0 {
+            return self.draw(cmd, vertex_stride, 1);
+        }
+        if skipped >= self.buffer.size() {
+            return Ok(());
+        }
+        if self.state.get() != State::Readable {
+            return Err(Error::internal(
+                "transform feedback",
+                format!(
+                    "a stream in state {:?} drawn (finish_captures first)",
+                    self.state.get()
+                ),
+            ));
+        }
+        let counter_offset = u32::try_from(skipped)
+            .map_err(|_| Error::internal("transform feedback", "a draw offset past 4 GiB"))?;
+        cmd.bind_vertex_buffer(&self.buffer, skipped);
+        // SAFETY: as in `draw`; the binding starts `skipped` bytes in, inside the
+        // buffer, and the same bytes are taken off the counter's byte count.
+        unsafe {
+            (cmd.ctx.xfb.fp().cmd_draw_indirect_byte_count_ext)(
+                cmd.raw,
+                1,
+                0,
+                self.counter.raw(),
+                0,
+                counter_offset,
+                vertex_stride,
+            )
+        };
+        Ok(())
+    }
+
+    /// Records a copy of `bytes` of the capture from byte `from` into `dst` (from its
+    /// start); the stream must be readable (its capture finished), and `dst` is then
+    /// made visible to the host.
+    pub fn copy_out(&self, cmd: &Commands<'_>, from: u64, bytes: u64, dst: &Buffer) -> Result<()> {
+        if self.state.get() != State::Readable {
+            return Err(Error::internal(
+                "transform feedback",
+                format!("a stream in state {:?} copied", self.state.get()),
+            ));
+        }
+        if from + bytes > self.buffer.size() || bytes > dst.size() {
+            return Err(Error::internal(
+                "transform feedback",
+                format!(
+                    "a copy of {bytes} bytes from {from} out of a {} byte capture into {}",
+                    self.buffer.size(),
+                    dst.size()
+                ),
+            ));
+        }
+        cmd.copy_buffer_region(&self.buffer, from, dst, 0, bytes);
+        cmd.transfer_to_host_barrier();
+        Ok(())
+    }
+
     /// The captured data as `T`s, read back (submits its own copy and waits).
     pub fn read_back<T: Pod>(&self, ctx: &Arc<Context>) -> Result<Vec<T>> {
         let bytes = self.buffer.size();

@@ -68,6 +68,11 @@ pub trait Growth {
     fn counts(&self) -> Result<GrowthCounts>;
     /// The current mesh, for drawing.
     fn source(&self) -> MeshSource<'_>;
+    /// After the submissions: the vertices in the append-only path's frozen capture
+    /// (`MeshSource::Appended`); 0 on the other paths.
+    fn frozen_vertices(&self) -> Result<u64> {
+        Ok(0)
+    }
     /// The current mesh as the re-streaming pass holds it, read back.
     fn read_back(&self, ctx: &Arc<Context>, plan: &GrowthPlan) -> Result<Vec<RingVertex>>;
 }

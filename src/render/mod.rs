@@ -15,6 +15,7 @@ pub mod ring_growth_compute;
 pub mod ring_growth_cpu;
 pub mod ripple_maps;
 pub mod sky;
+pub mod speleothem_lod;
 pub mod speleothem_surface;
 pub mod temporal;
 pub mod tone_map;

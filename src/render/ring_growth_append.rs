@@ -138,6 +138,17 @@ impl Growth for AppendGrowth {
         })
     }
 
+    fn frozen_vertices(&self) -> Result<u64> {
+        if self.core.passes_done == 0 {
+            return Ok(0);
+        }
+        Ok(self
+            .check_counts()?
+            .iter()
+            .map(|(f, _)| f.written * 3)
+            .sum())
+    }
+
     fn source(&self) -> MeshSource<'_> {
         match self.core.passes_done {
             0 => self.core.base_source(),

@@ -10,6 +10,7 @@ use super::environment::EnvironmentMap;
 use super::growth::MeshSource;
 use super::lit_mesh::FrameUniforms;
 use super::ring_growth::ring_vertex_layout;
+use super::speleothem_lod::CaptureLod;
 use super::tone_map::ToneMap;
 use crate::error::Result;
 use crate::gpu::{
@@ -288,6 +289,16 @@ impl SpeleothemSurfacePass {
     /// Draws the current mesh inside an open rendering scope, then the caps of its
     /// open fronts.
     pub fn draw(&self, cmd: &Commands<'_>, source: MeshSource<'_>) -> Result<()> {
+        self.draw_with(cmd, source, None)
+    }
+
+    /// `draw`, with the append-only path's frozen capture drawn through `lod`'s index.
+    pub fn draw_with(
+        &self,
+        cmd: &Commands<'_>,
+        source: MeshSource<'_>,
+        lod: Option<&CaptureLod>,
+    ) -> Result<()> {
         let pipelines: &[&Pipeline] = if self.caps_on {
             &[&self.pipeline, &self.caps]
         } else {
@@ -314,7 +325,10 @@ impl SpeleothemSurfacePass {
                         let mut push = self.push;
                         push.params.w = shifted;
                         cmd.push_constants(&self.layout, &push)?;
-                        part.draw(cmd, VERTEX_STRIDE, 1)?;
+                        match lod {
+                            Some(lod) if std::ptr::eq(part, frozen) => lod.draw(cmd, part)?,
+                            _ => part.draw(cmd, VERTEX_STRIDE, 1)?,
+                        }
                     }
                 }
             }

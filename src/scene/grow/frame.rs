@@ -33,6 +33,7 @@ use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
 use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
+use crate::render::speleothem_lod::CaptureLod;
 use crate::render::speleothem_surface::{SpeleothemSurfacePass, speleothem_info};
 use crate::scene::Size;
 use crate::scene::camera::{Camera, Jitter, Lighting, ToneMap};
@@ -179,6 +180,13 @@ pub struct GrowthFrame {
     pass_ms: Vec<f64>,
     /// The CPU path's time in the frame being recorded.
     cpu_ms: f64,
+    /// The frozen capture drawn through an index, far speleothems with fewer segments
+    /// (`set_speleothem_lod`; the append-only path only).
+    lod: Option<CaptureLod>,
+    /// The error bound the index was asked for, pixels (0: off).
+    lod_px: f32,
+    /// The camera of the frame being drawn (the index's steps follow it).
+    camera: Option<Camera>,
 }
 
 impl GrowthFrame {
@@ -261,6 +269,9 @@ impl GrowthFrame {
             },
             pass_ms: Vec::new(),
             cpu_ms: 0.0,
+            lod: None,
+            lod_px: 0.0,
+            camera: None,
             plan,
             scene,
             look,
@@ -284,6 +295,26 @@ impl GrowthFrame {
             chamber.render_environment(ctx, &mut self.environment, &self.scene, &lighting)?;
         }
         Ok(())
+    }
+
+    /// Draws the append-only capture through an index that gives each speleothem as
+    /// few segments as keep its polygon within `max_error_px` pixels of the full one
+    /// (`render::speleothem_lod`; 0 or another growth path: the capture as it is).
+    pub fn set_speleothem_lod(&mut self, ctx: &Arc<Context>, max_error_px: f32) {
+        self.lod_px = max_error_px.max(0.0);
+        self.reset_lod(ctx);
+    }
+
+    /// The simplified capture, where `set_speleothem_lod` turned it on (after a frame
+    /// has taken in what the growth appended).
+    pub fn speleothem_lod(&self) -> Option<&CaptureLod> {
+        self.lod.as_ref()
+    }
+
+    /// A new index for a new growth.
+    fn reset_lod(&mut self, ctx: &Arc<Context>) {
+        self.lod = (self.lod_px > 0.0 && self.growth.path() == GrowthPath::XfbAppend)
+            .then(|| CaptureLod::new(ctx, self.plan.segments, self.lod_px));
     }
 
     /// Draws the caps of open fronts (on by default; off only to compare).
@@ -451,6 +482,7 @@ impl GrowthFrame {
             self.render_environment(ctx)?;
         }
         self.plan = plan;
+        self.reset_lod(ctx);
         if passes > 0 {
             let growth = &mut self.growth;
             ctx.submit_and_wait("regrow", |cmd| growth.record(cmd, passes))?;
@@ -498,6 +530,7 @@ impl Scene for GrowthFrame {
             Time::At(n) => n.min(self.plan.passes).saturating_sub(self.passes_done()),
             Time::Tick => self.due(),
         };
+        self.camera = Some(camera.clone());
         let lighting = self.lighting();
         let frame = lighting.frame_uniforms(camera, aspect);
         if let Some(c) = &mut self.chamber {
@@ -515,6 +548,15 @@ impl Scene for GrowthFrame {
         target: &OffscreenTarget,
         timer: &mut GpuTimer,
     ) -> Result<()> {
+        if let (Some(lod), crate::render::growth::MeshSource::Appended { frozen, .. }) =
+            (&mut self.lod, self.growth.source())
+        {
+            // What the last submission appended, copied before this one's growth.
+            lod.record_copy(cmd, frozen, self.growth.frozen_vertices()?)?;
+            if let Some(camera) = &self.camera {
+                lod.prepare(camera, target.height())?;
+            }
+        }
         if self.growth.path().on_gpu() {
             let span = timer.begin(cmd, "ring growth")?;
             self.growth.record(cmd, self.passes_now)?;
@@ -530,13 +572,17 @@ impl Scene for GrowthFrame {
             c.rock.draw(cmd, &c.floor, &ROCK)?;
             c.rock.draw(cmd, &c.ceiling, &ROCK)?;
         }
-        self.surface.draw(cmd, self.growth.source())?;
+        self.surface
+            .draw_with(cmd, self.growth.source(), self.lod.as_ref())?;
         target.end(cmd);
         timer.end(cmd, span);
         Ok(())
     }
 
     fn after(&mut self, spans: &[Span]) -> Result<()> {
+        if let Some(lod) = &mut self.lod {
+            lod.take_in()?;
+        }
         if self.passes_now > 0 {
             self.pass_ms.push(if self.growth.path().on_gpu() {
                 spans

@@ -65,6 +65,13 @@ struct ViewGrowArgs {
     /// One growth pass every K frames, 1..=120 (`[` and `]` change it while running).
     #[arg(long, value_name = "K", default_value_t = 1)]
     every: u32,
+    /// Far speleothems with fewer segments: with the append-only growth, each
+    /// speleothem is drawn with every 2nd or 4th segment where that polygon stays
+    /// within this many pixels of the full one (an index over the captured vertices;
+    /// every captured vertex is shaded once either way), 0..=4 pixels, 0: the capture
+    /// as it is, as `sediment grow` draws it (default 0.5).
+    #[arg(long, value_name = "PIXELS", default_value_t = sediment::render::speleothem_lod::DEFAULT_MAX_ERROR_PX)]
+    speleothem_lod: f32,
     /// On exit, the grown mesh as .glb (glTF 2.0 binary) or .obj (+ .mtl), as `sediment
     /// grow --mesh` writes it (metres, the chamber's floor centre at the origin).
     #[arg(long, value_name = "FILE.glb|FILE.obj")]
@@ -202,16 +209,23 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
             if !(1..=120).contains(&g.every) {
                 bail!(sediment::Error::invalid("--every", "must be in 1..=120"));
             }
+            if !(0.0..=4.0).contains(&g.speleothem_lod) {
+                bail!(sediment::Error::invalid(
+                    "--speleothem-lod",
+                    "must be in 0..=4 pixels"
+                ));
+            }
             if let Some(mesh) = &g.mesh {
                 sediment::export::mesh::check_mesh_path(mesh, "--mesh")?;
             }
             let options = view_options(cli, &g.view)?;
             let growing = resolved.scene.growth.passes as usize * g.every as usize;
             grow_floor_y = resolved.scene.growth.floor_y;
-            let (scene, path, every) = (resolved.scene, g.growth, g.every);
+            let (scene, path, every, lod) = (resolved.scene, g.growth, g.every, g.speleothem_lod);
             let build: SceneBuilder = Box::new(move |ctx| {
                 let mut frame = GrowthFrame::with_look(ctx, scene, path)?;
                 frame.set_every(every);
+                frame.set_speleothem_lod(ctx, lod);
                 Ok(Box::new(frame) as Box<dyn Scene>)
             });
             (options, camera, build, growing)
