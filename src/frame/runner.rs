@@ -7,7 +7,7 @@ use std::time::Instant;
 use super::temporal::{FRAMES_PER_PICTURE, Temporal};
 use super::{Scene, Time};
 use crate::error::Result;
-use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span, vk};
 use crate::scene::Size;
 use crate::scene::camera::Camera;
 
@@ -45,6 +45,8 @@ pub struct FrameRunner {
     /// Supersampling (`Context::supersample`, fitted to the device): the picture is
     /// the target averaged over `factor` x `factor` blocks.
     factor: u32,
+    /// The format of the frame shown under temporal anti-aliasing (None: the target's).
+    shown: Option<vk::Format>,
     ctx: Arc<Context>,
 }
 
@@ -52,13 +54,31 @@ impl FrameRunner {
     /// A target for pictures of `size` (checked against the device), supersampled as
     /// the context says, and a timer.
     pub fn new(ctx: &Arc<Context>, size: Size) -> Result<Self> {
-        let (target, factor, temporal) = target(ctx, size)?;
+        Self::with_shown(ctx, size, None)
+    }
+
+    /// `new` for a window whose images are in `format`: under temporal anti-aliasing
+    /// the frame shown is resolved in that format, so it is copied to the window
+    /// (`Swapchain::blit_target`) instead of blitted — a copy is a memcpy on lavapipe,
+    /// the blit a draw (about 1.3 ms of a Fig. 9g viewer frame).
+    /// Other formats (not 8-bit sRGB) keep the target's and the blit.
+    pub fn for_window(ctx: &Arc<Context>, size: Size, format: vk::Format) -> Result<Self> {
+        let srgb = matches!(
+            format,
+            vk::Format::B8G8R8A8_SRGB | vk::Format::R8G8B8A8_SRGB
+        );
+        Self::with_shown(ctx, size, srgb.then_some(format))
+    }
+
+    fn with_shown(ctx: &Arc<Context>, size: Size, shown: Option<vk::Format>) -> Result<Self> {
+        let (target, factor, temporal) = target(ctx, size, shown)?;
         Ok(Self {
             timer: GpuTimer::new(ctx, "frame timer", SPANS_PER_FRAME)?,
             target,
             size,
             factor,
             temporal,
+            shown,
             ctx: ctx.clone(),
         })
     }
@@ -89,7 +109,7 @@ impl FrameRunner {
         if size != self.size() {
             // The old histories read the old target: gone first.
             self.temporal = None;
-            (self.target, self.factor, self.temporal) = target(&self.ctx, size)?;
+            (self.target, self.factor, self.temporal) = target(&self.ctx, size, self.shown)?;
             self.size = size;
         }
         Ok(())
@@ -267,10 +287,14 @@ impl FrameRunner {
 
 /// The target for pictures of `size`, its supersampling factor and, with temporal
 /// anti-aliasing, the resolve that reads it.
-fn target(ctx: &Arc<Context>, size: Size) -> Result<(OffscreenTarget, u32, Option<Temporal>)> {
+fn target(
+    ctx: &Arc<Context>,
+    size: Size,
+    shown: Option<vk::Format>,
+) -> Result<(OffscreenTarget, u32, Option<Temporal>)> {
     if ctx.temporal() {
         let target = OffscreenTarget::sampled(ctx, size.width, size.height)?;
-        let temporal = Temporal::new(ctx, &target)?;
+        let temporal = Temporal::new(ctx, &target, shown.unwrap_or(target.format().color))?;
         return Ok((target, 1, Some(temporal)));
     }
     let factor = super::supersample::factor_for(ctx, size, ctx.supersample());

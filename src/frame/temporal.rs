@@ -86,8 +86,9 @@ pub struct Temporal {
 }
 
 impl Temporal {
-    /// For frames drawn into `drawn` (made with `OffscreenTarget::sampled`).
-    pub fn new(ctx: &Arc<Context>, drawn: &OffscreenTarget) -> Result<Self> {
+    /// For frames drawn into `drawn` (made with `OffscreenTarget::sampled`), shown in
+    /// `shown` (an 8-bit sRGB format: `drawn`'s, or a window's).
+    pub fn new(ctx: &Arc<Context>, drawn: &OffscreenTarget, shown: vk::Format) -> Result<Self> {
         let (w, h) = (drawn.width(), drawn.height());
         crate::budget::check_host(
             "--size",
@@ -97,7 +98,7 @@ impl Temporal {
             u64::from(w) * u64::from(h) * (2 * (8 + 4) + 4 + 4 + 4 + 20),
             "reduce --size",
         )?;
-        let pass = TemporalPass::new(ctx, drawn.format().color)?;
+        let pass = TemporalPass::new(ctx, shown)?;
         let image = |name: String, format| {
             Image::new(
                 ctx,
@@ -148,6 +149,7 @@ impl Temporal {
             h,
             crate::gpu::TargetFormat {
                 samples: vk::SampleCountFlags::TYPE_1,
+                color: shown,
                 ..drawn.format()
             },
         )?;

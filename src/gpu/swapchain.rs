@@ -202,6 +202,11 @@ impl Swapchain {
         (self.extent.width, self.extent.height)
     }
 
+    /// The images' format.
+    pub fn format(&self) -> vk::Format {
+        self.format
+    }
+
     /// True when the images store blue first (the overlay's bytes are swapped to match).
     pub fn is_bgra(&self) -> bool {
         matches!(
@@ -338,14 +343,46 @@ fn semaphore(ctx: &Context) -> Result<vk::Semaphore> {
 
 impl Commands<'_> {
     /// Scales the target's colour (in TRANSFER_SRC layout, i.e. after `copy_out`) into
-    /// `dst` (TRANSFER_DST layout, `width` x `height`).
-    pub fn blit_target(&self, target: &OffscreenTarget, dst: vk::Image, width: u32, height: u32) {
+    /// `dst` (TRANSFER_DST layout, `width` x `height`, in `dst_format`); copies it
+    /// where the two match in size and format (`FrameRunner::for_window`).
+    pub fn blit_target(
+        &self,
+        target: &OffscreenTarget,
+        dst: vk::Image,
+        dst_format: vk::Format,
+        width: u32,
+        height: u32,
+    ) {
         let layers = vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::COLOR,
             mip_level: 0,
             base_array_layer: 0,
             layer_count: 1,
         };
+        if target.format().color == dst_format
+            && (target.width(), target.height()) == (width, height)
+        {
+            let region = [vk::ImageCopy::default()
+                .src_subresource(layers)
+                .dst_subresource(layers)
+                .extent(vk::Extent3D {
+                    width,
+                    height,
+                    depth: 1,
+                })];
+            // SAFETY: as for the blit below; the two images have one format and size.
+            unsafe {
+                self.ctx.device.cmd_copy_image(
+                    self.raw,
+                    target.color_image(),
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    dst,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &region,
+                )
+            };
+            return;
+        }
         let corner = |w: u32, h: u32| vk::Offset3D {
             x: w as i32,
             y: h as i32,

@@ -488,13 +488,22 @@ impl OffscreenTarget {
 
     /// The frame copied by the last `copy_out` (after its submission finished).
     pub fn read_image(&self) -> Result<image::RgbaImage> {
-        if self.format.color != COLOR_FORMAT {
-            return Err(Error::internal(
-                "readback",
-                format!("{:?} is not read back as RGBA8", self.format.color),
-            ));
+        let mut bytes = self.readback.mapped()?.to_vec();
+        match self.format.color {
+            COLOR_FORMAT => {}
+            // A window's order (a viewer's frame resolved for its swapchain).
+            vk::Format::B8G8R8A8_SRGB => {
+                for pixel in bytes.chunks_exact_mut(4) {
+                    pixel.swap(0, 2);
+                }
+            }
+            other => {
+                return Err(Error::internal(
+                    "readback",
+                    format!("{other:?} is not read back as RGBA8"),
+                ));
+            }
         }
-        let bytes = self.readback.mapped()?.to_vec();
         image::RgbaImage::from_raw(self.width, self.height, bytes).ok_or_else(|| {
             Error::internal("readback", "the readback buffer is smaller than the frame")
         })

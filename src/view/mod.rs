@@ -423,7 +423,13 @@ impl State {
         }
         match &mut self.runner {
             Some(runner) => runner.resize(Size::new(w, h))?,
-            None => self.runner = Some(FrameRunner::new(&self.ctx, Size::new(w, h))?),
+            None => {
+                self.runner = Some(FrameRunner::for_window(
+                    &self.ctx,
+                    Size::new(w, h),
+                    chain.format(),
+                )?)
+            }
         }
         self.overlay_buffer = Some(Buffer::new(
             &self.ctx,
@@ -496,7 +502,7 @@ impl State {
         let presented = chain.present(index, |cmd, image| {
             // Only a frame to be saved is read back.
             runner.record(cmd, scene.as_mut(), save)?;
-            cmd.blit_target(runner.shown(), image, w, h);
+            cmd.blit_target(runner.shown(), image, chain.format(), w, h);
             if let Some(p) = &panel {
                 cmd.copy_pixels(pixels, image, (0, 0), (p.width, p.height));
             }
