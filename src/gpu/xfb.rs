@@ -252,31 +252,7 @@ impl XfbStream {
     /// says were captured (byte count / `vertex_stride`): the CPU never reads the count.
     /// Inside a rendering scope, after `finish_captures`.
     pub fn draw(&self, cmd: &Commands<'_>, vertex_stride: u32, instances: u32) -> Result<()> {
-        if self.state.get() != State::Readable {
-            return Err(Error::internal(
-                "transform feedback",
-                format!(
-                    "a stream in state {:?} drawn (finish_captures first)",
-                    self.state.get()
-                ),
-            ));
-        }
-        cmd.bind_vertex_buffer(&self.buffer, 0);
-        // SAFETY: `raw` is recording inside a rendering scope with a pipeline and this
-        // vertex buffer bound; the counter has INDIRECT_BUFFER usage and its byte count
-        // was made visible to indirect reads (`finish_captures`).
-        unsafe {
-            (cmd.ctx.xfb.fp().cmd_draw_indirect_byte_count_ext)(
-                cmd.raw,
-                instances,
-                0,
-                self.counter.raw(),
-                0,
-                0,
-                vertex_stride,
-            )
-        };
-        Ok(())
+        self.draw_skipping(cmd, vertex_stride, instances, 0)
     }
 
     /// Draws the captured vertices from vertex `first` on (`vertex_stride` bytes each)
@@ -284,12 +260,21 @@ impl XfbStream {
     /// skipped bytes; nothing where `first` is at or past the buffer's end.
     pub fn draw_from(&self, cmd: &Commands<'_>, vertex_stride: u32, first: u64) -> Result<()> {
         let skipped = first * u64::from(vertex_stride);
-        if skipped == 0 {
-            return self.draw(cmd, vertex_stride, 1);
-        }
-        if skipped >= self.buffer.size() {
+        if skipped > 0 && skipped >= self.buffer.size() {
             return Ok(());
         }
+        self.draw_skipping(cmd, vertex_stride, 1, skipped)
+    }
+
+    /// `draw` with the vertex buffer bound `skipped` bytes in and the same bytes taken
+    /// off the counter's byte count.
+    fn draw_skipping(
+        &self,
+        cmd: &Commands<'_>,
+        vertex_stride: u32,
+        instances: u32,
+        skipped: u64,
+    ) -> Result<()> {
         if self.state.get() != State::Readable {
             return Err(Error::internal(
                 "transform feedback",
@@ -302,12 +287,14 @@ impl XfbStream {
         let counter_offset = u32::try_from(skipped)
             .map_err(|_| Error::internal("transform feedback", "a draw offset past 4 GiB"))?;
         cmd.bind_vertex_buffer(&self.buffer, skipped);
-        // SAFETY: as in `draw`; the binding starts `skipped` bytes in, inside the
-        // buffer, and the same bytes are taken off the counter's byte count.
+        // SAFETY: `raw` is recording inside a rendering scope with a pipeline and this
+        // vertex buffer bound (from `skipped`, inside the buffer); the counter has
+        // INDIRECT_BUFFER usage and its byte count was made visible to indirect reads
+        // (`finish_captures`).
         unsafe {
             (cmd.ctx.xfb.fp().cmd_draw_indirect_byte_count_ext)(
                 cmd.raw,
-                1,
+                instances,
                 0,
                 self.counter.raw(),
                 0,
