@@ -5,10 +5,10 @@
 //! (`ring_growth.glsl`, `EMIT_FROZEN`). On lavapipe a speleothem's cost is its
 //! triangles (set up one by one on the submitting thread) more than its pixels, and in
 //! the grow viewer most of them are a few pixels across. This index over the captured
-//! vertices draws each speleothem either as its own triangles (every vertex the
-//! capture repeats drawn once: the same picture, fewer vertices shaded) or with every
-//! second (fourth...) segment of each ring, where the polygon that leaves lies within a
-//! fraction of a pixel of the full one (`segment_step`).
+//! vertices gives each speleothem either as its own triangles, as captured, or with
+//! every second (fourth...) segment of each ring, where the polygon that leaves lies
+//! within a fraction of a pixel of the full one (`segment_step`); the renderer draws
+//! its triangles (`render::speleothem_lod`).
 //!
 //! Rings are found from the captured data, not from a copy of the shader's layout: a
 //! frozen vertex keeps its speleothem (`normal_sp.w`), its segment (`extra.x`) and an

@@ -67,9 +67,9 @@ struct ViewGrowArgs {
     every: u32,
     /// Far speleothems with fewer segments: with the append-only growth, each
     /// speleothem is drawn with every 2nd or 4th segment where that polygon stays
-    /// within this many pixels of the full one (an index over the captured vertices;
-    /// every captured vertex is shaded once either way), 0..=4 pixels, 0: the capture
-    /// as it is, as `sediment grow` draws it (default 0.5).
+    /// within this many pixels of the full one (the captured vertices, redrawn; on
+    /// Fig. 9g about half the triangles), 0..=4 pixels, 0: the capture as it is, as
+    /// `sediment grow` draws it (default 0.5).
     #[arg(long, value_name = "PIXELS", default_value_t = sediment::render::speleothem_lod::DEFAULT_MAX_ERROR_PX)]
     speleothem_lod: f32,
     /// On exit, the grown mesh as .glb (glTF 2.0 binary) or .obj (+ .mtl), as `sediment
