@@ -89,7 +89,7 @@ fn far_speleothems_with_fewer_segments_look_the_same_and_stay_closed() {
     // Closed as the capture is: every edge the simplified surface leaves open lies on
     // an edge of the capture's own open rings (its base in the rock, its last ring
     // where the front joins), and each speleothem faces out as its capture does.
-    let open_rings: std::collections::HashSet<(usize, [i64; 3])> = open_edges(&captured)
+    let open_rings: std::collections::HashSet<(usize, [i64; 3])> = open_edges(captured)
         .into_iter()
         .flat_map(|(s, a, b)| [(s, a), (s, b)])
         .collect();
@@ -108,7 +108,7 @@ fn far_speleothems_with_fewer_segments_look_the_same_and_stay_closed() {
         .filter(|v| v.id() == 0.0)
         .map(|v| (v.speleothem(), at(v)))
         .collect();
-    for (s, a, b) in open_edges(&captured) {
+    for (s, a, b) in open_edges(captured) {
         if !(base.contains(&(s, a)) && base.contains(&(s, b))) {
             assert!(
                 drawn_open.contains(&(s, a, b)),
@@ -131,7 +131,7 @@ fn far_speleothems_with_fewer_segments_look_the_same_and_stay_closed() {
         }
         out
     };
-    let (was, now) = (facing(&captured), facing(&drawn));
+    let (was, now) = (facing(captured), facing(&drawn));
     for (s, &(out_now, in_now)) in &now {
         let (out_was, in_was) = was.get(s).copied().unwrap_or_default();
         assert_eq!(

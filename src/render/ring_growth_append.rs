@@ -124,7 +124,7 @@ impl Growth for AppendGrowth {
 
     fn counts(&self) -> Result<GrowthCounts> {
         let counts = self.check_counts()?;
-        let frozen: u64 = counts.iter().map(|(f, _)| f.written * 3).sum();
+        let frozen = frozen_of(&counts);
         Ok(GrowthCounts {
             vertices: match counts.last() {
                 Some((_, front)) => frozen + front.written * 3,
@@ -139,14 +139,7 @@ impl Growth for AppendGrowth {
     }
 
     fn frozen_vertices(&self) -> Result<u64> {
-        if self.core.passes_done == 0 {
-            return Ok(0);
-        }
-        Ok(self
-            .check_counts()?
-            .iter()
-            .map(|(f, _)| f.written * 3)
-            .sum())
+        Ok(frozen_of(&self.check_counts()?))
     }
 
     fn source(&self) -> MeshSource<'_> {
@@ -176,4 +169,9 @@ impl Growth for AppendGrowth {
         mesh.extend(self.front(done - 1).read_back::<RingVertex>(ctx)?);
         Ok(mesh)
     }
+}
+
+/// Vertices frozen over the passes of `counts` (each pass's (frozen, front) counts).
+fn frozen_of(counts: &[(StreamCounts, StreamCounts)]) -> u64 {
+    counts.iter().map(|(f, _)| f.written * 3).sum()
 }

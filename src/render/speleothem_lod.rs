@@ -157,17 +157,9 @@ impl CaptureLod {
         Ok(())
     }
 
-    /// Triangles drawn for the vertices taken in (the capture's own count where no
-    /// segment is skipped).
-    pub fn triangles(&self) -> usize {
-        self.drawn.iter().map(|d| d.part.indices.len() / 3).sum()
-    }
-
-    /// The vertices taken in from the capture, three a triangle, as captured.
-    pub fn captured(&self) -> Vec<RingVertex> {
-        (0..self.covered)
-            .filter_map(|i| self.index.vertex(i).copied())
-            .collect()
+    /// The vertices the parts cover, three a triangle, as captured.
+    pub fn captured(&self) -> &[RingVertex] {
+        &self.index.captured()[..self.covered as usize]
     }
 
     /// The triangles drawn for them, three vertices each, nearest speleothem first.

@@ -92,6 +92,11 @@ impl CaptureIndex {
         self.captured.get(i as usize)
     }
 
+    /// Every vertex taken in, as captured.
+    pub fn captured(&self) -> &[RingVertex] {
+        &self.captured
+    }
+
     /// Speleothems seen so far (the highest index + 1).
     pub fn speleothems(&self) -> usize {
         self.speleothems.len()
@@ -171,10 +176,8 @@ impl CaptureIndex {
         if part.asked != step || wants_retry {
             let flip = (step > 1).then(|| self.winding(s, step)).flatten();
             let drawn = if flip.is_some() { step } else { 1 };
-            if part.asked == step && drawn == part.drawn {
-                // Still not simplifiable: carry on with its own triangles.
-                part.rings = rings_now;
-            } else {
+            // Asked again and still not simplifiable: carry on with its own triangles.
+            if part.asked != step || drawn != part.drawn {
                 *part = Part {
                     asked: step,
                     drawn,
