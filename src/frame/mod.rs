@@ -11,6 +11,7 @@
 //!     -> FrameRunner (target, timers, warm-up, repeats, read-back) -> outputs (export)
 //! ```
 
+pub mod layer_cache;
 mod runner;
 pub mod supersample;
 pub mod temporal;

@@ -57,6 +57,23 @@ pub fn sample_offset(k: u64) -> Vec2 {
     Vec2::new(f32::from(cell % 4), f32::from(cell / 4)) * 0.25 + Vec2::splat(0.125 - 0.5)
 }
 
+/// The sample positions a still camera cycles through.
+pub const SAMPLES: u64 = ORDER.len() as u64;
+
+/// Frame `k`'s sample: its offset in normalized device coordinates of a frame of
+/// `size`, its textures filtered over a quarter of the pixel's side (the 4x4 grid's
+/// cell).
+pub fn sample_jitter(k: u64, size: Size) -> Jitter {
+    let pixel = sample_offset(k);
+    Jitter {
+        offset: Vec2::new(
+            2.0 * pixel.x / size.width as f32,
+            2.0 * pixel.y / size.height as f32,
+        ),
+        lod_bias: LOD_BIAS,
+    }
+}
+
 /// The resolve, its output and the two histories it alternates between, for frames
 /// drawn into one sampled target.
 pub struct Temporal {
@@ -174,14 +191,7 @@ impl Temporal {
     /// frame of `size`, its textures filtered over a quarter of the pixel's side (the
     /// 4x4 grid's cell).
     pub fn jitter(&self, size: Size) -> Jitter {
-        let pixel = sample_offset(self.frame);
-        Jitter {
-            offset: Vec2::new(
-                2.0 * pixel.x / size.width as f32,
-                2.0 * pixel.y / size.height as f32,
-            ),
-            lod_bias: LOD_BIAS,
-        }
+        sample_jitter(self.frame, size)
     }
 
     /// The next frame's view-projection without jitter (what the history is

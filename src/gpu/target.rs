@@ -9,6 +9,19 @@ use super::barrier::{self, ImageTransition};
 use super::{Buffer, BufferDesc, Commands, Context, Image, ImageDesc};
 use crate::error::{Error, Result};
 
+/// Read by copies.
+const TRANSFER_READ: barrier::LayoutScope = (
+    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    vk::PipelineStageFlags2::ALL_TRANSFER,
+    vk::AccessFlags2::TRANSFER_READ,
+);
+/// Written by copies.
+const TRANSFER_WRITTEN: barrier::LayoutScope = (
+    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    vk::PipelineStageFlags2::ALL_TRANSFER,
+    vk::AccessFlags2::TRANSFER_WRITE,
+);
+
 /// sRGB colour: shaders write linear values and the hardware encodes them, so the PNG
 /// bytes read back are display-ready.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -146,6 +159,11 @@ impl OffscreenTarget {
         Self::make(ctx, width, height, format, true)
     }
 
+    /// A target of this one's size, format and kind (its depth kept or not).
+    pub fn like(&self, ctx: &Arc<Context>) -> Result<Self> {
+        Self::make(ctx, self.width, self.height, self.format, self.sampled)
+    }
+
     fn make(
         ctx: &Arc<Context>,
         width: u32,
@@ -174,7 +192,10 @@ impl OffscreenTarget {
                 width,
                 height,
                 format.color,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC | read,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT
+                    | vk::ImageUsageFlags::TRANSFER_SRC
+                    | vk::ImageUsageFlags::TRANSFER_DST
+                    | read,
             ),
         )?;
         let samples = if multisampled {
@@ -200,7 +221,10 @@ impl OffscreenTarget {
                 width,
                 height,
                 format.depth,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | read,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                    | vk::ImageUsageFlags::TRANSFER_SRC
+                    | vk::ImageUsageFlags::TRANSFER_DST
+                    | read,
             )
             .samples(format.samples),
         )?;
@@ -377,6 +401,131 @@ impl OffscreenTarget {
         // layouts named above.
         unsafe { cmd.ctx.device.cmd_begin_rendering(cmd.raw, &info) };
         cmd.set_viewport(self.width, self.height);
+    }
+
+    /// Whether colour and depth can be copied between targets and drawn over
+    /// (`hold_for_copies`, `copy_attachments_from`, `begin_loaded`): a single-sampled
+    /// target that keeps its depth (made with `sampled`).
+    pub fn copies_attachments(&self) -> bool {
+        self.samples.is_none() && self.sampled
+    }
+
+    /// Opens a rendering scope over what colour and depth hold (loaded, not cleared):
+    /// after `copy_attachments_from`. Only where `copies_attachments`.
+    pub fn begin_loaded(&self, cmd: &Commands<'_>) {
+        let color_attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(self.color.view())
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(self.depth.view())
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE);
+        let info = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D { x: 0, y: 0 },
+                extent: vk::Extent2D {
+                    width: self.width,
+                    height: self.height,
+                },
+            })
+            .layer_count(1)
+            .color_attachments(&color_attachment)
+            .depth_attachment(&depth_attachment);
+        // SAFETY: `cmd` is recording outside a rendering scope; the copies before this
+        // left the attachments in the layouts named above.
+        unsafe { cmd.ctx.device.cmd_begin_rendering(cmd.raw, &info) };
+        cmd.set_viewport(self.width, self.height);
+    }
+
+    /// After `end`: leaves colour and depth to be copied from (`copy_attachments_from`
+    /// on another target) until the next `begin`. Only where `copies_attachments`.
+    pub fn hold_for_copies(&self, cmd: &Commands<'_>) {
+        let (color_written, depth_written) = self.attachment_scopes();
+        barrier::images(
+            cmd.ctx,
+            cmd.raw,
+            &[
+                ImageTransition::whole(&self.color, color_written, TRANSFER_READ),
+                ImageTransition::whole(&self.depth, depth_written, TRANSFER_READ),
+            ],
+        );
+    }
+
+    /// Replaces colour and depth by `from`'s (a target of the same size and format,
+    /// after its `hold_for_copies`), ready for `begin_loaded`. Only where
+    /// `copies_attachments`.
+    pub fn copy_attachments_from(&self, cmd: &Commands<'_>, from: &OffscreenTarget) {
+        let (color_written, depth_written) = self.attachment_scopes();
+        barrier::images(
+            cmd.ctx,
+            cmd.raw,
+            &[
+                ImageTransition::discard_to_transfer_dst(self.color.raw(), self.color.full_range()),
+                ImageTransition::discard_to_transfer_dst(self.depth.raw(), self.depth.full_range()),
+            ],
+        );
+        self.copy(cmd, (&from.color, &self.color), vk::ImageAspectFlags::COLOR);
+        self.copy(cmd, (&from.depth, &self.depth), vk::ImageAspectFlags::DEPTH);
+        barrier::images(
+            cmd.ctx,
+            cmd.raw,
+            &[
+                ImageTransition::whole(&self.color, TRANSFER_WRITTEN, color_written),
+                ImageTransition::whole(&self.depth, TRANSFER_WRITTEN, depth_written),
+            ],
+        );
+    }
+
+    /// The attachments' layouts and scopes inside a rendering scope (read and written).
+    fn attachment_scopes(&self) -> (barrier::LayoutScope, barrier::LayoutScope) {
+        (
+            (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+            (
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                    | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            ),
+        )
+    }
+
+    /// One whole-image copy, `from` in TRANSFER_SRC_OPTIMAL to `to` in
+    /// TRANSFER_DST_OPTIMAL (this target's size).
+    fn copy(&self, cmd: &Commands<'_>, (from, to): (&Image, &Image), aspect: vk::ImageAspectFlags) {
+        let layers = vk::ImageSubresourceLayers {
+            aspect_mask: aspect,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let region = [vk::ImageCopy::default()
+            .src_subresource(layers)
+            .dst_subresource(layers)
+            .extent(vk::Extent3D {
+                width: self.width,
+                height: self.height,
+                depth: 1,
+            })];
+        // SAFETY: recording outside a rendering scope; both images have this target's
+        // size and format and the transfer usages, in the layouts named.
+        unsafe {
+            cmd.ctx.device.cmd_copy_image(
+                cmd.raw,
+                from.raw(),
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                to.raw(),
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &region,
+            )
+        };
     }
 
     /// Closes the rendering scope opened by `begin`.

@@ -28,7 +28,7 @@ unsafe impl Pod for LitVertex {}
 
 /// `Frame` uniform block (set 0, binding 0) of the lit-mesh shaders.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameUniforms {
     /// World to clip space.
     pub view_proj: Mat4,
@@ -157,6 +157,20 @@ impl GpuMesh {
     }
 }
 
+/// A camera and lights of their own for `LitMeshPass::draw_from` (made by
+/// `LitMeshPass::frame_slot`).
+pub struct FrameSlot {
+    set: DescriptorSet,
+    buffer: Buffer,
+}
+
+impl FrameSlot {
+    /// Sets the camera and lights for the next submission's draws from this slot.
+    pub fn set_frame(&mut self, frame: &FrameUniforms) -> Result<()> {
+        self.buffer.write(0, std::slice::from_ref(frame))
+    }
+}
+
 /// Pipeline, layout and per-frame uniforms of the lit-mesh pass.
 pub struct LitMeshPass {
     frame_set: DescriptorSet,
@@ -246,9 +260,46 @@ impl LitMeshPass {
         self.frame_buffer.write(0, std::slice::from_ref(frame))
     }
 
+    /// Uniforms of their own for draws through this pass (`draw_from`): a camera and
+    /// lights beside `set_frame`'s, e.g. for a layer kept per camera sample.
+    pub fn frame_slot(&self, name: &str) -> Result<FrameSlot> {
+        let buffer = Buffer::new(
+            &self.ctx,
+            name,
+            crate::gpu::BufferDesc::upload(
+                size_of::<FrameUniforms>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+        )?;
+        let set = self.layout.allocate_set(name, 0)?;
+        set.write_buffer(FRAME_BINDING.binding, &buffer)?;
+        Ok(FrameSlot { set, buffer })
+    }
+
+    /// `draw` with `slot`'s camera and lights.
+    pub fn draw_from(
+        &self,
+        cmd: &Commands<'_>,
+        slot: &FrameSlot,
+        mesh: &GpuMesh,
+        object: &ObjectPush,
+    ) -> Result<()> {
+        self.draw_in(cmd, &slot.set, mesh, object)
+    }
+
     /// Draws `mesh` inside an open rendering scope.
     pub fn draw(&self, cmd: &Commands<'_>, mesh: &GpuMesh, object: &ObjectPush) -> Result<()> {
-        cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.frame_set]);
+        self.draw_in(cmd, &self.frame_set, mesh, object)
+    }
+
+    fn draw_in(
+        &self,
+        cmd: &Commands<'_>,
+        set: &DescriptorSet,
+        mesh: &GpuMesh,
+        object: &ObjectPush,
+    ) -> Result<()> {
+        cmd.bind_pipeline(&self.pipeline, &self.layout, &[set]);
         cmd.push_constants(&self.layout, object)?;
         mesh.record_draw(cmd);
         Ok(())

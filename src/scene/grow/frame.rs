@@ -21,6 +21,8 @@ use super::{
 };
 use crate::error::Result;
 use crate::export::asset::{Asset, Material, PartMesh};
+use crate::frame::layer_cache::{self, LayerCache};
+use crate::frame::temporal;
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::model::mesh::Mesh;
@@ -32,7 +34,7 @@ use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
-use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
+use crate::render::lit_mesh::{FrameSlot, FrameUniforms, GpuMesh, LitMeshPass, ObjectPush};
 use crate::render::speleothem_lod::CaptureLod;
 use crate::render::speleothem_surface::{SpeleothemSurfacePass, speleothem_info};
 use crate::scene::Size;
@@ -46,6 +48,10 @@ const ROCK: ObjectPush = ObjectPush {
     material: Vec4::new(12.0, 0.05, 0.0, 0.0),
 };
 const CLEAR: [f32; 4] = [0.004, 0.0035, 0.003, 1.0];
+/// Camera samples of a still camera's rock kept per frame beside the frame's own
+/// (`Chamber::begin_frame`): all 16 within five frames, each such frame drawing the
+/// rock up to four times.
+const KEPT_PER_FRAME: u32 = 3;
 
 /// Rock surfaces of the chamber: the floor rises and the ceiling hangs a little, so the
 /// speleothem bases sink into them.
@@ -74,6 +80,20 @@ fn chamber_meshes(scene: &GrowthScene) -> (Mesh, Mesh) {
 /// the environment map).
 struct Chamber {
     rock: LitMeshPass,
+    /// The rock drawn once per camera sample while the camera stands still, and
+    /// copied into the frames.
+    kept: LayerCache,
+    /// The kept rock's camera and lights, one per `LayerCache` slot.
+    kept_frames: Vec<FrameSlot>,
+    /// The frame being drawn: the rock's uniforms, the target's aspect.
+    uniforms: FrameUniforms,
+    aspect: f32,
+    /// The camera stood still since the last frame (its sample aside).
+    still: bool,
+    /// The last frame's camera without its sample's jitter.
+    last_camera: Option<Camera>,
+    /// Times the rock was drawn (into a frame or a kept target).
+    rock_draws: u64,
     floor: GpuMesh,
     ceiling: GpuMesh,
     lamp: GpuMesh,
@@ -87,13 +107,84 @@ impl Chamber {
         let (floor, ceiling) = chamber_meshes(scene);
         let lamp_radius = 0.04 * (scene.ceiling_y - scene.floor_y);
         let at = lamp_lighting(scene, &Look::default()).sun_direction;
+        let rock = LitMeshPass::new(ctx, ctx.frame_format(), tone)?;
         Ok(Self {
-            rock: LitMeshPass::new(ctx, ctx.frame_format(), tone)?,
+            kept: LayerCache::new(ctx),
+            kept_frames: (0..layer_cache::SLOTS)
+                .map(|i| rock.frame_slot(&format!("kept rock frame {i}")))
+                .collect::<Result<_>>()?,
+            uniforms: FrameUniforms::default(),
+            aspect: 1.0,
+            still: false,
+            last_camera: None,
+            rock_draws: 0,
+            rock,
             floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
             ceiling: GpuMesh::upload(ctx, "cave ceiling", &ceiling)?,
             lamp: GpuMesh::upload(ctx, "lamp", &Mesh::sphere(at, lamp_radius, 8))?,
             lamp_radius,
         })
+    }
+
+    /// Opens the frame's rendering scope in `target` with the rock in it: copied from
+    /// the rock kept for this camera sample where the camera stands still under
+    /// temporal anti-aliasing (drawing it, and up to `KEPT_PER_FRAME` of the samples
+    /// still missing, into kept targets first), else drawn.
+    fn begin_frame(
+        &mut self,
+        cmd: &Commands<'_>,
+        target: &OffscreenTarget,
+        camera: Option<&Camera>,
+        lighting: &Lighting,
+    ) -> Result<()> {
+        let camera = camera
+            .filter(|c| self.still && c.jitter != Jitter::default() && LayerCache::serves(target));
+        if let Some(camera) = camera {
+            let key = |frame: &FrameUniforms| {
+                let mut key = crate::gpu::as_bytes(std::slice::from_ref(frame)).to_vec();
+                key.extend_from_slice(lighting.tonemap.to_string().as_bytes());
+                key
+            };
+            let size = Size::new(target.width(), target.height());
+            let samples = (0..temporal::SAMPLES).map(|k| {
+                let sample = Camera {
+                    jitter: temporal::sample_jitter(k, size),
+                    ..camera.clone()
+                };
+                lighting.frame_uniforms(&sample, self.aspect)
+            });
+            let now = key(&self.uniforms);
+            let mut budget = 1 + KEPT_PER_FRAME;
+            for frame in std::iter::once(self.uniforms).chain(samples) {
+                let k = key(&frame);
+                if budget == 0 || self.kept.holds(target, &k) {
+                    continue;
+                }
+                let Self {
+                    rock,
+                    kept_frames,
+                    floor,
+                    ceiling,
+                    ..
+                } = self;
+                self.kept.keep(cmd, target, &k, CLEAR, |cmd, slot| {
+                    let slot = &mut kept_frames[slot];
+                    slot.set_frame(&frame)?;
+                    rock.draw_from(cmd, slot, floor, &ROCK)?;
+                    rock.draw_from(cmd, slot, ceiling, &ROCK)
+                })?;
+                self.rock_draws += 1;
+                budget -= 1;
+            }
+            if self.kept.begin_from(cmd, target, &now) {
+                return Ok(());
+            }
+        }
+        target.begin(cmd, CLEAR);
+        self.rock.draw(cmd, &self.floor, &ROCK)?;
+        self.rock.draw(cmd, &self.ceiling, &ROCK)?;
+        self.rock_draws += 1;
+        Ok(())
     }
 
     /// Renders the chamber — floor, ceiling, the lamp — into `env` from the middle of
@@ -295,6 +386,12 @@ impl GrowthFrame {
             chamber.render_environment(ctx, &mut self.environment, &self.scene, &lighting)?;
         }
         Ok(())
+    }
+
+    /// Times the chamber's rock was drawn, into a frame or into the targets kept per
+    /// camera sample while the camera stands still (`frame::layer_cache`).
+    pub fn rock_draws(&self) -> u64 {
+        self.chamber.as_ref().map_or(0, |c| c.rock_draws)
     }
 
     /// Draws the append-only capture through an index that gives each speleothem as
@@ -536,6 +633,14 @@ impl Scene for GrowthFrame {
         if let Some(c) = &mut self.chamber {
             c.rock.set_tone_map(lighting.tonemap)?;
             c.rock.set_frame(&frame)?;
+            c.uniforms = frame;
+            c.aspect = aspect;
+            let unjittered = Camera {
+                jitter: Jitter::default(),
+                ..camera.clone()
+            };
+            c.still = c.last_camera.as_ref() == Some(&unjittered);
+            c.last_camera = Some(unjittered);
         }
         self.surface.set_tone_map(lighting.tonemap)?;
         self.surface
@@ -567,10 +672,10 @@ impl Scene for GrowthFrame {
             self.cpu_ms = t.elapsed().as_secs_f64() * 1e3;
         }
         let span = timer.begin(cmd, "shading")?;
-        target.begin(cmd, CLEAR);
-        if let Some(c) = &self.chamber {
-            c.rock.draw(cmd, &c.floor, &ROCK)?;
-            c.rock.draw(cmd, &c.ceiling, &ROCK)?;
+        let lighting = self.lighting();
+        match &mut self.chamber {
+            Some(c) => c.begin_frame(cmd, target, self.camera.as_ref(), &lighting)?,
+            None => target.begin(cmd, CLEAR),
         }
         self.surface
             .draw_with(cmd, self.growth.source(), self.lod.as_ref())?;
