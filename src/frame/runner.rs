@@ -160,7 +160,7 @@ impl FrameRunner {
         }
         let shown = self.shown();
         if read_back {
-            shown.copy_out(cmd);
+            shown.copy_out(cmd)?;
         } else {
             shown.finish_for_transfer(cmd);
         }

@@ -118,7 +118,8 @@ fn texel_bytes(format: vk::Format) -> u64 {
 /// A colour + depth render target, multisampled and resolved into a single-sampled
 /// colour image, with a host-visible readback buffer.
 pub struct OffscreenTarget {
-    readback: Buffer,
+    /// `None` for a layer made by `like` (never read back).
+    readback: Option<Buffer>,
     depth: Image,
     /// The multisampled colour attachment (`None` with one sample: `color` is drawn).
     samples: Option<Image>,
@@ -146,7 +147,7 @@ impl OffscreenTarget {
         height: u32,
         format: TargetFormat,
     ) -> Result<Self> {
-        Self::make(ctx, width, height, format, false)
+        Self::make(ctx, width, height, format, false, true)
     }
 
     /// A single-sampled target of the context's colour and depth formats whose colour
@@ -156,12 +157,21 @@ impl OffscreenTarget {
             samples: vk::SampleCountFlags::TYPE_1,
             ..ctx.frame_format()
         };
-        Self::make(ctx, width, height, format, true)
+        Self::make(ctx, width, height, format, true, true)
     }
 
-    /// A target of this one's size, format and kind (its depth kept or not).
+    /// A target of this one's size, format and kind (its depth kept or not) to draw a
+    /// layer into and copy from (`hold_for_copies`), not to read back: it has no
+    /// readback buffer (`copy_out` and `read_image` fail).
     pub fn like(&self, ctx: &Arc<Context>) -> Result<Self> {
-        Self::make(ctx, self.width, self.height, self.format, self.sampled)
+        Self::make(
+            ctx,
+            self.width,
+            self.height,
+            self.format,
+            self.sampled,
+            false,
+        )
     }
 
     fn make(
@@ -170,6 +180,7 @@ impl OffscreenTarget {
         height: u32,
         format: TargetFormat,
         sampled: bool,
+        read_back: bool,
     ) -> Result<Self> {
         let read = if sampled {
             vk::ImageUsageFlags::SAMPLED
@@ -229,14 +240,18 @@ impl OffscreenTarget {
             .samples(format.samples),
         )?;
         let texel = texel_bytes(format.color);
-        let readback = Buffer::new(
-            ctx,
-            "offscreen readback",
-            BufferDesc::readback(
-                u64::from(width) * u64::from(height) * texel,
-                vk::BufferUsageFlags::TRANSFER_DST,
-            ),
-        )?;
+        let readback = if read_back {
+            Some(Buffer::new(
+                ctx,
+                "offscreen readback",
+                BufferDesc::readback(
+                    u64::from(width) * u64::from(height) * texel,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                ),
+            )?)
+        } else {
+            None
+        };
         Ok(Self {
             readback,
             depth,
@@ -589,7 +604,8 @@ impl OffscreenTarget {
     }
 
     /// Copies the colour image into the readback buffer (after `end`).
-    pub fn copy_out(&self, cmd: &Commands<'_>) {
+    pub fn copy_out(&self, cmd: &Commands<'_>) -> Result<()> {
+        let readback = self.readback()?;
         self.to_transfer_src(cmd);
         let region = [super::image::color_copy_region(self.width, self.height)];
         // SAFETY: the image is in TRANSFER_SRC_OPTIMAL and the buffer holds W*H*4 bytes.
@@ -598,7 +614,7 @@ impl OffscreenTarget {
                 cmd.raw,
                 self.color.raw(),
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                self.readback.raw(),
+                readback.raw(),
                 &region,
             )
         };
@@ -611,6 +627,7 @@ impl OffscreenTarget {
             ),
             (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
         );
+        Ok(())
     }
 
     fn to_transfer_src(&self, cmd: &Commands<'_>) {
@@ -635,9 +652,15 @@ impl OffscreenTarget {
         );
     }
 
+    fn readback(&self) -> Result<&Buffer> {
+        self.readback
+            .as_ref()
+            .ok_or_else(|| Error::internal("readback", "a layer target (`like`) is not read back"))
+    }
+
     /// The frame copied by the last `copy_out` (after its submission finished).
     pub fn read_image(&self) -> Result<image::RgbaImage> {
-        let mut bytes = self.readback.mapped()?.to_vec();
+        let mut bytes = self.readback()?.mapped()?.to_vec();
         match self.format.color {
             COLOR_FORMAT => {}
             // A window's order (a viewer's frame resolved for its swapchain).
