@@ -272,6 +272,45 @@ impl Commands<'_> {
         self.set_viewport(width, height);
     }
 
+    /// Copies mip level 0, layer 0 of `from` (TRANSFER_SRC_OPTIMAL) into the same of
+    /// `to` (TRANSFER_DST_OPTIMAL), `width` x `height` texels of `aspect`; the two
+    /// images share a format (or a compatible one) and have the transfer usages.
+    pub fn copy_whole_image(
+        &self,
+        from: vk::Image,
+        to: vk::Image,
+        aspect: vk::ImageAspectFlags,
+        width: u32,
+        height: u32,
+    ) {
+        let layers = vk::ImageSubresourceLayers {
+            aspect_mask: aspect,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let region = [vk::ImageCopy::default()
+            .src_subresource(layers)
+            .dst_subresource(layers)
+            .extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            })];
+        // SAFETY: recording outside a rendering scope; the caller keeps both images
+        // alive, in the layouts named, with the usages and formats documented above.
+        unsafe {
+            self.ctx.device.cmd_copy_image(
+                self.raw,
+                from,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                to,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &region,
+            )
+        };
+    }
+
     /// Ends the dynamic-rendering scope begun on this command buffer.
     pub fn end_rendering(&self) {
         // SAFETY: a rendering scope begun on `raw` is open.

@@ -362,25 +362,13 @@ impl Commands<'_> {
         if target.format().color == dst_format
             && (target.width(), target.height()) == (width, height)
         {
-            let region = [vk::ImageCopy::default()
-                .src_subresource(layers)
-                .dst_subresource(layers)
-                .extent(vk::Extent3D {
-                    width,
-                    height,
-                    depth: 1,
-                })];
-            // SAFETY: as for the blit below; the two images have one format and size.
-            unsafe {
-                self.ctx.device.cmd_copy_image(
-                    self.raw,
-                    target.color_image(),
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    dst,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &region,
-                )
-            };
+            self.copy_whole_image(
+                target.color_image(),
+                dst,
+                vk::ImageAspectFlags::COLOR,
+                width,
+                height,
+            );
             return;
         }
         let corner = |w: u32, h: u32| vk::Offset3D {

@@ -401,6 +401,17 @@ impl OffscreenTarget {
                     stencil: 0,
                 },
             });
+        self.open_scope(cmd, &color_attachment, &depth_attachment);
+    }
+
+    /// Begins dynamic rendering over the whole target into these attachments (in
+    /// the layouts they name).
+    fn open_scope(
+        &self,
+        cmd: &Commands<'_>,
+        color: &[vk::RenderingAttachmentInfo<'_>],
+        depth: &vk::RenderingAttachmentInfo<'_>,
+    ) {
         let info = vk::RenderingInfo::default()
             .render_area(vk::Rect2D {
                 offset: vk::Offset2D { x: 0, y: 0 },
@@ -410,10 +421,10 @@ impl OffscreenTarget {
                 },
             })
             .layer_count(1)
-            .color_attachments(&color_attachment)
-            .depth_attachment(&depth_attachment);
-        // SAFETY: `cmd` is recording outside a rendering scope; attachments are in the
-        // layouts named above.
+            .color_attachments(color)
+            .depth_attachment(depth);
+        // SAFETY: `cmd` is recording outside a rendering scope; the callers put the
+        // attachments in the layouts they name.
         unsafe { cmd.ctx.device.cmd_begin_rendering(cmd.raw, &info) };
         cmd.set_viewport(self.width, self.height);
     }
@@ -438,21 +449,7 @@ impl OffscreenTarget {
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::LOAD)
             .store_op(vk::AttachmentStoreOp::STORE);
-        let info = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D {
-                offset: vk::Offset2D { x: 0, y: 0 },
-                extent: vk::Extent2D {
-                    width: self.width,
-                    height: self.height,
-                },
-            })
-            .layer_count(1)
-            .color_attachments(&color_attachment)
-            .depth_attachment(&depth_attachment);
-        // SAFETY: `cmd` is recording outside a rendering scope; the copies before this
-        // left the attachments in the layouts named above.
-        unsafe { cmd.ctx.device.cmd_begin_rendering(cmd.raw, &info) };
-        cmd.set_viewport(self.width, self.height);
+        self.open_scope(cmd, &color_attachment, &depth_attachment);
     }
 
     /// After `end`: leaves colour and depth to be copied from (`copy_attachments_from`
@@ -515,32 +512,7 @@ impl OffscreenTarget {
     /// One whole-image copy, `from` in TRANSFER_SRC_OPTIMAL to `to` in
     /// TRANSFER_DST_OPTIMAL (this target's size).
     fn copy(&self, cmd: &Commands<'_>, (from, to): (&Image, &Image), aspect: vk::ImageAspectFlags) {
-        let layers = vk::ImageSubresourceLayers {
-            aspect_mask: aspect,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let region = [vk::ImageCopy::default()
-            .src_subresource(layers)
-            .dst_subresource(layers)
-            .extent(vk::Extent3D {
-                width: self.width,
-                height: self.height,
-                depth: 1,
-            })];
-        // SAFETY: recording outside a rendering scope; both images have this target's
-        // size and format and the transfer usages, in the layouts named.
-        unsafe {
-            cmd.ctx.device.cmd_copy_image(
-                cmd.raw,
-                from.raw(),
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                to.raw(),
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &region,
-            )
-        };
+        cmd.copy_whole_image(from.raw(), to.raw(), aspect, self.width, self.height);
     }
 
     /// Closes the rendering scope opened by `begin`.
