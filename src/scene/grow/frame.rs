@@ -601,10 +601,12 @@ fn cycle<T: Copy + PartialEq>(all: &[T], now: T) -> T {
     all[(i + 1) % all.len()]
 }
 
-/// The pass-time samples around ring `k` (five passes), for the bench.
+/// The pass-time samples around ring `k` (nine passes), for the bench. (Five gave
+/// ring 128's pass over ring 8's anywhere in 0.73-1.47 across runs of one build on
+/// this machine, each pass 2-4 ms: too few samples for a median.)
 fn around(pass_ms: &[f64], k: u32) -> &[f64] {
-    let lo = (k as usize).saturating_sub(2);
-    let hi = (k as usize + 2).min(pass_ms.len().saturating_sub(1));
+    let lo = (k as usize).saturating_sub(4);
+    let hi = (k as usize + 4).min(pass_ms.len().saturating_sub(1));
     pass_ms.get(lo..=hi).unwrap_or(&[])
 }
 
