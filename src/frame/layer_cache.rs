@@ -39,7 +39,6 @@ pub struct LayerCache {
     /// The targets the slots were made for.
     made_for: Option<(u32, u32, TargetFormat)>,
     clock: u64,
-    drawn: u64,
 }
 
 impl LayerCache {
@@ -50,7 +49,6 @@ impl LayerCache {
             slots: Vec::new(),
             made_for: None,
             clock: 0,
-            drawn: 0,
         }
     }
 
@@ -105,7 +103,6 @@ impl LayerCache {
         slot.layer.hold_for_copies(cmd);
         slot.key = key.to_vec();
         slot.used = self.clock;
-        self.drawn += 1;
         Ok(())
     }
 
@@ -124,11 +121,6 @@ impl LayerCache {
         target.copy_attachments_from(cmd, &slot.layer);
         target.begin_loaded(cmd);
         true
-    }
-
-    /// Layers drawn into kept targets so far.
-    pub fn drawn(&self) -> u64 {
-        self.drawn
     }
 }
 

@@ -28,7 +28,7 @@ unsafe impl Pod for LitVertex {}
 
 /// `Frame` uniform block (set 0, binding 0) of the lit-mesh shaders.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameUniforms {
     /// World to clip space.
     pub view_proj: Mat4,

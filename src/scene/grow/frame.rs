@@ -85,8 +85,8 @@ struct Chamber {
     kept: LayerCache,
     /// The kept rock's camera and lights, one per `LayerCache` slot.
     kept_frames: Vec<FrameSlot>,
-    /// The frame being drawn: the rock's uniforms, the target's aspect.
-    uniforms: FrameUniforms,
+    /// The frame being drawn: its lighting, the target's aspect.
+    lighting: Lighting,
     aspect: f32,
     /// The camera stood still since the last frame (its sample aside).
     still: bool,
@@ -106,14 +106,15 @@ impl Chamber {
     fn new(ctx: &Arc<Context>, scene: &GrowthScene, tone: ToneMap) -> Result<Self> {
         let (floor, ceiling) = chamber_meshes(scene);
         let lamp_radius = 0.04 * (scene.ceiling_y - scene.floor_y);
-        let at = lamp_lighting(scene, &Look::default()).sun_direction;
+        let lighting = lamp_lighting(scene, &Look::default());
+        let at = lighting.sun_direction;
         let rock = LitMeshPass::new(ctx, ctx.frame_format(), tone)?;
         Ok(Self {
             kept: LayerCache::new(ctx),
             kept_frames: (0..layer_cache::SLOTS)
                 .map(|i| rock.frame_slot(&format!("kept rock frame {i}")))
                 .collect::<Result<_>>()?,
-            uniforms: FrameUniforms::default(),
+            lighting,
             aspect: 1.0,
             still: false,
             last_camera: None,
@@ -135,11 +136,11 @@ impl Chamber {
         cmd: &Commands<'_>,
         target: &OffscreenTarget,
         camera: Option<&Camera>,
-        lighting: &Lighting,
     ) -> Result<()> {
         let camera = camera
             .filter(|c| self.still && c.jitter != Jitter::default() && LayerCache::serves(target));
         if let Some(camera) = camera {
+            let lighting = &self.lighting;
             let key = |frame: &FrameUniforms| {
                 let mut key = crate::gpu::as_bytes(std::slice::from_ref(frame)).to_vec();
                 key.extend_from_slice(lighting.tonemap.to_string().as_bytes());
@@ -153,9 +154,10 @@ impl Chamber {
                 };
                 lighting.frame_uniforms(&sample, self.aspect)
             });
-            let now = key(&self.uniforms);
+            let current = lighting.frame_uniforms(camera, self.aspect);
+            let now = key(&current);
             let mut budget = 1 + KEPT_PER_FRAME;
-            for frame in std::iter::once(self.uniforms).chain(samples) {
+            for frame in std::iter::once(current).chain(samples) {
                 let k = key(&frame);
                 if budget == 0 || self.kept.holds(target, &k) {
                     continue;
@@ -635,7 +637,7 @@ impl Scene for GrowthFrame {
         if let Some(c) = &mut self.chamber {
             c.rock.set_tone_map(lighting.tonemap)?;
             c.rock.set_frame(&frame)?;
-            c.uniforms = frame;
+            c.lighting = lighting.clone();
             c.aspect = aspect;
             let unjittered = Camera {
                 jitter: Jitter::default(),
@@ -674,9 +676,8 @@ impl Scene for GrowthFrame {
             self.cpu_ms = t.elapsed().as_secs_f64() * 1e3;
         }
         let span = timer.begin(cmd, "shading")?;
-        let lighting = self.lighting();
         match &mut self.chamber {
-            Some(c) => c.begin_frame(cmd, target, self.camera.as_ref(), &lighting)?,
+            Some(c) => c.begin_frame(cmd, target, self.camera.as_ref())?,
             None => target.begin(cmd, CLEAR),
         }
         self.surface
