@@ -92,6 +92,19 @@ impl ImageTransition {
         vk::AccessFlags2::SHADER_SAMPLED_READ,
     );
 
+    /// Read by copies and blits.
+    pub const TRANSFER_READ: LayoutScope = (
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_READ,
+    );
+    /// Written by copies and blits.
+    pub const TRANSFER_WRITTEN: LayoutScope = (
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+
     /// Every level and layer of `image` from `from` to `to`.
     pub fn whole(image: &super::Image, from: LayoutScope, to: LayoutScope) -> Self {
         Self {
@@ -109,11 +122,7 @@ impl ImageTransition {
             image,
             range,
             from: Self::DISCARDED,
-            to: (
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                vk::PipelineStageFlags2::ALL_TRANSFER,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            ),
+            to: Self::TRANSFER_WRITTEN,
         }
     }
 }

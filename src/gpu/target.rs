@@ -9,19 +9,6 @@ use super::barrier::{self, ImageTransition};
 use super::{Buffer, BufferDesc, Commands, Context, Image, ImageDesc};
 use crate::error::{Error, Result};
 
-/// Read by copies.
-const TRANSFER_READ: barrier::LayoutScope = (
-    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-    vk::PipelineStageFlags2::ALL_TRANSFER,
-    vk::AccessFlags2::TRANSFER_READ,
-);
-/// Written by copies.
-const TRANSFER_WRITTEN: barrier::LayoutScope = (
-    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-    vk::PipelineStageFlags2::ALL_TRANSFER,
-    vk::AccessFlags2::TRANSFER_WRITE,
-);
-
 /// sRGB colour: shaders write linear values and the hardware encodes them, so the PNG
 /// bytes read back are display-ready.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -460,8 +447,8 @@ impl OffscreenTarget {
             cmd.ctx,
             cmd.raw,
             &[
-                ImageTransition::whole(&self.color, color_written, TRANSFER_READ),
-                ImageTransition::whole(&self.depth, depth_written, TRANSFER_READ),
+                ImageTransition::whole(&self.color, color_written, ImageTransition::TRANSFER_READ),
+                ImageTransition::whole(&self.depth, depth_written, ImageTransition::TRANSFER_READ),
             ],
         );
     }
@@ -485,8 +472,16 @@ impl OffscreenTarget {
             cmd.ctx,
             cmd.raw,
             &[
-                ImageTransition::whole(&self.color, TRANSFER_WRITTEN, color_written),
-                ImageTransition::whole(&self.depth, TRANSFER_WRITTEN, depth_written),
+                ImageTransition::whole(
+                    &self.color,
+                    ImageTransition::TRANSFER_WRITTEN,
+                    color_written,
+                ),
+                ImageTransition::whole(
+                    &self.depth,
+                    ImageTransition::TRANSFER_WRITTEN,
+                    depth_written,
+                ),
             ],
         );
     }
@@ -606,21 +601,11 @@ impl OffscreenTarget {
         barrier::images(
             cmd.ctx,
             cmd.raw,
-            &[ImageTransition {
-                image: self.color.raw(),
-                range: self.color.full_range(),
-                from: (
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                to: (
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    // Copies and blits.
-                    vk::PipelineStageFlags2::ALL_TRANSFER,
-                    vk::AccessFlags2::TRANSFER_READ,
-                ),
-            }],
+            &[ImageTransition::whole(
+                &self.color,
+                ImageTransition::COLOR_WRITTEN,
+                ImageTransition::TRANSFER_READ,
+            )],
         );
     }
 
