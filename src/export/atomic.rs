@@ -15,9 +15,13 @@ fn in_flight() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
         .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
-/// Removes every temporary file being written (from a SIGINT/SIGTERM handler, before
-/// the process exits): an interrupted run leaves no `.NAME.partial-PID` behind.
+/// Removes every temporary file being written (from a SIGINT/SIGTERM handler, just
+/// before the process exits): an interrupted run leaves no `.NAME.partial-PID` behind.
 /// Returns how many were removed.
+///
+/// The list stays locked for the rest of the process: a rename into place takes the
+/// same lock (see `AtomicFile::commit`, `OutputSet::commit`), so a file being renamed
+/// while the interrupt arrives either lands whole before this runs or not at all.
 pub fn remove_in_flight() -> usize {
     let mut list = in_flight();
     let n = list
@@ -25,6 +29,7 @@ pub fn remove_in_flight() -> usize {
         .filter(|p| std::fs::remove_file(p).is_ok())
         .count();
     list.clear();
+    std::mem::forget(list);
     n
 }
 
@@ -71,10 +76,14 @@ impl OutputSet {
             });
         }
         let mut landed = Vec::with_capacity(list.len());
+        // Held over the renames: an interrupt waits for them (or they for it).
+        let mut flying = in_flight();
         for (i, (tmp, target)) in list.iter().enumerate() {
             if let Err(e) = std::fs::rename(tmp, target) {
-                remove_temporaries(&list[i..]);
-                in_flight().retain(|p| !list.iter().any(|(t, _)| t == p));
+                for (tmp, _) in &list[i..] {
+                    let _ = std::fs::remove_file(tmp);
+                }
+                flying.retain(|p| !list.iter().any(|(t, _)| t == p));
                 let written = if landed.is_empty() {
                     "none was written".to_owned()
                 } else {
@@ -94,7 +103,7 @@ impl OutputSet {
             }
             landed.push(target.clone());
         }
-        in_flight().retain(|p| !list.iter().any(|(t, _)| t == p));
+        flying.retain(|p| !list.iter().any(|(t, _)| t == p));
         Ok(landed)
     }
 
@@ -217,8 +226,11 @@ impl AtomicFile {
             return Ok(());
         }
         self.tmp = tmp;
+        // Held over the rename: an interrupt waits for it (or it for the interrupt).
+        let mut flying = in_flight();
         std::fs::rename(&self.tmp, &self.path).map_err(|e| self.io_error(e))?;
-        in_flight().retain(|p| *p != self.tmp);
+        flying.retain(|p| *p != self.tmp);
+        drop(flying);
         // Renamed: nothing for Drop to remove.
         self.tmp = PathBuf::new();
         Ok(())

@@ -184,7 +184,13 @@ fn main() -> ExitCode {
                 String::new()
             }
         );
-        std::process::exit(130);
+        // `_exit`, not `exit`: `exit` runs the C++ static destructors of the Vulkan
+        // driver (lavapipe's LLVM) while this process's other threads still render
+        // with it, and the process could die of SIGSEGV instead of exiting with 130
+        // (seen in CI once). Nothing is left to flush: stderr is unbuffered and every
+        // output file is either renamed into place or removed above.
+        // SAFETY: `_exit` only ends the process; it touches no Rust state.
+        unsafe { libc::_exit(130) }
     });
     use clap::{CommandFactory, FromArgMatches};
     let parsed = Cli::command().try_get_matches().and_then(|matches| {
