@@ -13,12 +13,22 @@
 // What makes it fast on llvmpipe, which reads or writes a storage buffer for 8
 // invocations as a loop over the 8 (measured in one process, 1024 x 1024 noise, 8
 // directions: 175 ms before these, about 80 after): the hull's top eight entries live
-// in registers and memory is touched only to spill or refill four of them (a window
+// in registers and memory is touched only to spill or refill two of them (a window
 // of four: 10 % slower; the top two, as before: twice as slow); each invocation writes
 // its own line position by position (the map is stored by line: `planes_from_lines`
 // in src/render/ripple_maps.rs reorders it for the CPU); and lines steeper in y read a
 // transposed copy of the heights, so that columns, like rows, step one texel further
 // in memory.
+// Mesa 22.3's llvmpipe runs the body of an `if` even when no invocation takes it
+// (masked), so every load or store in the sweep's loop costs its 8-step loop on every
+// step, taken or not: the spill and the refill are one vec4 (two entries) each.
+// 1024 x 1024 x 16 directions, variants alternated in one process (medians): four
+// entries moved as four vec2 loads and four stores 203 ms against 158 for this; four
+// moved as two vec4s 266 against 213 (a slower hour); two spilled at a window of 4, 6
+// or 10 entries 281, 230, 238 against 213. Without hull memory at all (wrong, only to
+// size it) 150 against 167: the rest is the hull's registers, the height read and the
+// horizon written each step (about 20 ms each), and writing four horizons as one vec4
+// gained nothing.
 // The CPU twin is `horizon_map_linear_along` in src/model/ripple_maps.rs.
 
 layout(local_size_x = 64) in;
@@ -35,9 +45,10 @@ layout(set = 0, binding = 1, std430) buffer Horizon {
 } horizon;
 
 // The hull stacks below the entries held in registers: N entries for each invocation
-// of a dispatch (a stack never holds more than a lap).
+// of a dispatch (a stack never holds more than a lap), two entries (position, height)
+// to a vec4.
 layout(set = 0, binding = 2, std430) buffer Hull {
-    vec2 at[];
+    vec4 at[];
 } hull;
 
 layout(push_constant) uniform Params {
@@ -110,10 +121,11 @@ void main() {
     // One lap backwards from the texel behind the peak (position p + N - 1) to the
     // one after it (p + 1), the peak's copy at p + N first on the hull.
     // The hull's top eight entries in registers (r0 the top; w of them valid), the
-    // rest in memory, moved four at a time: memory is touched only when the window is
-    // full before a push (four spilled) or down to one entry with more below (up to
-    // four refilled), so a hull that grows and shrinks by a few entries, as it does
-    // over ripples and noise, stays in registers.
+    // m below them in memory, moved two at a time (so m stays even and a pair is one
+    // aligned vec4): memory is touched only when the window is full before a push (two
+    // spilled) or down to one entry with more below (two refilled), so a hull that
+    // grows and shrinks by a few entries, as it does over ripples and noise, stays in
+    // registers.
     vec2 r0 = vec2(float(p + n), highest);
     vec2 r1 = vec2(0.0);
     vec2 r2 = vec2(0.0);
@@ -123,7 +135,7 @@ void main() {
     vec2 r6 = vec2(0.0);
     vec2 r7 = vec2(0.0);
     int w = 1;
-    int count = 1;
+    int m = 0;
     // The peak's own horizon, the largest (h - highest) / k, kept as a fraction.
     float best_rise = -3.402823e38;
     float best_k = 1.0;
@@ -137,7 +149,7 @@ void main() {
         // Pop the top while the one below it is seen at least as steeply (slopes
         // compared by cross-multiplying: both distances are positive).
         // The pops touch registers only; where a line's window runs down to its top
-        // with more below, entries come back from memory and the pops go on.
+        // with more below, two entries come back from memory and the pops go on.
         bool refill;
         do {
             while (w >= 2 && (r0.y - here) * (r1.x - ft) <= (r1.y - here) * (r0.x - ft)) {
@@ -149,23 +161,15 @@ void main() {
                 r5 = r6;
                 r6 = r7;
                 w -= 1;
-                count -= 1;
             }
-            refill = w == 1 && count >= 2;
+            refill = w == 1 && m > 0;
             if (refill) {
-                // Memory holds entries 0 .. count - 2, the top last.
-                int top = int(hull_base) + count - 2;
-                r1 = hull.at[top];
-                if (count >= 3) {
-                    r2 = hull.at[top - 1];
-                }
-                if (count >= 4) {
-                    r3 = hull.at[top - 2];
-                }
-                if (count >= 5) {
-                    r4 = hull.at[top - 3];
-                }
-                w = min(count, 5);
+                // The pair below the window, the top last.
+                m -= 2;
+                vec4 pair = hull.at[(hull_base + uint(m)) / 2u];
+                r2 = pair.xy;
+                r1 = pair.zw;
+                w = 3;
             }
         } while (refill);
         // The same expression as the brute walk's (there - here) * s / (k * len).
@@ -177,13 +181,10 @@ void main() {
             best_k = k;
         }
         if (w == 8) {
-            // Memory holds entries 0 .. count - 9; the window's bottom four follow.
-            uint bottom = hull_base + uint(count - 8);
-            hull.at[bottom] = r7;
-            hull.at[bottom + 1u] = r6;
-            hull.at[bottom + 2u] = r5;
-            hull.at[bottom + 3u] = r4;
-            w = 4;
+            // The window's bottom two onto memory, the lower first.
+            hull.at[(hull_base + uint(m)) / 2u] = vec4(r7, r6);
+            m += 2;
+            w = 6;
         }
         r7 = r6;
         r6 = r5;
@@ -194,7 +195,6 @@ void main() {
         r1 = r0;
         r0 = vec2(ft, here);
         w += 1;
-        count += 1;
     }
     horizon.s[out_base + uint(p)] = best_rise * pc.height_scale / (best_k * step_len);
 }
