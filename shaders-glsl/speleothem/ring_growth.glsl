@@ -47,28 +47,6 @@ struct Target {
     float id_shift;
 };
 
-void put_behind(Target to, V v) {
-    if (to.mode == EMIT_ALL) {
-        emit(v);
-    } else if (to.mode == EMIT_FROZEN) {
-        emit(V(vec4(v.pos_id.xyz - v.normal_sp.xyz * to.accumulated, v.pos_id.w - to.id_shift),
-               v.normal_sp, v.extra));
-    }
-}
-
-void put_front(Target to, V v) {
-    if (to.mode != EMIT_FROZEN) {
-        emit(v);
-    }
-}
-
-// Triangles are built counter-clockwise for growth along +y; stalactites (-y) mirror
-// the band, so their triangles are reversed to keep facing outward. Links stay behind.
-void put_link(Target to, V a, V b, V c, float sign) {
-    put_behind(to, a);
-    if (sign < 0.0) { put_behind(to, c); put_behind(to, b); } else { put_behind(to, b); put_behind(to, c); }
-}
-
 V moved(V v, vec3 offset, float id_step) {
     return V(vec4(v.pos_id.xyz + offset, v.pos_id.w + id_step), v.normal_sp, v.extra);
 }
@@ -82,120 +60,177 @@ float flank_profile(vec3 n, float angle, float width) {
     return max(1.0 - x * x, 0.0);
 }
 
+// Emits one vertex of a triangle the draw takes (EMIT_FROZEN: brought up to date).
+void put(Target to, V v) {
+    if (to.mode == EMIT_FROZEN) {
+        v.pos_id = vec4(v.pos_id.xyz - v.normal_sp.xyz * to.accumulated, v.pos_id.w - to.id_shift);
+    }
+    emit(v);
+}
+
 // One growth pass over one input triangle `t`, emitting (through `emit`) the part of
 // its output that `mode` selects (the plan buffer `plan` is declared by the including
 // shader).
+//
+// The output is up to three triangles, built into fixed slots and emitted in this
+// order where the mode takes them:
+//   0: a triangle behind the front, moved on (EMIT_ALL only), or the old front
+//      re-emitted (EMIT_ALL, EMIT_FROZEN);
+//   1: the new front band, or a front waiting out the pass (EMIT_ALL, EMIT_FRONT);
+//   2: the link from the old tip ring to the new band, the apex or the meeting ring
+//      (EMIT_ALL, EMIT_FROZEN).
+// Why slots and not an emit where each vertex is made: llvmpipe (Mesa 22.3) runs the
+// body of every `if` whether or not an invocation takes it (masked), so each emit in
+// the source costs on every triangle: nine here, against 45 in the geometry shader
+// (27 in compute) when each branch emitted its own.
 void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments, uint mode) {
     uint sp = uint(t[0].normal_sp.w + 0.5);
     uint base = 4u * (pass_index * speleothem_count + sp);
     vec4 s0 = plan.steps[base];
     float thicken = s0.z;
+    V slot[9];
+    bool take[3] = bool[3](false, false, false);
+    Target to = Target(mode, 0.0, 2.0 * float(pass_index + 1u));
 
     bool front = t[0].pos_id.w <= 0.0 && t[1].pos_id.w <= 0.0 && t[2].pos_id.w <= 0.0;
+    uint action = uint(s0.w + 0.5);
     if (!front) {
         // Behind the front (most triangles): only the paper's pass re-streams it, and
         // it needs nothing of the plan but the thickening.
-        if (mode == EMIT_ALL) {
-            for (int k = 0; k < 3; ++k) {
-                emit(moved(t[k], t[k].normal_sp.xyz * thicken, 2.0));
-            }
+        for (int k = 0; k < 3; ++k) {
+            slot[k] = moved(t[k], t[k].normal_sp.xyz * thicken, 2.0);
         }
-        return;
-    }
-    vec4 s1 = plan.steps[base + 1u];
-    vec4 s2 = plan.steps[base + 2u];
-    vec4 s3 = plan.steps[base + 3u];
-    float height = s0.x;
-    float radius = s0.y;
-    uint action = uint(s0.w + 0.5);
-    vec3 wind = s1.xyz;
-    float sign = s1.w;
-    vec3 g = vec3(0.0, sign, 0.0);
-    Target to = Target(mode, s2.w, 2.0 * float(pass_index + 1u));
-    if (action == 0u) {
+        take[0] = mode == EMIT_ALL;
+    } else if (action == 0u) {
         // A front waiting out a pass (PIL 0, a stalagmite before dripping starts, or
         // stopped at the cave boundary) stays the front: IDs unchanged, so it grows
         // again when the parameters allow.
         for (int k = 0; k < 3; ++k) {
-            put_front(to, moved(t[k], t[k].normal_sp.xyz * thicken, 0.0));
+            slot[3 + k] = moved(t[k], t[k].normal_sp.xyz * thicken, 0.0);
         }
-        return;
-    }
-
-    // The old front, re-emitted; a flank deposit bumps its tip ring (ID -1) only.
-    V old[3];
-    for (int k = 0; k < 3; ++k) {
-        V v = t[k];
-        vec3 bump = vec3(0.0);
-        if (action == 1u && v.pos_id.w < -0.5 && s2.x > 0.0) {
-            bump = v.normal_sp.xyz * (s2.x * flank_profile(v.normal_sp.xyz, s2.y, s2.z));
-        }
-        old[k] = moved(v, bump, 2.0);
-        put_behind(to, old[k]);
-    }
-
-    // Roles: A = (b_i, t_i, b_i+1) has two base-ring (ID 0) vertices, B = (b_i+1, t_i,
-    // t_i+1) has two tip-ring (ID -1) vertices; order each pair by segment.
-    int base_k[3];
-    int tip_k[3];
-    int nb = 0;
-    int nt = 0;
-    for (int k = 0; k < 3; ++k) {
-        if (t[k].pos_id.w > -0.5) { base_k[nb++] = k; } else { tip_k[nt++] = k; }
-    }
-    bool is_a = nb == 2;
-    int b_i = -1, b_i1, t_i, t_i1 = -1;
-    if (is_a) {
-        int x = base_k[0], y = base_k[1];
-        bool xy = (uint(t[x].extra.x + 0.5) + 1u) % segments == uint(t[y].extra.x + 0.5);
-        b_i = xy ? x : y;
-        b_i1 = xy ? y : x;
-        t_i = tip_k[0];
+        take[1] = mode != EMIT_FROZEN;
     } else {
-        int x = tip_k[0], y = tip_k[1];
-        bool xy = (uint(t[x].extra.x + 0.5) + 1u) % segments == uint(t[y].extra.x + 0.5);
-        t_i = xy ? x : y;
-        t_i1 = xy ? y : x;
-        b_i1 = base_k[0];
-    }
+        vec4 s1 = plan.steps[base + 1u];
+        vec4 s2 = plan.steps[base + 2u];
+        vec4 s3 = plan.steps[base + 3u];
+        float height = s0.x;
+        float radius = s0.y;
+        vec3 wind = s1.xyz;
+        float sign = s1.w;
+        vec3 g = vec3(0.0, sign, 0.0);
+        to.accumulated = s2.w;
 
-    if (action == 1u) {
-        // The new band: v' = v + height g + r N + wind, original IDs.
-        V nv[3];
+        // The old front, re-emitted; a flank deposit bumps its tip ring (ID -1) only.
+        V old[3];
         for (int k = 0; k < 3; ++k) {
             V v = t[k];
-            vec3 p = v.pos_id.xyz + g * height + v.normal_sp.xyz * radius + wind;
-            nv[k] = V(vec4(p, v.pos_id.w), v.normal_sp,
-                      vec4(v.extra.x, v.extra.y + height, radius / height, v.extra.w + 1.0));
-            put_front(to, nv[k]);
+            vec3 bump = vec3(0.0);
+            if (action == 1u && v.pos_id.w < -0.5 && s2.x > 0.0) {
+                bump = v.normal_sp.xyz * (s2.x * flank_profile(v.normal_sp.xyz, s2.y, s2.z));
+            }
+            old[k] = moved(v, bump, 2.0);
+            slot[k] = old[k];
         }
+        take[0] = mode != EMIT_FRONT;
+
+        // Roles: A = (b_i, t_i, b_i+1) has two base-ring (ID 0) vertices, B = (b_i+1,
+        // t_i, t_i+1) has two tip-ring (ID -1) vertices; order each pair by segment.
+        int base_k[3];
+        int tip_k[3];
+        int nb = 0;
+        int nt = 0;
+        for (int k = 0; k < 3; ++k) {
+            if (t[k].pos_id.w > -0.5) { base_k[nb++] = k; } else { tip_k[nt++] = k; }
+        }
+        bool is_a = nb == 2;
+        int b_i = -1, b_i1, t_i, t_i1 = -1;
         if (is_a) {
-            put_link(to, old[t_i], nv[b_i], nv[b_i1], sign);
+            int x = base_k[0], y = base_k[1];
+            bool xy = (uint(t[x].extra.x + 0.5) + 1u) % segments == uint(t[y].extra.x + 0.5);
+            b_i = xy ? x : y;
+            b_i1 = xy ? y : x;
+            t_i = tip_k[0];
         } else {
-            put_link(to, old[t_i], nv[b_i1], old[t_i1], sign);
+            int x = tip_k[0], y = tip_k[1];
+            bool xy = (uint(t[x].extra.x + 0.5) + 1u) % segments == uint(t[y].extra.x + 0.5);
+            t_i = xy ? x : y;
+            t_i1 = xy ? y : x;
+            b_i1 = base_k[0];
         }
-    } else if (action == 2u) {
-        // Close the tip: a cone from the old tip ring to one apex point.
-        if (!is_a) {
+
+        // The link's three corners before ordering: A triangles reach two new
+        // vertices (b_i, b_i+1), B triangles one (b_i+1) beside the old t_i+1.
+        V far[3];
+        bool link = false;
+        if (action == 1u) {
+            // The new band: v' = v + height g + r N + wind, original IDs.
+            for (int k = 0; k < 3; ++k) {
+                V v = t[k];
+                vec3 p = v.pos_id.xyz + g * height + v.normal_sp.xyz * radius + wind;
+                far[k] = V(vec4(p, v.pos_id.w), v.normal_sp,
+                           vec4(v.extra.x, v.extra.y + height, radius / height, v.extra.w + 1.0));
+                slot[3 + k] = far[k];
+            }
+            take[1] = mode != EMIT_FROZEN;
+            link = true;
+        } else if (action == 2u) {
+            // Close the tip: a cone from the old tip ring to one apex point (B only).
             V tv = t[t_i];
             V apex = V(vec4(s3.xyz, 0.0), vec4(0.0, 0.0, 0.0, tv.normal_sp.w),
                        vec4(tv.extra.x, tv.extra.y + height, -1.0, tv.extra.w + 1.0));
-            put_link(to, old[t_i], apex, old[t_i1], sign);
+            far[0] = apex;
+            far[1] = apex;
+            far[2] = apex;
+            link = !is_a;
+        } else if (action == 3u) {
+            // Column: join the old tip ring to the meeting ring both fronts share.
+            for (int k = 0; k < 3; ++k) {
+                V v = t[k];
+                vec3 p = s3.xyz + v.normal_sp.xyz * s3.w;
+                far[k] = V(vec4(p, 0.0), v.normal_sp,
+                           vec4(v.extra.x, v.extra.y + abs(s3.y - v.pos_id.y), 0.0, v.extra.w + 1.0));
+            }
+            link = true;
         }
-    } else if (action == 3u) {
-        // Column: join the old tip ring to the meeting ring both fronts share.
-        V m[3];
-        for (int k = 0; k < 3; ++k) {
-            V v = t[k];
-            vec3 p = s3.xyz + v.normal_sp.xyz * s3.w;
-            m[k] = V(vec4(p, 0.0), v.normal_sp,
-                     vec4(v.extra.x, v.extra.y + abs(s3.y - v.pos_id.y), 0.0, v.extra.w + 1.0));
-        }
+        // Triangles are built counter-clockwise for growth along +y; stalactites (-y)
+        // mirror the band, so their triangles are reversed to keep facing outward.
+        V b;
+        V c;
         if (is_a) {
-            put_link(to, old[t_i], m[b_i], m[b_i1], sign);
+            b = far[b_i];
+            c = far[b_i1];
         } else {
-            put_link(to, old[t_i], m[b_i1], old[t_i1], sign);
+            b = far[b_i1];
+            c = old[t_i1];
         }
+        slot[6] = old[t_i];
+        // (An if, not `?:`: naga rejects a select between structs.)
+        if (sign < 0.0) {
+            slot[7] = c;
+            slot[8] = b;
+        } else {
+            slot[7] = b;
+            slot[8] = c;
+        }
+        take[2] = link && mode != EMIT_FRONT;
+    }
+
+    // Written out, not looped: the slots stay registers (a loop the compiler did not
+    // unroll would index them).
+    if (take[0]) {
+        put(to, slot[0]);
+        put(to, slot[1]);
+        put(to, slot[2]);
+    }
+    if (take[1]) {
+        put(to, slot[3]);
+        put(to, slot[4]);
+        put(to, slot[5]);
+    }
+    if (take[2]) {
+        put(to, slot[6]);
+        put(to, slot[7]);
+        put(to, slot[8]);
     }
 }
 

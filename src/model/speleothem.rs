@@ -419,7 +419,7 @@ pub fn accumulated_thickening(plan: &GrowthPlan, passes: u32) -> Vec<f32> {
 
 /// The append-only growth stores a vertex that leaves the front in pass p less its
 /// speleothem's thickening accumulated through p, and with its ID less 2 (p + 1)
-/// (`put_behind` in ring_growth.glsl), so it is written once and never re-streamed.
+/// (`put` in ring_growth.glsl, EMIT_FROZEN), so it is written once and never re-streamed.
 /// This brings it up to date after `passes` passes given `accumulated_thickening(plan,
 /// passes)`: the CPU twin of the shift the surface shader applies when drawing it.
 pub fn unfreeze(v: &RingVertex, accumulated: &[f32], passes: u32) -> RingVertex {

@@ -12,9 +12,9 @@
 //!
 //! Rings are found from the captured data, not from a copy of the shader's layout: a
 //! frozen vertex keeps its speleothem (`normal_sp.w`), its segment (`extra.x`) and an
-//! ID lowered by `2 (pass + 1)` when it froze (`put_behind`), so the old front's base
-//! ring of pass `p` holds ID `-2p`, its tip ring `-2p - 1`, and the link's new base
-//! ring `-2p - 2` (the next pass's old base: the same ring). `-ID` orders a
+//! ID lowered by `2 (pass + 1)` when it froze (`put` in ring_growth.glsl), so the old
+//! front's base ring of pass `p` holds ID `-2p`, its tip ring `-2p - 1`, and the link's
+//! new base ring `-2p - 2` (the next pass's old base: the same ring). `-ID` orders a
 //! speleothem's rings from its base; a ring seen twice under two keys (a pass with no
 //! growth between) gives a band of no area, which the rasteriser drops.
 
