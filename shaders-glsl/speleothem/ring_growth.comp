@@ -3,10 +3,12 @@
 // The compute growth path: the same pass as the geometry shader (`ring_growth.glsl`),
 // written compactly in input order so the result equals the GS capture vertex for
 // vertex. Each invocation owns a run of CHUNK consecutive triangles. Three stages per
-// pass (push constant `stage`): 0 sums each run's output count, 1 (one workgroup)
-// turns the sums into each run's offset and writes the draw count, 2 writes each run's
-// vertices from its offset on. Runs instead of a per-triangle scan: on lavapipe the
-// workgroup barriers of a scan cost as much as the growth itself (measured).
+// pass, one pipeline each (specialized by `SUMS` and `OFFSETS`, so that each compiles
+// only its own code: lavapipe would run the other stages' too, masked): 0 sums each
+// run's output count, 1 (one workgroup) turns the sums into each run's offset and
+// writes the draw count, 2 writes each run's vertices from its offset on. Runs instead
+// of a per-triangle scan: on lavapipe the workgroup barriers of a scan cost as much as
+// the growth itself (measured).
 
 layout(local_size_x = 256) in;
 
@@ -45,11 +47,16 @@ layout(push_constant) uniform Pass {
     uint speleothem_count;
     uint segments;
     uint triangles;
-    uint stage;
     uint pad0;
     uint pad1;
     uint pad2;
+    uint pad3;
 } pc;
+
+// The stage: 0 (SUMS), 1 (OFFSETS) or 2 (neither). Booleans: naga cannot read the
+// SpecConstantOp a comparison of an integer constant becomes.
+layout(constant_id = 0) const bool SUMS = true;
+layout(constant_id = 1) const bool OFFSETS = false;
 
 shared uint sums[256];
 
@@ -61,6 +68,9 @@ void emit(V v) {
     dst.v[cursor].normal_sp = v.normal_sp;
     dst.v[cursor].extra = v.extra;
     cursor += 1u;
+}
+
+void end_triangle() {
 }
 
 V[3] load(uint t) {
@@ -78,7 +88,7 @@ void main() {
     uint run = gl_GlobalInvocationID.x;
     uint l = gl_LocalInvocationID.x;
     uint run_count = (pc.triangles + CHUNK - 1u) / CHUNK;
-    if (pc.stage == 0u) {
+    if (SUMS) {
         if (run >= run_count) {
             return;
         }
@@ -88,7 +98,7 @@ void main() {
             total += output_count(load(t), pc.pass_index, pc.speleothem_count);
         }
         runs.value[run] = total;
-    } else if (pc.stage == 1u) {
+    } else if (OFFSETS) {
         // One workgroup: each thread takes a stretch of runs, the stretches are scanned
         // in shared memory, then each thread writes its runs' offsets.
         uint per = (run_count + 255u) / 256u;

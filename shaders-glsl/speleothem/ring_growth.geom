@@ -36,17 +36,15 @@ layout(location = 2, xfb_buffer = 0, xfb_offset = 32, xfb_stride = 48) out vec4 
 
 #include "ring_growth.glsl"
 
-uint emitted = 0u;
-
 void emit(V v) {
     out_pos_id = v.pos_id;
     out_normal_sp = v.normal_sp;
     out_extra = v.extra;
     EmitVertex();
-    emitted += 1u;
-    if (emitted % 3u == 0u) {
-        EndPrimitive();
-    }
+}
+
+void end_triangle() {
+    EndPrimitive();
 }
 
 void main() {

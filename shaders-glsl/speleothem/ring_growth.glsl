@@ -35,8 +35,9 @@ const uint EMIT_FROZEN = 2u;
 
 // Writes one output vertex; defined by the including shader (the GS emits it to
 // transform feedback, the compute path stores it). Triangles go out as 3 consecutive
-// calls.
+// calls, each followed by `end_triangle` (the GS ends its strip there).
 void emit(V v);
+void end_triangle();
 
 struct Target {
     uint mode;
@@ -221,16 +222,19 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
         put(to, slot[0]);
         put(to, slot[1]);
         put(to, slot[2]);
+        end_triangle();
     }
     if (take[1]) {
         put(to, slot[3]);
         put(to, slot[4]);
         put(to, slot[5]);
+        end_triangle();
     }
     if (take[2]) {
         put(to, slot[6]);
         put(to, slot[7]);
         put(to, slot[8]);
+        end_triangle();
     }
 }
 

@@ -453,19 +453,8 @@ impl<'a> GraphicsPipelineDesc<'a> {
         if let Some(f) = self.fragment {
             modules.push(ShaderModule::new(ctx, f)?);
         }
-        let entries: Vec<vk::SpecializationMapEntry> = (0u32..)
-            .zip(&self.constants)
-            .map(|(i, &(id, _))| vk::SpecializationMapEntry {
-                constant_id: id,
-                offset: 4 * i,
-                size: 4,
-            })
-            .collect();
-        let values: Vec<u32> = self.constants.iter().map(|&(_, value)| value).collect();
-        let constant_bytes = super::as_bytes(&values);
-        let specialization = vk::SpecializationInfo::default()
-            .map_entries(&entries)
-            .data(constant_bytes);
+        let constants = Specialization::new(&self.constants);
+        let specialization = constants.info();
         let stages: Vec<vk::PipelineShaderStageCreateInfo<'_>> = modules
             .iter()
             .map(|m| {
@@ -590,6 +579,34 @@ pub struct Pipeline {
     ctx: Arc<Context>,
 }
 
+/// Specialization constants (`constant_id`, value) laid out for Vulkan, 4 bytes each.
+struct Specialization {
+    entries: Vec<vk::SpecializationMapEntry>,
+    values: Vec<u32>,
+}
+
+impl Specialization {
+    fn new(constants: &[(u32, u32)]) -> Self {
+        Self {
+            entries: (0u32..)
+                .zip(constants)
+                .map(|(i, &(id, _))| vk::SpecializationMapEntry {
+                    constant_id: id,
+                    offset: 4 * i,
+                    size: 4,
+                })
+                .collect(),
+            values: constants.iter().map(|&(_, value)| value).collect(),
+        }
+    }
+
+    fn info(&self) -> vk::SpecializationInfo<'_> {
+        vk::SpecializationInfo::default()
+            .map_entries(&self.entries)
+            .data(super::as_bytes(&self.values))
+    }
+}
+
 impl Pipeline {
     /// A compute pipeline from one compute module.
     pub fn compute(
@@ -598,11 +615,27 @@ impl Pipeline {
         shader: &ShaderSpirv,
         layout: &PipelineLayout,
     ) -> Result<Self> {
+        Self::compute_specialized(ctx, name, shader, layout, &[])
+    }
+
+    /// A compute pipeline from one compute module with specialization constants
+    /// (`constant_id`, value): code a constant rules out is compiled away, where a push
+    /// constant's branch would still run (masked) on lavapipe.
+    pub fn compute_specialized(
+        ctx: &Arc<Context>,
+        name: &str,
+        shader: &ShaderSpirv,
+        layout: &PipelineLayout,
+        constants: &[(u32, u32)],
+    ) -> Result<Self> {
         let module = ShaderModule::new(ctx, shader)?;
+        let constants = Specialization::new(constants);
+        let specialization = constants.info();
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module.raw())
-            .name(ENTRY);
+            .name(ENTRY)
+            .specialization_info(&specialization);
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout.raw());

@@ -24,8 +24,7 @@ struct ComputePush {
     speleothem_count: u32,
     segments: u32,
     triangles: u32,
-    stage: u32,
-    pad: [u32; 3],
+    pad: [u32; 4],
 }
 // SAFETY: repr(C), eight u32.
 unsafe impl Pod for ComputePush {}
@@ -48,7 +47,8 @@ const CHUNK: u32 = 32;
 
 /// A growth in progress on the compute path.
 pub struct ComputeGrowth {
-    pipeline: Pipeline,
+    /// One per stage (`SUMS`, `OFFSETS` specialized: each compiles only its own code).
+    pipelines: [Pipeline; 3],
     layout: PipelineLayout,
     /// `sets[i]` reads `meshes[i]` and writes `meshes[1 - i]`.
     sets: [DescriptorSet; 2],
@@ -110,7 +110,20 @@ impl ComputeGrowth {
         let plan_buffer =
             Buffer::with_data(ctx, "compute growth plan", storage_only, &plan.gpu_steps())?;
         let layout = PipelineLayout::new(ctx, "compute growth layout", &[&INTERFACE])?;
-        let pipeline = Pipeline::compute(ctx, "compute growth", INTERFACE.shader, &layout)?;
+        let stage = |sums: bool, offsets: bool| {
+            Pipeline::compute_specialized(
+                ctx,
+                "compute growth",
+                INTERFACE.shader,
+                &layout,
+                &[(0, u32::from(sums)), (1, u32::from(offsets))],
+            )
+        };
+        let pipelines = [
+            stage(true, false)?,
+            stage(false, true)?,
+            stage(false, false)?,
+        ];
         let make_set = |from: usize| -> Result<DescriptorSet> {
             let set = layout.allocate_set("compute growth set", 0)?;
             set.write_buffer(0, &plan_buffer)?;
@@ -122,7 +135,7 @@ impl ComputeGrowth {
         };
         let sets = [make_set(0)?, make_set(1)?];
         Ok(Self {
-            pipeline,
+            pipelines,
             layout,
             sets,
             meshes,
@@ -186,8 +199,8 @@ impl Growth for ComputeGrowth {
             let from = (self.done % 2) as usize;
             let triangles = (self.current_vertices() / 3) as u32;
             let groups = triangles.div_ceil(CHUNK).div_ceil(GROUP).max(1);
-            cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.sets[from]]);
-            for (stage, dispatch) in [(0u32, groups), (1, 1), (2, groups)] {
+            for (pipeline, dispatch) in self.pipelines.iter().zip([groups, 1, groups]) {
+                cmd.bind_pipeline(pipeline, &self.layout, &[&self.sets[from]]);
                 cmd.push_constants(
                     &self.layout,
                     &ComputePush {
@@ -195,8 +208,7 @@ impl Growth for ComputeGrowth {
                         speleothem_count: self.speleothems,
                         segments: self.segments,
                         triangles,
-                        stage,
-                        pad: [0; 3],
+                        pad: [0; 4],
                     },
                 )?;
                 // Each stage reads what the one before wrote; the last one's output is
