@@ -144,20 +144,19 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
             if (t[k].pos_id.w > -0.5) { base_k[nb++] = k; } else { tip_k[nt++] = k; }
         }
         bool is_a = nb == 2;
-        int b_i = -1, b_i1, t_i, t_i1 = -1;
-        if (is_a) {
-            int x = base_k[0], y = base_k[1];
-            bool xy = (uint(t[x].extra.x + 0.5) + 1u) % segments == uint(t[y].extra.x + 0.5);
-            b_i = xy ? x : y;
-            b_i1 = xy ? y : x;
-            t_i = tip_k[0];
-        } else {
-            int x = tip_k[0], y = tip_k[1];
-            bool xy = (uint(t[x].extra.x + 0.5) + 1u) % segments == uint(t[y].extra.x + 0.5);
-            t_i = xy ? x : y;
-            t_i1 = xy ? y : x;
-            b_i1 = base_k[0];
-        }
+        // The pair to order (A: its base vertices, B: its tip vertices); x comes first
+        // when y is the next segment round. Segments are below `segments`, so the wrap
+        // is a compare (an integer % is eight scalar divisions on llvmpipe).
+        int x = is_a ? base_k[0] : tip_k[0];
+        int y = is_a ? base_k[1] : tip_k[1];
+        uint after_x = uint(t[x].extra.x + 0.5) + 1u;
+        bool xy = (after_x == segments ? 0u : after_x) == uint(t[y].extra.x + 0.5);
+        int first = xy ? x : y;
+        int second = xy ? y : x;
+        int b_i = is_a ? first : -1;
+        int b_i1 = is_a ? second : base_k[0];
+        int t_i = is_a ? tip_k[0] : first;
+        int t_i1 = is_a ? -1 : second;
 
         // The link's three corners before ordering: A triangles reach two new
         // vertices (b_i, b_i+1), B triangles one (b_i+1) beside the old t_i+1.
