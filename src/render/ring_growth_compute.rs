@@ -110,19 +110,19 @@ impl ComputeGrowth {
         let plan_buffer =
             Buffer::with_data(ctx, "compute growth plan", storage_only, &plan.gpu_steps())?;
         let layout = PipelineLayout::new(ctx, "compute growth layout", &[&INTERFACE])?;
-        let stage = |sums: bool, offsets: bool| {
+        let stage = |name: &str, sums: bool, offsets: bool| {
             Pipeline::compute_specialized(
                 ctx,
-                "compute growth",
+                name,
                 INTERFACE.shader,
                 &layout,
                 &[(0, u32::from(sums)), (1, u32::from(offsets))],
             )
         };
         let pipelines = [
-            stage(true, false)?,
-            stage(false, true)?,
-            stage(false, false)?,
+            stage("compute growth sums", true, false)?,
+            stage("compute growth offsets", false, true)?,
+            stage("compute growth writes", false, false)?,
         ];
         let make_set = |from: usize| -> Result<DescriptorSet> {
             let set = layout.allocate_set("compute growth set", 0)?;
