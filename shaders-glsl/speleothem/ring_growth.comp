@@ -47,10 +47,6 @@ layout(push_constant) uniform Pass {
     uint speleothem_count;
     uint segments;
     uint triangles;
-    uint pad0;
-    uint pad1;
-    uint pad2;
-    uint pad3;
 } pc;
 
 // The stage: 0 (SUMS), 1 (OFFSETS) or 2 (neither). Booleans: naga cannot read the

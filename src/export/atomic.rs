@@ -80,9 +80,7 @@ impl OutputSet {
         let mut flying = in_flight();
         for (i, (tmp, target)) in list.iter().enumerate() {
             if let Err(e) = std::fs::rename(tmp, target) {
-                for (tmp, _) in &list[i..] {
-                    let _ = std::fs::remove_file(tmp);
-                }
+                remove_files(&list[i..]);
                 flying.retain(|p| !list.iter().any(|(t, _)| t == p));
                 let written = if landed.is_empty() {
                     "none was written".to_owned()
@@ -126,10 +124,16 @@ impl Drop for OutputSet {
 }
 
 fn remove_temporaries(list: &[(PathBuf, PathBuf)]) {
+    remove_files(list);
+    in_flight().retain(|p| !list.iter().any(|(t, _)| t == p));
+}
+
+/// Removes the temporary files of `list`, leaving the in-flight list to the caller
+/// (which may hold its lock).
+fn remove_files(list: &[(PathBuf, PathBuf)]) {
     for (tmp, _) in list {
         let _ = std::fs::remove_file(tmp);
     }
-    in_flight().retain(|p| !list.iter().any(|(t, _)| t == p));
 }
 
 /// Whether the open set already holds a finished output for `path`.

@@ -458,15 +458,11 @@ impl<'a> GraphicsPipelineDesc<'a> {
         let stages: Vec<vk::PipelineShaderStageCreateInfo<'_>> = modules
             .iter()
             .map(|m| {
-                let stage = vk::PipelineShaderStageCreateInfo::default()
+                vk::PipelineShaderStageCreateInfo::default()
                     .stage(m.stage())
                     .module(m.raw())
-                    .name(ENTRY);
-                if self.constants.is_empty() {
-                    stage
-                } else {
-                    stage.specialization_info(&specialization)
-                }
+                    .name(ENTRY)
+                    .specialization_info(&specialization)
             })
             .collect();
         let vl = &self.vertex_layout;

@@ -24,9 +24,8 @@ struct ComputePush {
     speleothem_count: u32,
     segments: u32,
     triangles: u32,
-    pad: [u32; 4],
 }
-// SAFETY: repr(C), eight u32.
+// SAFETY: repr(C), four u32.
 unsafe impl Pod for ComputePush {}
 
 const fn storage(binding: u32) -> DescriptorBinding {
@@ -208,7 +207,6 @@ impl Growth for ComputeGrowth {
                         speleothem_count: self.speleothems,
                         segments: self.segments,
                         triangles,
-                        pad: [0; 4],
                     },
                 )?;
                 // Each stage reads what the one before wrote; the last one's output is
