@@ -131,6 +131,11 @@ fn the_linear_horizon_pass_along_16_directions_equals_the_brute_walk() {
                 assert!(worst <= 1e-5, "{name}: GPU linear vs {what}: {worst}");
             }
         }
+        // The sweep writes four positions of a line at once: a smaller tile is refused
+        // with a message, not swept wrong.
+        let tiny = Heightfield::random(2, 2, 0.0, 1.0, 1);
+        let refused = horizon_map_linear_gpu(ctx, &tiny, 1.0, 16).expect_err("2x2 refused");
+        assert!(refused.to_string().contains("at least 4x4"), "{refused}");
     });
 }
 

@@ -3,33 +3,53 @@
 // "Scalable Height Field Self-Shadowing"): the same map as horizon.comp over the whole
 // periodic row. On the periodic N x N tile every line of texels along one of the
 // directions (axes, diagonals and, with 16, the knight's moves (2, 1) between them) is
-// a cycle of N texels. One invocation per line sweeps it backwards once round,
-// starting just behind its highest texel, keeping the upper convex hull of the heights
-// ahead; the hull's top after popping what a texel sees past is its horizon. Texels
-// beyond the highest one never set a horizon (the highest is nearer and at least as
-// high), so one lap sees all that matters; the highest texel's own horizon (below zero:
-// everything else is lower) is taken as the sweep passes.
+// a cycle of N texels. One invocation per line sweeps it backwards once round, keeping
+// the upper convex hull of the heights ahead; the hull's top after popping what a
+// texel sees past is its horizon. Texels beyond the line's highest one never set a
+// horizon (the highest is nearer and at least as high, so it is seen more steeply),
+// so one lap starting at the highest texel sees all that matters; the highest
+// texel's own horizon (below zero: everything else is lower, and its own copy a lap
+// ahead must not count) is the largest (h - highest) / k, taken as the sweep passes.
 //
-// What makes it fast on llvmpipe, which reads or writes a storage buffer for 8
-// invocations as a loop over the 8 (measured in one process, 1024 x 1024 noise, 8
-// directions: 175 ms before these, about 80 after): the hull's top eight entries live
-// in registers and memory is touched only to spill or refill two of them (a window
-// of four: 10 % slower; the top two, as before: twice as slow); each invocation writes
-// its own line position by position (the map is stored by line: `planes_from_lines`
-// in src/render/ripple_maps.rs reorders it for the CPU); and lines steeper in y read a
-// transposed copy of the heights, so that columns, like rows, step one texel further
-// in memory.
-// Mesa 22.3's llvmpipe runs the body of an `if` even when no invocation takes it
-// (masked), so every load or store in the sweep's loop costs its 8-step loop on every
-// step, taken or not: the spill and the refill are one vec4 (two entries) each.
-// 1024 x 1024 x 16 directions, variants alternated in one process (medians): four
-// entries moved as four vec2 loads and four stores 203 ms against 158 for this; four
-// moved as two vec4s 266 against 213 (a slower hour); two spilled at a window of 4, 6
-// or 10 entries 281, 230, 238 against 213. Without hull memory at all (wrong, only to
-// size it) 150 against 167: the rest is the hull's registers, the height read and the
-// horizon written each step (about 20 ms each), and writing four horizons as one vec4
-// gained nothing.
-// The CPU twin is `horizon_map_linear_along` in src/model/ripple_maps.rs.
+// What makes it fast on Mesa 22.3's llvmpipe, which runs 8 invocations as one SIMD
+// program, runs the body of every `if` and every loop at least once whether or not
+// an invocation takes it (under a mask), and reads or writes a storage buffer for
+// the 8 as a loop over them (so every load or store in the sweep's loop costs its
+// 8-step loop on every step, taken or not):
+// - The hull's top eight entries live in registers; memory is touched to spill two of
+//   them (one vec4) when the window fills, checked every other step (a full window
+//   then always has room for the next push), and to refill two when pops run the
+//   window down to its top with more below.
+// - The pops of a step are computed at once, not in a loop: popping from the top
+//   meets pair i's test with the same two entries as the window holds them, so the
+//   pops are the prefix of the seven tests that hold, and the window shifts by that
+//   count in three select stages (a loop ran as often as the most-popping of the 8
+//   lanes, 2.7 times a step on noise, each time masked).
+// - The sweep runs in groups of four positions aligned to the line's storage, the
+//   same in every invocation, and writes each group as one vec4: it starts at the end
+//   of the highest texel's group a lap ahead (positions past the highest texel first,
+//   with the peak pushed as it passes) and ends after that group a lap later (N + 4
+//   steps), so that group is written twice and the second time right: its texels
+//   beyond the peak see the whole lap, those behind it see the peak, and the peak's
+//   own slot is written last. Extra entries beyond the peak on the hull are seen no
+//   more steeply than the peak, so no horizon changes.
+// - Each invocation writes its own line (the map is stored by line:
+//   `planes_from_lines` in src/render/ripple_maps.rs reorders it for the CPU), and
+//   lines steeper in y read a transposed copy of the heights, so that columns, like
+//   rows, step one texel further in memory.
+// 1024 x 1024 noise x 16 directions, variants alternated in one process (medians of
+// 7-11, in hours of different speed): the pop loop with per-step stores 211 ms, the
+// pops at once 139-196, and with the vec4 groups and the spill every other step
+// 108-112 against 139-145 for the pops at once alone. Without the refill (wrong, only
+// to size it) 88 against 108: it is a quarter of what is left, and every way found
+// to avoid it (a cached pair or a larger window, the line swept again where they run
+// out) ran out on most lines of noise or of smooth profiles. Before these: four
+// entries moved as four vec2 loads and stores 203 ms against 158 for one vec4; a
+// window of 4, 6 or 10 entries slower; reading the heights with texelFetch from an
+// image 326 against 257 for the storage buffer.
+// The CPU twin is `horizon_map_linear_along` in src/model/ripple_maps.rs (one lap
+// from the peak, as the paper's method reads: the same map to the bit on the tests'
+// fields).
 
 layout(local_size_x = 64) in;
 
@@ -38,15 +58,15 @@ layout(set = 0, binding = 0, std430) readonly buffer Heights {
     float h[];
 } heights;
 
-// By line: direction d's line l at (d * N + l) * N, position by position from the
-// line's start.
+// By line: direction d's line l at (d * N + l) * N floats, position by position from
+// the line's start, four positions to a vec4 (N is a power of two of at least 4).
 layout(set = 0, binding = 1, std430) buffer Horizon {
-    float s[];
+    vec4 s[];
 } horizon;
 
 // The hull stacks below the entries held in registers: N entries for each invocation
 // of a dispatch (a stack never holds more than a lap), two entries (position, height)
-// to a vec4.
+// to a vec4, the deeper first.
 layout(set = 0, binding = 2, std430) buffer Hull {
     vec4 at[];
 } hull;
@@ -77,8 +97,120 @@ int wrap(int i, int n) {
     return i < 0 ? i + n : (i >= n ? i - n : i);
 }
 
+// The sweep of one line, shared by `sweep_step` and `main`.
+int n;
+// The line's step in its frame of the heights (see main), and where it stands.
+int su;
+int sv;
+int frame;
+int u;
+int v;
+// The highest texel's position and height.
+int p;
+float highest;
+uint hull_base;
+// The hull's top entries (position, height), r0 the top, w of them valid; m more in
+// memory, moved two at a time (so m stays even and a pair is one aligned vec4).
+vec2 r0, r1, r2, r3, r4, r5, r6, r7;
+int w;
+int m;
+// The peak's own horizon, the largest (h - highest) / k, kept as a fraction.
+float best_rise;
+float best_k;
+
+// One texel of the sweep at lap position t (read at (u, v), which then steps back):
+// pops what it sees past, pushes it, and returns its horizon as (rise, run).
+// `spill`: whether this step may move two entries to memory (every other step: the
+// window then never holds more than seven before a push).
+vec2 sweep_step(int t, bool spill) {
+    float here = heights.h[frame + v * n + u];
+    float ft = float(t);
+    // Pop while the entry below the top is seen at least as steeply (slopes compared
+    // by cross-multiplying: both runs are positive): all seven tests on the window as
+    // it is, the pops the prefix of those that hold.
+    vec2 d0 = r0 - vec2(ft, here);
+    vec2 d1 = r1 - vec2(ft, here);
+    vec2 d2 = r2 - vec2(ft, here);
+    vec2 d3 = r3 - vec2(ft, here);
+    vec2 d4 = r4 - vec2(ft, here);
+    vec2 d5 = r5 - vec2(ft, here);
+    vec2 d6 = r6 - vec2(ft, here);
+    vec2 d7 = r7 - vec2(ft, here);
+    uint c0 = uint(w >= 2) & uint(d0.y * d1.x <= d1.y * d0.x);
+    uint c1 = c0 & uint(w >= 3) & uint(d1.y * d2.x <= d2.y * d1.x);
+    uint c2 = c1 & uint(w >= 4) & uint(d2.y * d3.x <= d3.y * d2.x);
+    uint c3 = c2 & uint(w >= 5) & uint(d3.y * d4.x <= d4.y * d3.x);
+    uint c4 = c3 & uint(w >= 6) & uint(d4.y * d5.x <= d5.y * d4.x);
+    uint c5 = c4 & uint(w >= 7) & uint(d5.y * d6.x <= d6.y * d5.x);
+    uint c6 = c5 & uint(w >= 8) & uint(d6.y * d7.x <= d7.y * d6.x);
+    uint pops = c0 + c1 + c2 + c3 + c4 + c5 + c6;
+    bvec2 s = bvec2((pops & 1u) != 0u);
+    r0 = mix(r0, r1, s);
+    r1 = mix(r1, r2, s);
+    r2 = mix(r2, r3, s);
+    r3 = mix(r3, r4, s);
+    r4 = mix(r4, r5, s);
+    r5 = mix(r5, r6, s);
+    r6 = mix(r6, r7, s);
+    s = bvec2((pops & 2u) != 0u);
+    r0 = mix(r0, r2, s);
+    r1 = mix(r1, r3, s);
+    r2 = mix(r2, r4, s);
+    r3 = mix(r3, r5, s);
+    r4 = mix(r4, r6, s);
+    r5 = mix(r5, r7, s);
+    s = bvec2((pops & 4u) != 0u);
+    r0 = mix(r0, r4, s);
+    r1 = mix(r1, r5, s);
+    r2 = mix(r2, r6, s);
+    r3 = mix(r3, r7, s);
+    w -= int(pops);
+    // The window popped down to its top with more in memory: two entries come back
+    // and are tested, until a test fails or memory is empty.
+    while (w == 1 && m > 0) {
+        m -= 2;
+        vec4 pair = hull.at[(hull_base + uint(m)) / 2u];
+        r2 = pair.xy;
+        r1 = pair.zw;
+        d0 = r0 - vec2(ft, here);
+        d1 = r1 - vec2(ft, here);
+        d2 = r2 - vec2(ft, here);
+        uint e0 = uint(d0.y * d1.x <= d1.y * d0.x);
+        uint e1 = e0 & uint(d1.y * d2.x <= d2.y * d1.x);
+        s = bvec2(e0 != 0u);
+        r0 = mix(r0, r1, s);
+        r1 = mix(r1, r2, s);
+        r0 = mix(r0, r2, bvec2(e1 != 0u));
+        w = 3 - int(e0 + e1);
+    }
+    vec2 rise_run = vec2(r0.y - here, r0.x - ft);
+    int k = t - p;
+    if (k > 0 && k < n && (here - highest) * best_k > best_rise * float(k)) {
+        best_rise = here - highest;
+        best_k = float(k);
+    }
+    if (spill && w >= 7) {
+        // The window's bottom two onto memory, the deeper first.
+        hull.at[(hull_base + uint(m)) / 2u] = w == 8 ? vec4(r7, r6) : vec4(r6, r5);
+        m += 2;
+        w -= 2;
+    }
+    r7 = r6;
+    r6 = r5;
+    r5 = r4;
+    r4 = r3;
+    r3 = r2;
+    r2 = r1;
+    r1 = r0;
+    r0 = vec2(ft, here);
+    w += 1;
+    u = wrap(u - su, n);
+    v = wrap(v - sv, n);
+    return rise_run;
+}
+
 void main() {
-    int n = int(pc.size);
+    n = int(pc.size);
     int id = int(gl_GlobalInvocationID.x);
     int d = int(pc.first_direction) + id / n;
     if (d >= int(pc.directions)) {
@@ -90,22 +222,21 @@ void main() {
     // so that a line steps +-1 along rows (axes: one texel further in memory) or
     // +-1 row and su along it (diagonals, knight's moves).
     bool transposed = abs(dir.y) > abs(dir.x);
-    int su = transposed ? dir.y : dir.x;
-    int sv = transposed ? dir.x : dir.y;
-    int frame = transposed ? n * n : 0;
+    su = transposed ? dir.y : dir.x;
+    sv = transposed ? dir.x : dir.y;
+    frame = transposed ? n * n : 0;
     float step_len = sqrt(float(dir.x * dir.x + dir.y * dir.y));
     // Along a row, line k is row k; across rows, the line through (k, 0).
-    int u = sv == 0 ? 0 : line;
-    int v = sv == 0 ? line : 0;
-    // This invocation's hull stack and its line of the map, position by position.
-    uint hull_base = uint(id) * uint(n);
+    u = sv == 0 ? 0 : line;
+    v = sv == 0 ? line : 0;
+    hull_base = uint(id) * uint(n);
     uint out_base = uint(d * n + line) * uint(n);
 
     // The line's highest texel (the first of equals), position p.
-    int p = 0;
+    p = 0;
     int pu = u;
     int pv = v;
-    float highest = heights.h[frame + v * n + u];
+    highest = heights.h[frame + v * n + u];
     for (int t = 1; t < n; ++t) {
         u = wrap(u + su, n);
         v = wrap(v + sv, n);
@@ -118,83 +249,39 @@ void main() {
         }
     }
 
-    // One lap backwards from the texel behind the peak (position p + N - 1) to the
-    // one after it (p + 1), the peak's copy at p + N first on the hull.
-    // The hull's top eight entries in registers (r0 the top; w of them valid), the
-    // m below them in memory, moved two at a time (so m stays even and a pair is one
-    // aligned vec4): memory is touched only when the window is full before a push (two
-    // spilled) or down to one entry with more below (two refilled), so a hull that
-    // grows and shrinks by a few entries, as it does over ripples and noise, stays in
-    // registers.
-    vec2 r0 = vec2(float(p + n), highest);
-    vec2 r1 = vec2(0.0);
-    vec2 r2 = vec2(0.0);
-    vec2 r3 = vec2(0.0);
-    vec2 r4 = vec2(0.0);
-    vec2 r5 = vec2(0.0);
-    vec2 r6 = vec2(0.0);
-    vec2 r7 = vec2(0.0);
-    int w = 1;
-    int m = 0;
-    // The peak's own horizon, the largest (h - highest) / k, kept as a fraction.
-    float best_rise = -3.402823e38;
-    float best_k = 1.0;
+    // From the last position of the peak's group of four, a lap ahead (q0 + N), down
+    // to the first of that group (N + 4 steps), the hull empty at first.
+    int q0 = p | 3;
     u = pu;
     v = pv;
-    for (int t = p + n - 1; t > p; --t) {
-        u = wrap(u - su, n);
-        v = wrap(v - sv, n);
-        float here = heights.h[frame + v * n + u];
-        float ft = float(t);
-        // Pop the top while the one below it is seen at least as steeply (slopes
-        // compared by cross-multiplying: both distances are positive).
-        // The pops touch registers only; where a line's window runs down to its top
-        // with more below, two entries come back from memory and the pops go on.
-        bool refill;
-        do {
-            while (w >= 2 && (r0.y - here) * (r1.x - ft) <= (r1.y - here) * (r0.x - ft)) {
-                r0 = r1;
-                r1 = r2;
-                r2 = r3;
-                r3 = r4;
-                r4 = r5;
-                r5 = r6;
-                r6 = r7;
-                w -= 1;
-            }
-            refill = w == 1 && m > 0;
-            if (refill) {
-                // The pair below the window, the top last.
-                m -= 2;
-                vec4 pair = hull.at[(hull_base + uint(m)) / 2u];
-                r2 = pair.xy;
-                r1 = pair.zw;
-                w = 3;
-            }
-        } while (refill);
-        // The same expression as the brute walk's (there - here) * s / (k * len).
-        horizon.s[out_base + uint(t >= n ? t - n : t)] =
-            (r0.y - here) * pc.height_scale / ((r0.x - ft) * step_len);
-        float k = float(t - p);
-        if ((here - highest) * best_k > best_rise * k) {
-            best_rise = here - highest;
-            best_k = k;
-        }
-        if (w == 8) {
-            // The window's bottom two onto memory, the lower first.
-            hull.at[(hull_base + uint(m)) / 2u] = vec4(r7, r6);
-            m += 2;
-            w = 6;
-        }
-        r7 = r6;
-        r6 = r5;
-        r5 = r4;
-        r4 = r3;
-        r3 = r2;
-        r2 = r1;
-        r1 = r0;
-        r0 = vec2(ft, here);
-        w += 1;
+    for (int j = p; j < q0; ++j) {
+        u = wrap(u + su, n);
+        v = wrap(v + sv, n);
     }
-    horizon.s[out_base + uint(p)] = best_rise * pc.height_scale / (best_k * step_len);
+    r0 = vec2(0.0);
+    r1 = vec2(0.0);
+    r2 = vec2(0.0);
+    r3 = vec2(0.0);
+    r4 = vec2(0.0);
+    r5 = vec2(0.0);
+    r6 = vec2(0.0);
+    r7 = vec2(0.0);
+    w = 0;
+    m = 0;
+    best_rise = -3.402823e38;
+    best_k = 1.0;
+    int t = q0 + n;
+    for (int g = 0; g <= n / 4; ++g) {
+        vec2 a3 = sweep_step(t, true);
+        vec2 a2 = sweep_step(t - 1, false);
+        vec2 a1 = sweep_step(t - 2, true);
+        vec2 a0 = sweep_step(t - 3, false);
+        // The same expression as the brute walk's (there - here) * s / (k * len).
+        horizon.s[(out_base + uint((t - 3) & (n - 1))) / 4u] =
+            vec4(a0.x, a1.x, a2.x, a3.x) * pc.height_scale
+            / (vec4(a0.y, a1.y, a2.y, a3.y) * step_len);
+        t -= 4;
+    }
+    horizon.s[(out_base + uint(p)) / 4u][p & 3] =
+        best_rise * pc.height_scale / (best_k * step_len);
 }

@@ -128,9 +128,10 @@ pub struct HorizonSweep {
 }
 
 impl HorizonSweep {
-    /// Prepares the sweep of a square, power-of-two `field` along 8 or 16 directions,
-    /// writing each line's horizons in order into `horizon` (`directions` x the
-    /// field's texels floats; [`planes_from_lines`] reads them as planes).
+    /// Prepares the sweep of a square, power-of-two `field` (at least 4x4) along 8 or
+    /// 16 directions, writing each line's horizons in order into `horizon`
+    /// (`directions` x the field's texels floats; [`planes_from_lines`] reads them as
+    /// planes).
     pub fn new(
         ctx: &Arc<Context>,
         field: &Heightfield,
@@ -138,6 +139,13 @@ impl HorizonSweep {
         horizon: &Buffer,
     ) -> Result<Self> {
         let size = tile_side(field, "horizon sweep")?;
+        // The sweep writes four positions of a line as one vec4.
+        if size < 4 {
+            return Err(Error::internal(
+                "horizon sweep",
+                format!("a {size}x{size} tile: the sweep needs at least 4x4"),
+            ));
+        }
         if directions != 8 && directions != 16 {
             return Err(Error::internal(
                 "horizon sweep",
