@@ -63,6 +63,9 @@ pub enum DescriptorKind {
     Sampler,
     /// `image2D` and kin, read or written with `imageLoad`/`imageStore`; `STORAGE_IMAGE`.
     StorageImage,
+    /// `samplerBuffer` and kin, read with `texelFetch`; `UNIFORM_TEXEL_BUFFER`. naga
+    /// cannot read buffer images, so a module with one declares its interface by hand.
+    UniformTexelBuffer,
 }
 
 /// One `layout(set = S, binding = B)` resource.
@@ -168,6 +171,18 @@ pub fn reflect(shader: &ShaderSpirv) -> Result<Reflection> {
         bindings,
         push_constant_bytes,
     })
+}
+
+/// Whether naga can read `iface`'s module: not a geometry shader (naga has no such
+/// stage) and no texel buffer (naga reads no buffer images). The others declare their
+/// interface by hand; the GPU tests that build their pipelines hold it (the validation
+/// layers check a pipeline's layout against its modules).
+pub fn naga_reads(iface: &ShaderInterface) -> bool {
+    iface.shader.stage != ShaderStageKind::Geometry
+        && !iface
+            .bindings
+            .iter()
+            .any(|b| b.kind == DescriptorKind::UniformTexelBuffer)
 }
 
 /// Holds a Rust-side declaration against the module's reflection; the error lists

@@ -47,6 +47,10 @@ void end_triangle() {
     EndPrimitive();
 }
 
+vec4 plan_step(uint i) {
+    return plan.steps[i];
+}
+
 void main() {
     V t[3];
     for (int k = 0; k < 3; ++k) {

@@ -13,7 +13,7 @@
 //   [2] flank deposit vd, flank angle, flank half-width, thickening accumulated
 //       through this pass
 //   [3] target xyz (apex or meeting-ring centre), meeting-ring radius
-// The including shader declares it as `plan.steps`.
+// The including shader reads it through `plan_step`.
 #ifndef SEDIMENT_RING_GROWTH_GLSL
 #define SEDIMENT_RING_GROWTH_GLSL
 
@@ -38,6 +38,8 @@ const uint EMIT_FROZEN = 2u;
 // calls, each followed by `end_triangle` (the GS ends its strip there).
 void emit(V v);
 void end_triangle();
+// Step `i` of the growth plan; defined by the including shader.
+vec4 plan_step(uint i);
 
 struct Target {
     uint mode;
@@ -70,8 +72,7 @@ void put(Target to, V v) {
 }
 
 // One growth pass over one input triangle `t`, emitting (through `emit`) the part of
-// its output that `mode` selects (the plan buffer `plan` is declared by the including
-// shader).
+// its output that `mode` selects (the plan read through `plan_step`).
 //
 // The output is up to three triangles, built into fixed slots and emitted in this
 // order where the mode takes them:
@@ -87,7 +88,7 @@ void put(Target to, V v) {
 void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments, uint mode) {
     uint sp = uint(t[0].normal_sp.w + 0.5);
     uint base = 4u * (pass_index * speleothem_count + sp);
-    vec4 s0 = plan.steps[base];
+    vec4 s0 = plan_step(base);
     float thicken = s0.z;
     V slot[9];
     bool take[3] = bool[3](false, false, false);
@@ -111,9 +112,9 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
         }
         take[1] = mode != EMIT_FROZEN;
     } else {
-        vec4 s1 = plan.steps[base + 1u];
-        vec4 s2 = plan.steps[base + 2u];
-        vec4 s3 = plan.steps[base + 3u];
+        vec4 s1 = plan_step(base + 1u);
+        vec4 s2 = plan_step(base + 2u);
+        vec4 s3 = plan_step(base + 3u);
         float height = s0.x;
         float radius = s0.y;
         vec3 wind = s1.xyz;
@@ -242,7 +243,7 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
 // 6 when a B triangle closes a tip or any front triangle joins a column, else 3.
 uint output_count(V t[3], uint pass_index, uint speleothem_count) {
     uint sp = uint(t[0].normal_sp.w + 0.5);
-    uint action = uint(plan.steps[4u * (pass_index * speleothem_count + sp)].w + 0.5);
+    uint action = uint(plan_step(4u * (pass_index * speleothem_count + sp)).w + 0.5);
     bool front = t[0].pos_id.w <= 0.0 && t[1].pos_id.w <= 0.0 && t[2].pos_id.w <= 0.0;
     if (!front || action == 0u) {
         return 3u;

@@ -201,3 +201,81 @@ impl Drop for Buffer {
         }
     }
 }
+
+/// A whole buffer viewed as 16-byte RGBA32F texels, read in shaders as a texel buffer
+/// (`samplerBuffer`, `texelFetch`). Why: llvmpipe (Mesa 22.3) reads a storage buffer
+/// for 8 invocations as a loop over them, component by component, where a texel fetch
+/// gathers the 8 lanes' texels with vector instructions (see `ring_growth.comp`).
+pub struct TexelView {
+    raw: vk::BufferView,
+    ctx: Arc<Context>,
+}
+
+impl TexelView {
+    /// Bytes of one texel.
+    pub const TEXEL_BYTES: u64 = 16;
+
+    /// A view of all of `buffer` (created with UNIFORM_TEXEL_BUFFER usage); an error
+    /// naming `what` where the device's `maxTexelBufferElements` is smaller.
+    pub fn rgba32f(ctx: &Arc<Context>, what: &str, buffer: &Buffer) -> Result<Self> {
+        let texels = texels_within(what, buffer.size(), ctx.info().max_texel_buffer_elements)?;
+        let info = vk::BufferViewCreateInfo::default()
+            .buffer(buffer.raw())
+            .format(vk::Format::R32G32B32A32_SFLOAT)
+            .offset(0)
+            .range(texels * Self::TEXEL_BYTES);
+        // SAFETY: valid device; the range lies inside the buffer, within the device's
+        // limit; callers keep the buffer alive as long as the view.
+        let raw = unsafe { ctx.device.create_buffer_view(&info, None) }.vk("vkCreateBufferView")?;
+        ctx.name(raw, what);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// The `VkBufferView` handle; destroyed with `self`.
+    pub fn raw(&self) -> vk::BufferView {
+        self.raw
+    }
+}
+
+/// The 16-byte texels in `bytes`, or an error naming `what` where there are more than
+/// the device's `limit`.
+fn texels_within(what: &str, bytes: u64, limit: u32) -> Result<u64> {
+    let texels = bytes / TexelView::TEXEL_BYTES;
+    if texels > u64::from(limit) {
+        return Err(Error::internal(
+            what,
+            format!(
+                "{texels} texels of 16 bytes, but this device's texel buffers hold at most \
+                 {limit} (maxTexelBufferElements)"
+            ),
+        ));
+    }
+    Ok(texels)
+}
+
+impl Drop for TexelView {
+    fn drop(&mut self) {
+        // SAFETY: the view belongs to this device and the GPU is done with it.
+        unsafe { self.ctx.device.destroy_buffer_view(self.raw, None) };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::texels_within;
+
+    #[test]
+    fn a_texel_view_beyond_the_device_limit_is_refused_with_the_limit_named() {
+        assert_eq!(texels_within("mesh", 16 * 65536, 65536).ok(), Some(65536));
+        let err = texels_within("compute growth mesh a", 16 * 65537, 65536)
+            .expect_err("one texel too many");
+        let message = err.to_string();
+        assert!(
+            message.contains("65537 texels") && message.contains("maxTexelBufferElements"),
+            "{message}"
+        );
+    }
+}

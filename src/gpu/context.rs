@@ -85,6 +85,8 @@ pub struct DeviceInfo {
     /// The largest device-local memory heap, bytes (what GPU buffers are budgeted
     /// against).
     pub device_heap_bytes: u64,
+    /// Most texels one texel-buffer view may address (`maxTexelBufferElements`).
+    pub max_texel_buffer_elements: u32,
 }
 
 /// Instance-level state shared by `Context::new` and `probe_devices`.
@@ -459,6 +461,7 @@ impl Context {
             max_geometry_output_vertices: props.limits.max_geometry_output_vertices,
             max_geometry_total_output_components: props.limits.max_geometry_total_output_components,
             device_heap_bytes,
+            max_texel_buffer_elements: props.limits.max_texel_buffer_elements,
         };
         log::debug!(
             "device: {} ({}, Vulkan {}), {} MiB device heap, {} samples a pixel{}",

@@ -265,6 +265,11 @@ pub(crate) fn probe(instance: &ash::Instance, physical: vk::PhysicalDevice) -> D
             "largest --size",
             limits.max_image_dimension2_d.to_string(),
         ),
+        reported(
+            "maxTexelBufferElements",
+            "the compute growth path reads its mesh as texels: 3 a vertex",
+            limits.max_texel_buffer_elements.to_string(),
+        ),
     ];
 
     DeviceReport {

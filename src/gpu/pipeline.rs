@@ -265,6 +265,22 @@ impl DescriptorSet {
         Ok(())
     }
 
+    /// Points a uniform texel buffer binding at `view`.
+    pub fn write_texel_buffer(&self, binding: u32, view: &super::TexelView) -> Result<()> {
+        let kind = self.kind_of(binding)?;
+        let views = [view.raw()];
+        let write = [vk::WriteDescriptorSet::default()
+            .dst_set(self.raw)
+            .dst_binding(binding)
+            .descriptor_type(descriptor_type(kind))
+            .descriptor_count(1)
+            .texel_buffer_view(&views)];
+        // SAFETY: the set is not in use by the GPU while it is updated; the view
+        // outlives the writes that read it (its owner keeps it beside the set).
+        unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
+        Ok(())
+    }
+
     /// Points a sampled or storage image binding at `view` in `layout`.
     pub fn write_image(
         &self,

@@ -67,5 +67,6 @@ pub(crate) fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
         DescriptorKind::SampledImage => vk::DescriptorType::SAMPLED_IMAGE,
         DescriptorKind::Sampler => vk::DescriptorType::SAMPLER,
         DescriptorKind::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
+        DescriptorKind::UniformTexelBuffer => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
     }
 }

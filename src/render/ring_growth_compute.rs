@@ -11,7 +11,8 @@ use std::sync::Arc;
 use super::growth::{Growth, GrowthCounts, GrowthPath, MeshSource};
 use crate::error::Result;
 use crate::gpu::{
-    Buffer, BufferDesc, Commands, Context, DescriptorSet, Pipeline, PipelineLayout, Pod, vk,
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, Pipeline, PipelineLayout, Pod, TexelView,
+    vk,
 };
 use crate::model::speleothem::{GrowthPlan, RingVertex, initial_rings, vertex_counts};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
@@ -28,15 +29,21 @@ struct ComputePush {
 // SAFETY: repr(C), four u32.
 unsafe impl Pod for ComputePush {}
 
+const fn texels(binding: u32) -> DescriptorBinding {
+    DescriptorBinding::new(0, binding, DescriptorKind::UniformTexelBuffer)
+}
+
 const fn storage(binding: u32) -> DescriptorBinding {
     DescriptorBinding::new(0, binding, DescriptorKind::StorageBuffer)
 }
 
-/// `ring_growth.comp`: five storage buffers (plan, input mesh, output mesh, per-run
-/// sums, the indirect draw command) and the private `ComputePush`.
+/// `ring_growth.comp`: the plan and the input mesh as texel buffers (RGBA32F), three
+/// storage buffers (output mesh, per-run sums, the indirect draw command) and the
+/// private `ComputePush`. naga cannot read texel buffers: the GPU tests, with the
+/// validation layers checking the layout against the module, hold this declaration.
 pub static INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_RING_GROWTH_COMP,
-    bindings: &[storage(0), storage(1), storage(2), storage(3), storage(4)],
+    bindings: &[texels(0), texels(1), storage(2), storage(3), storage(4)],
     push_constant_bytes: size_of::<ComputePush>() as u32,
 };
 
@@ -56,6 +63,8 @@ pub struct ComputeGrowth {
     /// Read by the shader every pass; rewritten when the plan is steered.
     plan: Buffer,
     _runs: Buffer,
+    /// What the sets read the plan and the meshes through.
+    _views: [TexelView; 3],
     counts: Vec<u64>,
     /// Vertices each mesh buffer holds.
     capacity: u64,
@@ -80,7 +89,9 @@ impl ComputeGrowth {
             .unwrap_or(0)
             .max(base.len() as u64);
         let stride = size_of::<RingVertex>() as u64;
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::VERTEX_BUFFER;
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::VERTEX_BUFFER
+            | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
         let mesh = |name: &str| {
             Buffer::new(
                 ctx,
@@ -106,8 +117,17 @@ impl ComputeGrowth {
             "compute growth draw",
             BufferDesc::readback(16, storage_only | vk::BufferUsageFlags::INDIRECT_BUFFER),
         )?;
-        let plan_buffer =
-            Buffer::with_data(ctx, "compute growth plan", storage_only, &plan.gpu_steps())?;
+        let plan_buffer = Buffer::with_data(
+            ctx,
+            "compute growth plan",
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+            &plan.gpu_steps(),
+        )?;
+        let views = [
+            TexelView::rgba32f(ctx, "compute growth plan", &plan_buffer)?,
+            TexelView::rgba32f(ctx, "compute growth mesh a", &meshes[0])?,
+            TexelView::rgba32f(ctx, "compute growth mesh b", &meshes[1])?,
+        ];
         let layout = PipelineLayout::new(ctx, "compute growth layout", &[&INTERFACE])?;
         let stage = |name: &str, sums: bool, offsets: bool| {
             Pipeline::compute_specialized(
@@ -125,8 +145,8 @@ impl ComputeGrowth {
         ];
         let make_set = |from: usize| -> Result<DescriptorSet> {
             let set = layout.allocate_set("compute growth set", 0)?;
-            set.write_buffer(0, &plan_buffer)?;
-            set.write_buffer(1, &meshes[from])?;
+            set.write_texel_buffer(0, &views[0])?;
+            set.write_texel_buffer(1, &views[1 + from])?;
             set.write_buffer(2, &meshes[1 - from])?;
             set.write_buffer(3, &runs)?;
             set.write_buffer(4, &draw)?;
@@ -140,6 +160,7 @@ impl ComputeGrowth {
             meshes,
             draw,
             plan: plan_buffer,
+            _views: views,
             _runs: runs,
             counts,
             capacity: most,
@@ -198,7 +219,13 @@ impl Growth for ComputeGrowth {
             let from = (self.done % 2) as usize;
             let triangles = (self.current_vertices() / 3) as u32;
             let groups = triangles.div_ceil(CHUNK).div_ceil(GROUP).max(1);
-            for (pipeline, dispatch) in self.pipelines.iter().zip([groups, 1, groups]) {
+            let order: Vec<usize> = std::env::var("SCRATCH_ORDER")
+                .map(|s| s.split(',').map(|x| x.parse().unwrap()).collect())
+                .unwrap_or(vec![0, 1, 2]);
+            for (pipeline, dispatch) in order
+                .iter()
+                .map(|&i| (&self.pipelines[i], [groups, 1, groups][i]))
+            {
                 cmd.bind_pipeline(pipeline, &self.layout, &[&self.sets[from]]);
                 cmd.push_constants(
                     &self.layout,
