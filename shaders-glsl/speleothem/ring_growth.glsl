@@ -63,6 +63,14 @@ float flank_profile(vec3 n, float angle, float width) {
     return max(1.0 - x * x, 0.0);
 }
 
+// `a`, `b` or `c` for `s` 0, 1 or 2, member by member (naga and SPIR-V before 1.4 have
+// no select between structs).
+V pick(uint s, V a, V b, V c) {
+    return V(s == 0u ? a.pos_id : (s == 1u ? b.pos_id : c.pos_id),
+             s == 0u ? a.normal_sp : (s == 1u ? b.normal_sp : c.normal_sp),
+             s == 0u ? a.extra : (s == 1u ? b.extra : c.extra));
+}
+
 // Emits one vertex of a triangle the draw takes (EMIT_FROZEN: brought up to date).
 void put(Target to, V v) {
     if (to.mode == EMIT_FROZEN) {
@@ -216,24 +224,21 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
         take[2] = link && mode != EMIT_FRONT;
     }
 
-    // Written out, not looped: the slots stay registers (a loop the compiler did not
-    // unroll would index them).
-    if (take[0]) {
-        put(to, slot[0]);
-        put(to, slot[1]);
-        put(to, slot[2]);
-        end_triangle();
-    }
-    if (take[1]) {
-        put(to, slot[3]);
-        put(to, slot[4]);
-        put(to, slot[5]);
-        end_triangle();
-    }
-    if (take[2]) {
-        put(to, slot[6]);
-        put(to, slot[7]);
-        put(to, slot[8]);
+    // The taken triangles in slot order, from one place in a loop that runs as often
+    // as the most-emitting lane (once more, masked, on llvmpipe): a triangle off the
+    // front takes one slot, so most groups of lanes emit 3 vertices here, not 9 (the
+    // geometry stage stores every emit for all 8 lanes, taken or not). The slot is
+    // picked by selects on constant indices, so the slots stay registers.
+    uint t0 = uint(take[0]);
+    uint t1 = uint(take[1]);
+    uint count = t0 + t1 + uint(take[2]);
+    for (uint k = 0u; k < count; ++k) {
+        // The k-th taken slot: 0, 1 or 2.
+        uint s = k == 0u ? (t0 == 1u ? 0u : (t1 == 1u ? 1u : 2u))
+                         : (k == 1u && t0 + t1 == 2u ? 1u : 2u);
+        put(to, pick(s, slot[0], slot[3], slot[6]));
+        put(to, pick(s, slot[1], slot[4], slot[7]));
+        put(to, pick(s, slot[2], slot[5], slot[8]));
         end_triangle();
     }
 }
