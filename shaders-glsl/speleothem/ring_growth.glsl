@@ -63,8 +63,8 @@ float flank_profile(vec3 n, float angle, float width) {
     return max(1.0 - x * x, 0.0);
 }
 
-// `a`, `b` or `c` for `s` 0, 1 or 2, member by member (naga and SPIR-V before 1.4 have
-// no select between structs).
+// `a`, `b` or `c` for `s` 0, 1 or 2, member by member (naga rejects a select between
+// structs).
 V pick(uint s, V a, V b, V c) {
     return V(s == 0u ? a.pos_id : (s == 1u ? b.pos_id : c.pos_id),
              s == 0u ? a.normal_sp : (s == 1u ? b.normal_sp : c.normal_sp),
