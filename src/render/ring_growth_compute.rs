@@ -219,13 +219,7 @@ impl Growth for ComputeGrowth {
             let from = (self.done % 2) as usize;
             let triangles = (self.current_vertices() / 3) as u32;
             let groups = triangles.div_ceil(CHUNK).div_ceil(GROUP).max(1);
-            let order: Vec<usize> = std::env::var("SCRATCH_ORDER")
-                .map(|s| s.split(',').map(|x| x.parse().unwrap()).collect())
-                .unwrap_or(vec![0, 1, 2]);
-            for (pipeline, dispatch) in order
-                .iter()
-                .map(|&i| (&self.pipelines[i], [groups, 1, groups][i]))
-            {
+            for (pipeline, dispatch) in self.pipelines.iter().zip([groups, 1, groups]) {
                 cmd.bind_pipeline(pipeline, &self.layout, &[&self.sets[from]]);
                 cmd.push_constants(
                     &self.layout,
