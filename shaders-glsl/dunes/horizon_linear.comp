@@ -118,6 +118,13 @@ int m;
 float best_rise;
 float best_k;
 
+// 1 where the entry at `below` (relative to the texel) is seen at least as steeply as
+// the one at `top`, so `top` pops (slopes compared by cross-multiplying: both runs
+// are positive).
+uint pops_past(vec2 top, vec2 below) {
+    return uint(top.y * below.x <= below.y * top.x);
+}
+
 // One texel of the sweep at lap position t (read at (u, v), which then steps back):
 // pops what it sees past, pushes it, and returns its horizon as (rise, run).
 // `spill`: whether this step may move two entries to memory (every other step: the
@@ -125,9 +132,8 @@ float best_k;
 vec2 sweep_step(int t, bool spill) {
     float here = heights.h[frame + v * n + u];
     float ft = float(t);
-    // Pop while the entry below the top is seen at least as steeply (slopes compared
-    // by cross-multiplying: both runs are positive): all seven tests on the window as
-    // it is, the pops the prefix of those that hold.
+    // Pop while the entry below the top is seen at least as steeply: all seven tests
+    // on the window as it is, the pops the prefix of those that hold.
     vec2 d0 = r0 - vec2(ft, here);
     vec2 d1 = r1 - vec2(ft, here);
     vec2 d2 = r2 - vec2(ft, here);
@@ -136,13 +142,13 @@ vec2 sweep_step(int t, bool spill) {
     vec2 d5 = r5 - vec2(ft, here);
     vec2 d6 = r6 - vec2(ft, here);
     vec2 d7 = r7 - vec2(ft, here);
-    uint c0 = uint(w >= 2) & uint(d0.y * d1.x <= d1.y * d0.x);
-    uint c1 = c0 & uint(w >= 3) & uint(d1.y * d2.x <= d2.y * d1.x);
-    uint c2 = c1 & uint(w >= 4) & uint(d2.y * d3.x <= d3.y * d2.x);
-    uint c3 = c2 & uint(w >= 5) & uint(d3.y * d4.x <= d4.y * d3.x);
-    uint c4 = c3 & uint(w >= 6) & uint(d4.y * d5.x <= d5.y * d4.x);
-    uint c5 = c4 & uint(w >= 7) & uint(d5.y * d6.x <= d6.y * d5.x);
-    uint c6 = c5 & uint(w >= 8) & uint(d6.y * d7.x <= d7.y * d6.x);
+    uint c0 = uint(w >= 2) & pops_past(d0, d1);
+    uint c1 = c0 & uint(w >= 3) & pops_past(d1, d2);
+    uint c2 = c1 & uint(w >= 4) & pops_past(d2, d3);
+    uint c3 = c2 & uint(w >= 5) & pops_past(d3, d4);
+    uint c4 = c3 & uint(w >= 6) & pops_past(d4, d5);
+    uint c5 = c4 & uint(w >= 7) & pops_past(d5, d6);
+    uint c6 = c5 & uint(w >= 8) & pops_past(d6, d7);
     uint pops = c0 + c1 + c2 + c3 + c4 + c5 + c6;
     bvec2 s = bvec2((pops & 1u) != 0u);
     r0 = mix(r0, r1, s);
@@ -175,8 +181,8 @@ vec2 sweep_step(int t, bool spill) {
         d0 = r0 - vec2(ft, here);
         d1 = r1 - vec2(ft, here);
         d2 = r2 - vec2(ft, here);
-        uint e0 = uint(d0.y * d1.x <= d1.y * d0.x);
-        uint e1 = e0 & uint(d1.y * d2.x <= d2.y * d1.x);
+        uint e0 = pops_past(d0, d1);
+        uint e1 = e0 & pops_past(d1, d2);
         s = bvec2(e0 != 0u);
         r0 = mix(r0, r1, s);
         r1 = mix(r1, r2, s);
