@@ -48,6 +48,36 @@ impl Stats {
     }
 }
 
+/// The Theil–Sen line through the points `(i, samples[i])`: the slope is the median of
+/// the slopes between every two samples, the intercept the median of `samples[i] -
+/// slope * i`. Unlike least squares it follows the bulk of the samples when up to about
+/// a third of them are off the line, as the slow stretches of a shared machine are.
+/// `(intercept, slope)`; `None` for fewer than two finite samples. O(n^2) pairs: meant
+/// for a series of frames (hundreds), not millions.
+pub fn theil_sen(samples: &[f64]) -> Option<(f64, f64)> {
+    let points: Vec<(f64, f64)> = samples
+        .iter()
+        .enumerate()
+        .filter(|(_, y)| y.is_finite())
+        .map(|(i, &y)| (i as f64, y))
+        .collect();
+    if points.len() < 2 {
+        return None;
+    }
+    let slopes: Vec<f64> = points
+        .iter()
+        .enumerate()
+        .flat_map(|(k, &(x0, y0))| {
+            points[k + 1..]
+                .iter()
+                .map(move |&(x1, y1)| (y1 - y0) / (x1 - x0))
+        })
+        .collect();
+    let slope = Stats::of(&slopes).median;
+    let offsets: Vec<f64> = points.iter().map(|&(x, y)| y - slope * x).collect();
+    Some((Stats::of(&offsets).median, slope))
+}
+
 /// One named GPU pass within a frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -401,4 +431,26 @@ pub fn compare(a: &Report, b: &Report) -> String {
         out.push_str(&format!("\n{missing} series of a are not in b\n"));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn theil_sen_follows_the_line_through_slow_stretches() {
+        // A flat 2 ms series with a slow stretch (3 ms) over a third of it, at its end:
+        // the windowed medians would read 1.5x, the line stays flat.
+        let flat: Vec<f64> = (0..120).map(|i| if i >= 80 { 3.0 } else { 2.0 }).collect();
+        let (a, b) = theil_sen(&flat).expect("a line");
+        assert!((a - 2.0).abs() < 1e-9 && b.abs() < 1e-9, "{a} {b}");
+        // A rising series with the same stretch: slope and intercept recovered.
+        let rising: Vec<f64> = (0..120)
+            .map(|i| 1.0 + 0.5 * f64::from(i) + if (40..70).contains(&i) { 9.0 } else { 0.0 })
+            .collect();
+        let (a, b) = theil_sen(&rising).expect("a line");
+        assert!((a - 1.0).abs() < 1e-9 && (b - 0.5).abs() < 1e-9, "{a} {b}");
+        assert_eq!(theil_sen(&[1.0]), None);
+        assert_eq!(theil_sen(&[f64::NAN, 1.0]), None);
+    }
 }
