@@ -505,16 +505,32 @@ fn creep_row(rows: &[f64], out: &mut [f64], d: f64, lateral: f64) {
     let w = out.len();
     let (up, rest) = rows.split_at(w);
     let (mid, down) = rest.split_at(w);
-    let cell = |x: usize, l: usize, r: usize| {
-        let nn = up[x] + down[x] + mid[l] + mid[r];
-        let nnn = up[l] + up[r] + down[l] + down[r];
-        mid[x] + d * (nn / 6.0 + nnn / 12.0 - mid[x]) + lateral * ((up[x] + down[x]) * 0.5 - mid[x])
-    };
-    out[0] = cell(0, w - 1, 1);
-    for (x, o) in out.iter_mut().enumerate().take(w - 1).skip(1) {
-        *o = cell(x, x - 1, x + 1);
+    // Cell x from its column's three cells (up, mid, down at x) and the columns either
+    // side: `l` and `r` each hold (up, mid, down) at x - 1 and x + 1.
+    #[inline(always)]
+    fn cell(c: [f64; 3], l: [f64; 3], r: [f64; 3], d: f64, lateral: f64) -> f64 {
+        let nn = c[0] + c[2] + l[1] + r[1];
+        let nnn = l[0] + r[0] + l[2] + r[2];
+        c[1] + d * (nn / 6.0 + nnn / 12.0 - c[1]) + lateral * ((c[0] + c[2]) * 0.5 - c[1])
     }
-    out[w - 1] = cell(w - 1, w - 2, 0);
+    let col = |x: usize| [up[x], mid[x], down[x]];
+    out[0] = cell(col(0), col(w - 1), col(1), d, lateral);
+    // The inner cells over windows of three columns: no bounds checks, no wrap.
+    let inner = up
+        .windows(3)
+        .zip(mid.windows(3))
+        .zip(down.windows(3))
+        .zip(&mut out[1..w - 1]);
+    for (((u, m), dn), o) in inner {
+        *o = cell(
+            [u[1], m[1], dn[1]],
+            [u[0], m[0], dn[0]],
+            [u[2], m[2], dn[2]],
+            d,
+            lateral,
+        );
+    }
+    out[w - 1] = cell(col(w - 1), col(w - 2), col(0), d, lateral);
 }
 
 /// Along-wind relaxation of one periodic row in place: forward, then backward.
@@ -662,7 +678,9 @@ fn saltate_row(src: &[f64], out: &mut [f64], shadow: &mut RowShadow, law: &RowLa
             }
         }
         let target = x as f64 + l;
-        let i0 = target.floor();
+        // target >= 0, so truncation is floor (and stays inline: `floor` is a libm
+        // call on baseline x86-64).
+        let i0 = (target as usize) as f64;
         let frac = target - i0;
         let i0 = wrap(i0 as usize);
         out[i0] += q * (1.0 - frac);
