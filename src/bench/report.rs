@@ -48,6 +48,21 @@ impl Stats {
     }
 }
 
+/// The mean of the middle half of `samples` (the interquartile mean: a quarter of the
+/// finite samples dropped at each end, rounded down); 0 for none. Between a median,
+/// which on samples split between two levels jumps from one level to the other, and a
+/// mean, which one stall moves.
+pub fn interquartile_mean(samples: &[f64]) -> f64 {
+    let mut v: Vec<f64> = samples.iter().copied().filter(|x| x.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    let cut = v.len() / 4;
+    let middle = &v[cut..v.len() - cut];
+    if middle.is_empty() {
+        return 0.0;
+    }
+    middle.iter().sum::<f64>() / middle.len() as f64
+}
+
 /// The Theil–Sen line through the points `(i, samples[i])`: the slope is the median of
 /// the slopes between every two samples, the intercept the median of `samples[i] -
 /// slope * i`. Unlike least squares it follows the bulk of the samples when up to about
@@ -436,6 +451,22 @@ pub fn compare(a: &Report, b: &Report) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_interquartile_mean_averages_two_levels_and_drops_stalls() {
+        // Two levels in any proportion near half: between them, where a median would
+        // pick one; a stall at either end is dropped.
+        let mut v = vec![2.0, 3.0, 2.0, 3.0, 2.0, 3.0, 2.0, 3.0];
+        assert!((interquartile_mean(&v) - 2.5).abs() < 1e-12);
+        v.extend([2.0, 9.0, f64::NAN]);
+        assert!(
+            (interquartile_mean(&v) - 2.5).abs() < 1e-12,
+            "{}",
+            interquartile_mean(&v)
+        );
+        assert_eq!(interquartile_mean(&[]), 0.0);
+        assert_eq!(interquartile_mean(&[4.0]), 4.0);
+    }
 
     #[test]
     fn theil_sen_follows_the_line_through_slow_stretches() {
