@@ -66,7 +66,8 @@ pub fn interquartile_mean(samples: &[f64]) -> f64 {
 /// The Theil–Sen line through the points `(i, samples[i])`: the slope is the median of
 /// the slopes between every two samples, the intercept the median of `samples[i] -
 /// slope * i`. Unlike least squares it follows the bulk of the samples when up to about
-/// a third of them are off the line, as the slow stretches of a shared machine are.
+/// 29 % of them (its breakdown point) are off the line, as the slow stretches of a
+/// shared machine are.
 /// `(intercept, slope)`; `None` for fewer than two finite samples. O(n^2) pairs: meant
 /// for a series of frames (hundreds), not millions.
 pub fn theil_sen(samples: &[f64]) -> Option<(f64, f64)> {
