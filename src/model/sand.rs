@@ -42,9 +42,11 @@
 //!   (about 20 degrees on both sides).
 //!
 //! Rows are independent in saltation (the wind is along x) and creep reads only the
-//! previous buffer, so each phase writes row bands of a second buffer in parallel
-//! (rayon) and the buffers swap: no allocation inside the step loop. The output is
-//! the same to the bit for any number of threads (tested).
+//! previous buffer, so each phase writes row bands of a second buffer in parallel and
+//! the buffers swap: no allocation inside the step loop. `run` steps on threads that
+//! own their bands and meet at a barrier between phases (`sand/lockstep.rs`); `step`
+//! dispatches each phase on rayon. The output is the same to the bit for either and
+//! any number of threads (tested).
 
 use rayon::prelude::*;
 
@@ -281,6 +283,9 @@ pub const DUNE_SHADOW_DEGREES: f64 = 15.0;
 /// Upper bound of avalanche sweeps per step.
 const MAX_AVALANCHE_SWEEPS: usize = 64;
 
+/// Avalanching stops when no axial slope exceeds the limit by more than this share of it.
+const CONVERGED: f64 = 0.01;
+
 impl SandSim {
     /// A simulation starting from `field`; fails on invalid `params` or a field under
     /// 4x4 cells or whose data does not match its size.
@@ -316,14 +321,22 @@ impl SandSim {
 
     /// Runs `steps` steps; `progress(done)` is called every 64 steps.
     ///
-    /// Each 64 steps run on one of rayon's worker threads (`rayon::scope` moves them
-    /// there when called from outside the pool): a parallel loop started from another
-    /// thread hands its work to the pool and sleeps until it is done, and a step has
-    /// several such loops, which cost a third of the simulation's time on 64x64.
+    /// A field of an even number of rows (or without avalanching) steps on as many
+    /// threads as rayon's current pool has, up to one per band, meeting between phases
+    /// (`lockstep`); others step on rayon, each 64 steps on one of its worker threads
+    /// (`rayon::scope` moves them there when called from outside the pool: a parallel
+    /// loop started from another thread hands its work to the pool and sleeps until it
+    /// is done, which cost a third of the simulation's time on 64x64).
     pub fn run(&mut self, steps: u32, progress: &mut dyn FnMut(u32)) {
+        if steps == 0 {
+            return;
+        }
+        if self.field.height % 2 == 0 || self.params.repose_degrees.is_none() {
+            return lockstep::run(self, steps, progress);
+        }
         let mut done = 0;
         while done < steps {
-            let n = (steps - done).min(64);
+            let n = (steps - done).min(lockstep::PROGRESS_STEPS);
             rayon::scope(|_| {
                 for _ in 0..n {
                     self.step();
@@ -345,34 +358,20 @@ impl SandSim {
     /// saltation and creep, one each avalanche sweep: on small fields the dispatches,
     /// not the cells, were the cost.
     pub fn step(&mut self) {
-        let (w, h) = (self.field.width, self.field.height);
-        let law = RowLaw {
-            saltation: self.params.saltation,
-            vertical_scale: self.params.vertical_scale,
-            mean: self.mean,
-        };
-        let (d, lateral) = (self.params.diffusion, self.params.lateral);
+        let law = self.step_law();
         {
             let src = &self.field.data;
             self.scratch
-                .par_chunks_mut(w * BAND)
-                .zip(self.halo.par_chunks_mut(w * (BAND + 4)))
+                .par_chunks_mut(law.w * BAND)
+                .zip(self.halo.par_chunks_mut(law.w * (BAND + 4)))
                 .zip(self.shadow.par_iter_mut())
                 .enumerate()
                 .for_each(|(band, ((out, halo), shadow))| {
-                    let rows = out.len() / w;
-                    for (r, row) in halo.chunks_exact_mut(w).take(rows + 2).enumerate() {
-                        let y = (band * BAND + r + h - 1) % h;
-                        saltate_row(&src[y * w..(y + 1) * w], row, shadow, &law);
-                    }
-                    for (r, row_out) in out.chunks_exact_mut(w).enumerate() {
-                        creep_row(&halo[r * w..(r + 3) * w], row_out, d, lateral);
-                    }
+                    saltate_band(&law, band, src, out, halo, shadow);
                 });
         }
         std::mem::swap(&mut self.field.data, &mut self.scratch);
-        if let Some(repose) = self.params.repose_degrees {
-            let limit = repose.to_radians().tan() / self.params.vertical_scale;
+        if let Some(limit) = self.repose_limit() {
             // Relax until no axial slope exceeds the limit by more than 1 %, or a
             // bounded number of sweeps: along the wind, where slip faces form, row by
             // row in place; across it, red-black over pairs of rows (each pair shares
@@ -380,11 +379,34 @@ impl SandSim {
             // sweeps a step on the 64x64 dunes, where a Jacobi sweep (a quarter of
             // each excess, every cell at once) took 7.8.
             for _ in 0..MAX_AVALANCHE_SWEEPS {
-                if self.avalanche(limit) <= 0.01 * limit {
+                if self.avalanche(limit) <= CONVERGED * limit {
                     break;
                 }
             }
         }
+    }
+
+    /// What saltation and creep need besides the field.
+    fn step_law(&self) -> StepLaw {
+        StepLaw {
+            w: self.field.width,
+            h: self.field.height,
+            row: RowLaw {
+                saltation: self.params.saltation,
+                vertical_scale: self.params.vertical_scale,
+                mean: self.mean,
+            },
+            d: self.params.diffusion,
+            lateral: self.params.lateral,
+        }
+    }
+
+    /// The steepest height difference between axial neighbours at rest, in units of
+    /// `H`, when avalanching is on.
+    fn repose_limit(&self) -> Option<f64> {
+        self.params
+            .repose_degrees
+            .map(|r| r.to_radians().tan() / self.params.vertical_scale)
     }
 
     /// One avalanche sweep: every row relaxed along the wind (forward then backward,
@@ -413,21 +435,7 @@ impl SandSim {
             .par_chunks_mut(w * BAND)
             .zip(self.halo.par_chunks_mut(w * (BAND + 4)))
             .enumerate()
-            .map(|(band, (out, halo))| {
-                let rows = out.len() / w;
-                // Local row i is row band * BAND + i - 2: even local rows are even rows
-                // (BAND and h are even), so local pairs are the phases' pairs.
-                let halo = &mut halo[..(rows + 4) * w];
-                for (i, row) in halo.chunks_exact_mut(w).enumerate() {
-                    let y = (band * BAND + i + 2 * h - 2) % h;
-                    row.copy_from_slice(&src[y * w..(y + 1) * w]);
-                }
-                let worst = relax_each_row(halo, w, limit)
-                    .max(relax_pairs(halo, w, limit))
-                    .max(relax_pairs(&mut halo[w..(rows + 3) * w], w, limit));
-                out.copy_from_slice(&halo[2 * w..(rows + 2) * w]);
-                worst
-            })
+            .map(|(band, (out, halo))| avalanche_band(w, h, limit, band, src, out, halo))
             .reduce(|| 0.0, f64::max);
         std::mem::swap(&mut self.field.data, &mut self.scratch);
         worst
@@ -453,6 +461,65 @@ impl SandSim {
     }
 }
 
+/// What a step's saltation and creep need besides the field: its size, the row law,
+/// creep's D and the lateral transport.
+struct StepLaw {
+    w: usize,
+    h: usize,
+    row: RowLaw,
+    d: f64,
+    lateral: f64,
+}
+
+/// Saltation then creep of band `band` of `src` into `out` (its rows of the next
+/// buffer): the band's rows and one either side saltated into `halo`, then crept.
+fn saltate_band(
+    law: &StepLaw,
+    band: usize,
+    src: &[f64],
+    out: &mut [f64],
+    halo: &mut [f64],
+    shadow: &mut RowShadow,
+) {
+    let (w, h) = (law.w, law.h);
+    let rows = out.len() / w;
+    for (r, row) in halo.chunks_exact_mut(w).take(rows + 2).enumerate() {
+        let y = (band * BAND + r + h - 1) % h;
+        saltate_row(&src[y * w..(y + 1) * w], row, shadow, &law.row);
+    }
+    for (r, row_out) in out.chunks_exact_mut(w).enumerate() {
+        creep_row(&halo[r * w..(r + 3) * w], row_out, law.d, law.lateral);
+    }
+}
+
+/// One avalanche sweep (see [`SandSim::avalanche`]) of band `band` of `src` (an even
+/// number `h` of rows of `w`) into `out` (its rows of the next buffer), computed in
+/// `halo` from a copy of the band and two rows either side — the outer ones are what
+/// the pairs across the band's edges need. Returns the largest excess seen.
+fn avalanche_band(
+    w: usize,
+    h: usize,
+    limit: f64,
+    band: usize,
+    src: &[f64],
+    out: &mut [f64],
+    halo: &mut [f64],
+) -> f64 {
+    let rows = out.len() / w;
+    // Local row i is row band * BAND + i - 2: even local rows are even rows (BAND and h
+    // are even), so local pairs are the phases' pairs.
+    let halo = &mut halo[..(rows + 4) * w];
+    for (i, row) in halo.chunks_exact_mut(w).enumerate() {
+        let y = (band * BAND + i + 2 * h - 2) % h;
+        row.copy_from_slice(&src[y * w..(y + 1) * w]);
+    }
+    let worst = relax_each_row(halo, w, limit)
+        .max(relax_pairs(halo, w, limit))
+        .max(relax_pairs(&mut halo[w..(rows + 3) * w], w, limit));
+    out.copy_from_slice(&halo[2 * w..(rows + 2) * w]);
+    worst
+}
+
 /// One axial pair steeper than `limit` sheds half its excess downhill (mass moves
 /// between the two only); returns the pair's excess, relaxed or not.
 fn shed(a: &mut f64, b: &mut f64, limit: f64) -> f64 {
@@ -464,6 +531,11 @@ fn shed(a: &mut f64, b: &mut f64, limit: f64) -> f64 {
         *b += m;
     }
     excess
+}
+
+/// Whether [`shed`] would move sand between `a` and `b` (the same arithmetic).
+fn sheds(a: f64, b: f64, limit: f64) -> bool {
+    (a - b).abs() - limit > 0.0
 }
 
 /// The largest of `worst` and `excess` (plain comparison: no height is NaN).
@@ -533,24 +605,87 @@ fn creep_row(rows: &[f64], out: &mut [f64], d: f64, lateral: f64) {
     out[w - 1] = cell(col(w - 1), col(w - 2), col(0), d, lateral);
 }
 
-/// Along-wind relaxation of one periodic row in place: forward, then backward.
+/// Along-wind relaxation of one periodic row in place: the pairs (0, 1), (1, 2), ...,
+/// (w - 1, 0) forward, then (0, w - 1), (w - 1, w - 2), ..., (1, 0) backward, each as
+/// [`shed`] relaxes it in that order; returns the largest excess seen.
 fn relax_row(row: &mut [f64], limit: f64) -> f64 {
     let w = row.len();
-    let mut worst = 0.0f64;
-    let mut relax = |a: usize, b: usize| {
-        let (mut x, mut y) = (row[a], row[b]);
-        worst = worse(worst, shed(&mut x, &mut y, limit));
-        (row[a], row[b]) = (x, y);
-    };
-    for x in 0..w - 1 {
-        relax(x, x + 1);
-    }
-    relax(w - 1, 0);
-    relax(0, w - 1);
-    for x in (0..w - 1).rev() {
-        relax(x + 1, x);
+    let worst = relax_run(row, limit, true, false, 0.0);
+    let (first, rest) = row.split_at_mut(1);
+    let last = &mut rest[w - 2];
+    let worst = worse(worst, shed(last, &mut first[0], limit));
+    let back = shed(&mut first[0], last, limit);
+    relax_run(row, limit, false, back > 0.0, worse(worst, back))
+}
+
+/// The pairs (x, x + 1) of `row`, x in `0..row.len() - 1`, shed one after the other in
+/// order of x (`forward`) or its reverse, exactly as a loop over them would; `fired`:
+/// whether the pair just before them in the sweep moved sand. Returns `worse` of
+/// `worst` (>= 0) and every pair's excess.
+///
+/// Why not that loop: each pair waits on the one before it (which may have moved their
+/// shared cell), and most of a dune row is below the angle of repose, where no pair
+/// sheds. Whether a pair sheds depends only on its two cells as they stand, and a pair
+/// that sheds nothing changes nothing, its excess (<= 0) leaving `worst` as it is. So
+/// the pairs ahead are checked [`RUN`] at a time from the row as it stands, without
+/// the dependency (`shed_mask`), the sweep steps to the first that sheds and sheds it;
+/// after a pair that moved sand the next is shed directly (down a slip face the
+/// cascade usually goes on). The same bits and the same largest excess as the loop
+/// (tested), so the same number of sweeps.
+fn relax_run(row: &mut [f64], limit: f64, forward: bool, mut fired: bool, mut worst: f64) -> f64 {
+    debug_assert!(worst >= 0.0);
+    let pairs = row.len() - 1;
+    // Pairs done, in the sweep's order.
+    let mut j = 0;
+    while j < pairs {
+        if !fired {
+            // Past the pairs that shed nothing.
+            let n = RUN.min(pairs - j);
+            let lo = if forward { j } else { pairs - j - n };
+            let mask = shed_mask(&row[lo..=lo + n], limit);
+            let mask = if forward {
+                mask
+            } else {
+                mask.reverse_bits() >> (u32::BITS as usize - n)
+            };
+            if mask == 0 {
+                j += n;
+                continue;
+            }
+            j += mask.trailing_zeros() as usize;
+        }
+        let x = if forward { j } else { pairs - 1 - j };
+        let (a, b) = row.split_at_mut(x + 1);
+        let (a, b) = (&mut a[x], &mut b[0]);
+        let excess = if forward {
+            shed(a, b, limit)
+        } else {
+            shed(b, a, limit)
+        };
+        worst = worse(worst, excess);
+        fired = excess > 0.0;
+        j += 1;
     }
     worst
+}
+
+/// Pairs checked at once by [`relax_run`].
+const RUN: usize = 8;
+
+/// Bit i set where the pair (`cells[i]`, `cells[i + 1]`) would shed (at most [`RUN`]
+/// pairs).
+fn shed_mask(cells: &[f64], limit: f64) -> u32 {
+    if let Ok(c) = <&[f64; RUN + 1]>::try_from(cells) {
+        // A fixed count, so the compiler checks them side by side.
+        let mut mask = 0;
+        for i in 0..RUN {
+            mask |= u32::from(sheds(c[i], c[i + 1], limit)) << i;
+        }
+        return mask;
+    }
+    cells.windows(2).enumerate().fold(0, |mask, (i, c)| {
+        mask | u32::from(sheds(c[0], c[1], limit)) << i
+    })
 }
 
 /// What saltation needs besides the row itself.
@@ -774,6 +909,8 @@ pub fn crest_lines(field: &Heightfield, vertical_scale: f64) -> CrestLines {
         lines,
     }
 }
+
+mod lockstep;
 
 #[cfg(test)]
 mod tests;

@@ -455,3 +455,115 @@ fn the_banded_sweep_is_the_in_place_sweep() {
     }
     assert!(a.field().data != field.data, "the sweeps moved sand");
 }
+
+/// The along-wind relaxation as a plain loop over the pairs, in the sweep's order:
+/// what `relax_row` must equal to the bit.
+fn relax_row_loop(row: &mut [f64], limit: f64) -> f64 {
+    let w = row.len();
+    let mut worst = 0.0f64;
+    let mut relax = |a: usize, b: usize| {
+        let (mut x, mut y) = (row[a], row[b]);
+        worst = worse(worst, shed(&mut x, &mut y, limit));
+        (row[a], row[b]) = (x, y);
+    };
+    for x in 0..w - 1 {
+        relax(x, x + 1);
+    }
+    relax(w - 1, 0);
+    relax(0, w - 1);
+    for x in (0..w - 1).rev() {
+        relax(x + 1, x);
+    }
+    worst
+}
+
+#[test]
+fn the_row_relaxation_skips_quiet_pairs_and_equals_the_loop() {
+    let limit = 33f64.to_radians().tan() / 0.1;
+    let mut rng = Rng::new(5);
+    let mut seen = [0usize; 2];
+    // Widths around and between runs of eight pairs; rows flat, steep everywhere, and
+    // steep in places (cascades that cross a run's end, and the periodic pair).
+    for w in (4..40).chain([63, 64, 65, 127]) {
+        for steep_every in [0, 1, 3, 9, 17] {
+            let row: Vec<f64> = (0..w)
+                .map(|x| {
+                    let bump = steep_every > 0 && (x * 7 + w) % steep_every == 0;
+                    8.0 + f64::from(rng.next_f32()) * limit * 0.9
+                        + if bump { 3.0 * limit } else { 0.0 }
+                })
+                .collect();
+            let (mut fast, mut plain) = (row.clone(), row.clone());
+            let (a, b) = (
+                relax_row(&mut fast, limit),
+                relax_row_loop(&mut plain, limit),
+            );
+            assert_eq!(
+                a.to_bits(),
+                b.to_bits(),
+                "w {w}, every {steep_every}: worst"
+            );
+            let same = fast
+                .iter()
+                .zip(&plain)
+                .all(|(x, y)| x.to_bits() == y.to_bits());
+            assert!(same, "w {w}, every {steep_every}: the row");
+            seen[usize::from(fast != row)] += 1;
+        }
+    }
+    assert!(
+        seen[0] > 0 && seen[1] > 0,
+        "quiet and moving rows both tried: {seen:?}"
+    );
+}
+
+#[test]
+fn the_lockstep_threads_step_as_the_dispatches_do() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .expect("pool");
+    // Dunes of four bands on three threads (one thread owns two) and of three, the last
+    // six rows; ripples of an odd number of rows (no avalanching: lockstep too).
+    for (w, h, params) in [
+        (40, 128, SandParams::paper_dunes()),
+        (48, 70, SandParams::paper_dunes()),
+        (30, 17, SandParams::paper_ripples()),
+    ] {
+        let field = Heightfield::random(w, h, 8.0, 1.0, 4);
+        let mut lockstep = SandSim::new(field.clone(), params.clone()).expect("sim");
+        let mut calls = Vec::new();
+        pool.install(|| lockstep.run(70, &mut |done| calls.push(done)));
+        assert_eq!(
+            calls,
+            [64, 70],
+            "{w}x{h}: progress every 64 steps and at the end"
+        );
+        let mut dispatched = SandSim::new(field.clone(), params).expect("sim");
+        pool.install(|| (0..70).for_each(|_| dispatched.step()));
+        assert!(
+            lockstep.field().data == dispatched.field().data,
+            "{w}x{h}: the same field"
+        );
+        assert!(
+            lockstep.field().data != field.data,
+            "{w}x{h}: the sand moved"
+        );
+    }
+}
+
+#[test]
+fn a_panic_in_progress_stops_every_lockstep_thread() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .expect("pool");
+    let field = Heightfield::random(16, 64, 8.0, 1.0, 4);
+    let mut sim = SandSim::new(field, SandParams::paper_dunes()).expect("sim");
+    // Two bands, two threads: the one calling `progress` panics, the other must not
+    // wait for it at the barrier for ever.
+    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        pool.install(|| sim.run(200, &mut |_| panic!("progress failed")))
+    }));
+    assert!(run.is_err(), "the panic reached the caller");
+}
