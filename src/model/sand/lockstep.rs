@@ -14,6 +14,14 @@
 //! once a `run` (a thread spawned every 64 steps often started on its partner's core
 //! and ran at half speed until moved).
 //!
+//! The price, measured with a busy loop on one of the two cores: two lockstep threads
+//! 9.0-10.6 M against rayon's 11.0-14.6 M and one thread's 13.5-15.5 M (a waiting
+//! thread keeps its core busy, so the scheduler does not move its partner off the
+//! shared one). Sleeping after a short spin instead (50 us to 6 ms tried) was worse
+//! both alone (5-7 M in the hour rayon read 8-11 M) and beside the busy loop (3-6 M):
+//! a wake-up costs this virtual machine up to milliseconds, and a band owned by a
+//! sleeping thread waits for it, where rayon's other worker would take it.
+//!
 //! Each band is computed by exactly the functions `SandSim::step` uses
 //! (`saltate_band`, `avalanche_band`), from the same buffer, and the sweeps stop on
 //! the same largest excess (a maximum: the same whatever the order), so the field is
