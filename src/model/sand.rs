@@ -319,14 +319,19 @@ impl SandSim {
         self.field
     }
 
-    /// Runs `steps` steps; `progress(done)` is called every 64 steps.
+    /// Runs `steps` steps; `progress(done)` is called every 64 steps and after the last.
     ///
-    /// A field of an even number of rows (or without avalanching) steps on as many
-    /// threads as rayon's current pool has, up to one per band, meeting between phases
-    /// (`lockstep`); others step on rayon, each 64 steps on one of its worker threads
-    /// (`rayon::scope` moves them there when called from outside the pool: a parallel
-    /// loop started from another thread hands its work to the pool and sleeps until it
-    /// is done, which cost a third of the simulation's time on 64x64).
+    /// A field of an even number of rows (or without avalanching) steps on the calling
+    /// thread and new ones, as many in all as rayon's current pool has threads, up to
+    /// one per band of 32 rows, spawned for the call; they spin while they wait for each
+    /// other between phases (`lockstep`), so calls made from many threads at once (a
+    /// parallel loop over simulations) should each run inside a one-thread rayon pool
+    /// (`ThreadPool::install`). If `progress` panics, the panic reaches the caller and
+    /// the field is left part-way through a step. Other fields step on rayon, each 64
+    /// steps on one of its worker threads (`rayon::scope` moves them there when called
+    /// from outside the pool: a parallel loop started from another thread hands its
+    /// work to the pool and sleeps until it is done, which cost a third of the
+    /// simulation's time on 64x64).
     pub fn run(&mut self, steps: u32, progress: &mut dyn FnMut(u32)) {
         if steps == 0 {
             return;

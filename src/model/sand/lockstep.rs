@@ -75,6 +75,8 @@ pub(super) fn run(sim: &mut SandSim, steps: u32, progress: &mut dyn FnMut(u32)) 
         worst: [(); 2].map(|_| (0..threads).map(|_| AtomicU64::new(0)).collect()),
     };
     let current = std::thread::scope(|scope| {
+        // Threads already spawned must not wait for ever if a later spawn fails.
+        let _poison = PoisonOnPanic(&shared.barrier);
         let mut parts = parts.into_iter().enumerate();
         let (_, first) = parts.next().unwrap_or_default();
         for (t, part) in parts {
