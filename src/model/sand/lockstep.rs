@@ -6,7 +6,7 @@
 //! rayon's dispatches the thread without work goes to sleep and the next dispatch
 //! wakes it: on this 2-core virtual machine two threads ran at 1.4-1.7x one thread
 //! (CPU use 177 % at 64x64, 148 % at 256x256; a tenth of the samples in the kernel's
-//! wake-ups), and in some runs at 10-13 M cell-steps/s where others of the same minute
+//! wake-ups), and in some runs at 8-13 M cell-steps/s where others of the same minute
 //! ran 21-23 M, while two single-threaded simulations side by side each ran as fast as
 //! one alone. Here each thread owns the same bands from phase to phase and spins (then
 //! yields) at the barrier, so none sleeps between phases: 189-195 % CPU, 23.7-32.7 M
