@@ -37,6 +37,12 @@
 //   `planes_from_lines` in src/render/ripple_maps.rs reorders it for the CPU), and
 //   lines steeper in y read a transposed copy of the heights, so that columns, like
 //   rows, step one texel further in memory.
+// - The heights are read as a texel buffer (one gather for the 8 lanes) where the
+//   device's texel buffers hold both copies, else as a storage buffer (a loop over
+//   the lanes): `HEIGHTS_AS_TEXELS`. Under `perf` the reads were a third of the
+//   shader's samples, the instruction after each load holding most: lines across rows
+//   step 4 KB a texel at 1024, which the prefetchers do not follow, so the reads
+//   wait on the cache; a gather lets the next steps' loads start meanwhile.
 // 1024 x 1024 noise x 16 directions, variants alternated in one process (medians of
 // 7-11, in hours of different speed): the pop loop with per-step stores 211 ms, the
 // pops at once 139-196, and with the vec4 groups and the spill every other step
@@ -46,17 +52,32 @@
 // out) ran out on most lines of noise or of smooth profiles. Before these: four
 // entries moved as four vec2 loads and stores 203 ms against 158 for one vec4; a
 // window of 4, 6 or 10 entries slower; reading the heights with texelFetch from an
-// image 326 against 257 for the storage buffer.
+// image 326 against 257 for the storage buffer; as a texel buffer 164 against 201
+// (medians of 9 in a slow minute; 169 against 183 in another), and with a group's
+// four reads together 130-136 against 138-146. Not kept: the lines
+// copied in the sweep's order by a pass before it (read four at a time, the sweep
+// took 114 against 179 ms, but the copy itself cost 60-105 ms, its reads across rows
+// waiting on the cache as the sweep's did, and its stores a loop over the lanes), or
+// by each invocation into its own stretch of memory (211 against 201); the hull
+// stack in a private array (199 against 141).
 // The CPU twin is `horizon_map_linear_along` in src/model/ripple_maps.rs (one lap
 // from the peak, as the paper's method reads: the same map to the bit on the tests'
 // fields).
 
 layout(local_size_x = 64) in;
 
-// The heights (row-major), then the same heights transposed.
+// The heights (row-major), then the same heights transposed: as a storage buffer,
+// and (where the device's texel buffers hold them, one float a texel) as a texel
+// buffer, read instead when `HEIGHTS_AS_TEXELS`.
 layout(set = 0, binding = 0, std430) readonly buffer Heights {
     float h[];
 } heights;
+layout(set = 0, binding = 3) uniform samplerBuffer height_texels;
+layout(constant_id = 0) const bool HEIGHTS_AS_TEXELS = true;
+
+float height_at(int i) {
+    return HEIGHTS_AS_TEXELS ? texelFetch(height_texels, i).r : heights.h[i];
+}
 
 // By line: direction d's line l at (d * N + l) * N floats, position by position from
 // the line's start, four positions to a vec4 (N is a power of two of at least 4).
@@ -125,12 +146,11 @@ uint pops_past(vec2 top, vec2 below) {
     return uint(top.y * below.x <= below.y * top.x);
 }
 
-// One texel of the sweep at lap position t (read at (u, v), which then steps back):
-// pops what it sees past, pushes it, and returns its horizon as (rise, run).
+// One texel of the sweep at lap position t, of height `here`: pops what it sees
+// past, pushes it, and returns its horizon as (rise, run).
 // `spill`: whether this step may move two entries to memory (every other step: the
 // window then never holds more than seven before a push).
-vec2 sweep_step(int t, bool spill) {
-    float here = heights.h[frame + v * n + u];
+vec2 sweep_step(int t, bool spill, float here) {
     float ft = float(t);
     // Pop while the entry below the top is seen at least as steeply: all seven tests
     // on the window as it is, the pops the prefix of those that hold.
@@ -210,9 +230,15 @@ vec2 sweep_step(int t, bool spill) {
     r1 = r0;
     r0 = vec2(ft, here);
     w += 1;
+    return rise_run;
+}
+
+// The height at (u, v), which then steps back along the line.
+float height_back() {
+    float here = height_at(frame + v * n + u);
     u = wrap(u - su, n);
     v = wrap(v - sv, n);
-    return rise_run;
+    return here;
 }
 
 void main() {
@@ -242,11 +268,11 @@ void main() {
     p = 0;
     int pu = u;
     int pv = v;
-    highest = heights.h[frame + v * n + u];
+    highest = height_at(frame + v * n + u);
     for (int t = 1; t < n; ++t) {
         u = wrap(u + su, n);
         v = wrap(v + sv, n);
-        float here = heights.h[frame + v * n + u];
+        float here = height_at(frame + v * n + u);
         if (here > highest) {
             highest = here;
             p = t;
@@ -278,10 +304,16 @@ void main() {
     best_k = 1.0;
     int t = q0 + n;
     for (int g = 0; g <= n / 4; ++g) {
-        vec2 a3 = sweep_step(t, true);
-        vec2 a2 = sweep_step(t - 1, false);
-        vec2 a1 = sweep_step(t - 2, true);
-        vec2 a0 = sweep_step(t - 3, false);
+        // The group's four heights read together, so that their waits on the cache
+        // overlap (a step is some 300 instructions for the 8 lanes).
+        float h3 = height_back();
+        float h2 = height_back();
+        float h1 = height_back();
+        float h0 = height_back();
+        vec2 a3 = sweep_step(t, true, h3);
+        vec2 a2 = sweep_step(t - 1, false, h2);
+        vec2 a1 = sweep_step(t - 2, true, h1);
+        vec2 a0 = sweep_step(t - 3, false, h0);
         // The same expression as the brute walk's (there - here) * s / (k * len).
         horizon.s[(out_base + uint((t - 3) & (n - 1))) / 4u] =
             vec4(a0.x, a1.x, a2.x, a3.x) * pc.height_scale

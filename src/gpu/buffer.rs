@@ -202,7 +202,7 @@ impl Drop for Buffer {
     }
 }
 
-/// A whole buffer viewed as 16-byte RGBA32F texels, read in shaders as a texel buffer
+/// A whole buffer viewed as texels (RGBA32F or R32F), read in shaders as a texel buffer
 /// (`samplerBuffer`, `texelFetch`). Why: llvmpipe (Mesa 22.3) reads a storage buffer
 /// for 8 invocations as a loop over them, component by component, where a texel fetch
 /// gathers the 8 lanes' texels with vector instructions (see `ring_growth.comp`).
@@ -212,18 +212,32 @@ pub struct TexelView {
 }
 
 impl TexelView {
-    /// Bytes of one texel.
-    pub const TEXEL_BYTES: u64 = 16;
-
-    /// A view of all of `buffer` (created with UNIFORM_TEXEL_BUFFER usage); an error
-    /// naming `what` where the device's `maxTexelBufferElements` is smaller.
+    /// A view of all of `buffer` (created with UNIFORM_TEXEL_BUFFER usage) as 16-byte
+    /// RGBA32F texels; an error naming `what` where the device's
+    /// `maxTexelBufferElements` is smaller.
     pub fn rgba32f(ctx: &Arc<Context>, what: &str, buffer: &Buffer) -> Result<Self> {
-        let texels = texels_within(what, buffer.size(), ctx.info().max_texel_buffer_elements)?;
+        Self::whole(ctx, what, buffer, vk::Format::R32G32B32A32_SFLOAT, 16)
+    }
+
+    /// The same as [`TexelView::rgba32f`] with one float a texel (R32F).
+    pub fn r32f(ctx: &Arc<Context>, what: &str, buffer: &Buffer) -> Result<Self> {
+        Self::whole(ctx, what, buffer, vk::Format::R32_SFLOAT, 4)
+    }
+
+    fn whole(
+        ctx: &Arc<Context>,
+        what: &str,
+        buffer: &Buffer,
+        format: vk::Format,
+        texel_bytes: u64,
+    ) -> Result<Self> {
+        let limit = ctx.info().max_texel_buffer_elements;
+        let texels = texels_within(what, buffer.size(), texel_bytes, limit)?;
         let info = vk::BufferViewCreateInfo::default()
             .buffer(buffer.raw())
-            .format(vk::Format::R32G32B32A32_SFLOAT)
+            .format(format)
             .offset(0)
-            .range(texels * Self::TEXEL_BYTES);
+            .range(texels * texel_bytes);
         // SAFETY: valid device; the range lies inside the buffer, within the device's
         // limit; callers keep the buffer alive as long as the view.
         let raw = unsafe { ctx.device.create_buffer_view(&info, None) }.vk("vkCreateBufferView")?;
@@ -240,16 +254,16 @@ impl TexelView {
     }
 }
 
-/// The 16-byte texels in `bytes`, or an error naming `what` where there are more than
-/// the device's `limit`.
-fn texels_within(what: &str, bytes: u64, limit: u32) -> Result<u64> {
-    let texels = bytes / TexelView::TEXEL_BYTES;
+/// The texels of `texel_bytes` in `bytes`, or an error naming `what` where there are
+/// more than the device's `limit`.
+fn texels_within(what: &str, bytes: u64, texel_bytes: u64, limit: u32) -> Result<u64> {
+    let texels = bytes / texel_bytes;
     if texels > u64::from(limit) {
         return Err(Error::internal(
             what,
             format!(
-                "{texels} texels of 16 bytes, but this device's texel buffers hold at most \
-                 {limit} (maxTexelBufferElements)"
+                "{texels} texels of {texel_bytes} bytes, but this device's texel buffers \
+                 hold at most {limit} (maxTexelBufferElements)"
             ),
         ));
     }
@@ -269,8 +283,11 @@ mod tests {
 
     #[test]
     fn a_texel_view_beyond_the_device_limit_is_refused_with_the_limit_named() {
-        assert_eq!(texels_within("mesh", 16 * 65536, 65536).ok(), Some(65536));
-        let err = texels_within("compute growth mesh a", 16 * 65537, 65536)
+        assert_eq!(
+            texels_within("mesh", 16 * 65536, 16, 65536).ok(),
+            Some(65536)
+        );
+        let err = texels_within("compute growth mesh a", 16 * 65537, 16, 65536)
             .expect_err("one texel too many");
         let message = err.to_string();
         assert!(

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use crate::error::{Error, Result};
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GpuTimer, Pipeline, PipelineLayout, Pod,
-    Span, vk,
+    Span, TexelView, vk,
 };
 use crate::model::ripple_maps::normal_level0;
 use crate::model::sand::Heightfield;
@@ -82,17 +82,42 @@ pub struct SweepPush {
 unsafe impl Pod for SweepPush {}
 
 /// `horizon_linear.comp`: the heights and their transpose (binding 0), the horizon
-/// map's planes (binding 1) and the hull stacks (binding 2) as storage buffers, and
-/// `SweepPush`.
+/// map's planes (binding 1) and the hull stacks (binding 2) as storage buffers, the
+/// heights again as an R32F texel buffer (binding 3), and `SweepPush`.
 pub static HORIZON_LINEAR_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_HORIZON_LINEAR_COMP,
     bindings: &[
         DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer),
         DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer),
         DescriptorBinding::new(0, 2, DescriptorKind::StorageBuffer),
+        DescriptorBinding::new(0, 3, DescriptorKind::UniformTexelBuffer),
     ],
     push_constant_bytes: size_of::<SweepPush>() as u32,
 };
+
+/// `horizon_linear.comp`'s `HEIGHTS_AS_TEXELS`: the heights read through binding 3.
+const HEIGHTS_AS_TEXELS: u32 = 0;
+
+/// How a [`HorizonSweep`] runs; the default is what the scenes use.
+#[derive(Clone, Copy, Debug)]
+pub struct SweepOptions {
+    /// At most this many directions a dispatch (fewer: less memory for the hull
+    /// stacks, which the dispatches reuse); the memory budget may make it fewer.
+    pub group: u32,
+    /// Read the heights as a storage buffer even where the device's texel buffers
+    /// would hold them (llvmpipe reads those faster): the path of devices whose
+    /// `maxTexelBufferElements` is below twice the tile's texels.
+    pub storage_reads: bool,
+}
+
+impl Default for SweepOptions {
+    fn default() -> Self {
+        Self {
+            group: 16,
+            storage_reads: false,
+        }
+    }
+}
 
 /// The side of a square, power-of-two tile of at least 2 texels, or an error naming
 /// `what`.
@@ -120,6 +145,9 @@ pub struct HorizonSweep {
     layout: PipelineLayout,
     pipeline: Pipeline,
     set: DescriptorSet,
+    // The view before the buffer it views.
+    _texels: TexelView,
+    _texel_buffer: Option<Box<Buffer>>,
     _heights: Buffer,
     _hull: Buffer,
     size: u32,
@@ -137,6 +165,17 @@ impl HorizonSweep {
         field: &Heightfield,
         directions: u32,
         horizon: &Buffer,
+    ) -> Result<Self> {
+        Self::with_options(ctx, field, directions, horizon, SweepOptions::default())
+    }
+
+    /// [`HorizonSweep::new`] run as `options` say.
+    pub fn with_options(
+        ctx: &Arc<Context>,
+        field: &Heightfield,
+        directions: u32,
+        horizon: &Buffer,
+        options: SweepOptions,
     ) -> Result<Self> {
         let size = tile_side(field, "horizon sweep")?;
         // The sweep writes four positions of a line as one vec4.
@@ -170,13 +209,34 @@ impl HorizonSweep {
         let heights = Buffer::with_data(
             ctx,
             "horizon sweep heights",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             &heights,
         )?;
+        // The texel buffer where it holds both copies; else the binding still needs a
+        // valid view, of a one-texel stand-in that is never read.
+        let as_texels = !options.storage_reads
+            && 2 * u64::from(size) * u64::from(size)
+                <= u64::from(ctx.info().max_texel_buffer_elements);
+        let (texels, texel_buffer) = if as_texels {
+            (
+                TexelView::r32f(ctx, "horizon sweep heights", &heights)?,
+                None,
+            )
+        } else {
+            let stand_in = Buffer::with_data(
+                ctx,
+                "horizon sweep texel stand-in",
+                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+                &[0.0f32],
+            )?;
+            let view = TexelView::r32f(ctx, "horizon sweep texel stand-in", &stand_in)?;
+            (view, Some(Box::new(stand_in)))
+        };
         let entries = u64::from(size);
         let per_direction = entries * u64::from(size) * 8;
-        let per_dispatch =
-            (HULL_BUDGET_BYTES / per_direction).clamp(1, u64::from(directions)) as u32;
+        let per_dispatch = (HULL_BUDGET_BYTES / per_direction)
+            .clamp(1, u64::from(directions.min(options.group).max(1)))
+            as u32;
         let lanes = u64::from((per_dispatch * size).div_ceil(64) * 64);
         let hull = Buffer::new(
             ctx,
@@ -185,20 +245,24 @@ impl HorizonSweep {
         )?;
         let layout =
             PipelineLayout::new(ctx, "horizon sweep layout", &[&HORIZON_LINEAR_INTERFACE])?;
-        let pipeline = Pipeline::compute(
+        let pipeline = Pipeline::compute_specialized(
             ctx,
             "horizon sweep",
             HORIZON_LINEAR_INTERFACE.shader,
             &layout,
+            &[(HEIGHTS_AS_TEXELS, u32::from(as_texels))],
         )?;
         let set = layout.allocate_set("horizon sweep set", 0)?;
         set.write_buffer(0, &heights)?;
         set.write_buffer(1, horizon)?;
         set.write_buffer(2, &hull)?;
+        set.write_texel_buffer(3, &texels)?;
         Ok(Self {
             layout,
             pipeline,
             set,
+            _texels: texels,
+            _texel_buffer: texel_buffer,
             _heights: heights,
             _hull: hull,
             size,
@@ -234,7 +298,7 @@ impl HorizonSweep {
 
 /// The horizon map of `field` along 8 or 16 directions by the linear sweep on the GPU
 /// (`directions / 4` planes of vec4, as [`horizon_map_linear_along`] lays them out),
-/// with the sweep's GPU time in milliseconds.
+/// with the sweep's GPU time in milliseconds, run as `options` say.
 ///
 /// [`horizon_map_linear_along`]: crate::model::ripple_maps::horizon_map_linear_along
 pub fn horizon_map_linear_gpu(
@@ -242,6 +306,7 @@ pub fn horizon_map_linear_gpu(
     field: &Heightfield,
     height_scale: f32,
     directions: u32,
+    options: SweepOptions,
 ) -> Result<(Vec<[f32; 4]>, f64)> {
     let horizon = Buffer::new(
         ctx,
@@ -251,7 +316,7 @@ pub fn horizon_map_linear_gpu(
             vk::BufferUsageFlags::STORAGE_BUFFER,
         ),
     )?;
-    let sweep = HorizonSweep::new(ctx, field, directions, &horizon)?;
+    let sweep = HorizonSweep::with_options(ctx, field, directions, &horizon, options)?;
     let mut timer = GpuTimer::new(ctx, "horizon sweep timer", 1)?;
     ctx.submit_and_wait("horizon sweep", |cmd| {
         timer.reset(cmd);

@@ -307,8 +307,13 @@ impl DunesBench {
         // The size: 16 directions (the knight's moves between the 8).
         let mut ms = Vec::new();
         for _ in 0..3 {
-            let (_, gpu_ms) =
-                crate::render::ripple_maps::horizon_map_linear_gpu(ctx, &large, scale, 16)?;
+            let (_, gpu_ms) = crate::render::ripple_maps::horizon_map_linear_gpu(
+                ctx,
+                &large,
+                scale,
+                16,
+                Default::default(),
+            )?;
             ms.push(gpu_ms);
         }
         m.insert(
