@@ -1,6 +1,5 @@
 #version 450
-// Ring growth: hand every captured vertex to the geometry shader unchanged. No
-// gl_Position (the geometry shader reads none, and the pass discards rasterisation).
+// Ring growth: hand every captured vertex to the geometry shader unchanged.
 
 layout(location = 0) in vec4 in_pos_id;
 layout(location = 1) in vec4 in_normal_sp;
@@ -14,4 +13,5 @@ void main() {
     out_pos_id = in_pos_id;
     out_normal_sp = in_normal_sp;
     out_extra = in_extra;
+    gl_Position = vec4(in_pos_id.xyz, 1.0);
 }
