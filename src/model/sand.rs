@@ -286,6 +286,9 @@ const MAX_AVALANCHE_SWEEPS: usize = 64;
 /// Avalanching stops when no axial slope exceeds the limit by more than this share of it.
 const CONVERGED: f64 = 0.01;
 
+/// Steps between calls of `SandSim::run`'s `progress` (on either path).
+const PROGRESS_STEPS: u32 = 64;
+
 impl SandSim {
     /// A simulation starting from `field`; fails on invalid `params` or a field under
     /// 4x4 cells or whose data does not match its size.
@@ -341,7 +344,7 @@ impl SandSim {
         }
         let mut done = 0;
         while done < steps {
-            let n = (steps - done).min(lockstep::PROGRESS_STEPS);
+            let n = (steps - done).min(PROGRESS_STEPS);
             rayon::scope(|_| {
                 for _ in 0..n {
                     self.step();

@@ -30,17 +30,14 @@
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 
 use super::{
-    BAND, CONVERGED, MAX_AVALANCHE_SWEEPS, RowShadow, SandSim, StepLaw, avalanche_band,
-    saltate_band,
+    BAND, CONVERGED, MAX_AVALANCHE_SWEEPS, PROGRESS_STEPS, RowShadow, SandSim, StepLaw,
+    avalanche_band, saltate_band,
 };
 
 /// Spins before a waiting thread starts yielding its core (about 0.2 ms of `pause`):
 /// longer than a phase's imbalance between bands, short enough that more threads than
 /// cores still make progress.
 const SPINS: u32 = 1 << 12;
-
-/// Steps between calls of `progress`.
-pub(super) const PROGRESS_STEPS: u32 = 64;
 
 /// Runs `steps` steps of `sim`, whose field has an even number of rows or no
 /// avalanching (the banded sweep needs the pairs of rows to continue across the
