@@ -105,7 +105,7 @@ pub struct SweepOptions {
     /// stacks, which the dispatches reuse); the memory budget may make it fewer.
     pub group: u32,
     /// Read the heights as a storage buffer even where the device's texel buffers
-    /// would hold them (llvmpipe reads those faster): the path of devices whose
+    /// would hold them (llvmpipe reads a texel buffer faster): the path of devices whose
     /// `maxTexelBufferElements` is below twice the tile's texels.
     pub storage_reads: bool,
 }
