@@ -26,7 +26,7 @@ layout(push_constant) uniform Pass {
     uint mode;  // EMIT_ALL, EMIT_FRONT or EMIT_FROZEN (ring_growth.glsl)
 } pc;
 
-layout(location = 0) in vec4 in_pos_id[];     // xyz position, w ID
+// xyz position, w ID: gl_in[k].gl_Position (ring_growth.vert says why)
 layout(location = 1) in vec4 in_normal_sp[];  // xyz radial normal N, w speleothem
 layout(location = 2) in vec4 in_extra[];      // segment, axial distance, slope, ring
 
@@ -54,7 +54,7 @@ vec4 plan_step(uint i) {
 void main() {
     V t[3];
     for (int k = 0; k < 3; ++k) {
-        t[k] = V(in_pos_id[k], in_normal_sp[k], in_extra[k]);
+        t[k] = V(gl_in[k].gl_Position, in_normal_sp[k], in_extra[k]);
     }
     grow_triangle(t, pc.pass_index, pc.speleothem_count, pc.segments, pc.mode);
 }
