@@ -137,10 +137,50 @@ void main() {
         if (run >= run_count) {
             return;
         }
-        cursor = runs.value[run];
-        uint end = min((run + 1u) * CHUNK, pc.triangles);
-        for (uint t = run * CHUNK; t < end; ++t) {
-            grow_triangle(load(t), pc.pass_index, pc.speleothem_count, pc.segments, EMIT_ALL);
+        // Two loops, because llvmpipe runs the body of every `if` for all 8 lanes
+        // (masked): `grow_triangle` on every triangle paid for the working front's
+        // branch (three more plan reads, the flank profile's atan, the new band) and an
+        // emission loop run twice, though at most a few triangles of a run are on a
+        // working front. The first loop emits each of the others (3 vertices: moved by
+        // the thickening, IDs up by 2 behind the front, unchanged on an idle one, as
+        // `grow_triangle` makes them) at its place and only marks the working-front
+        // ones; the second runs `grow_triangle` on the marked ones, at the places the
+        // first left them (so as often as the lane with most, once more masked).
+        uint start = runs.value[run];
+        uint first = run * CHUNK;
+        uint end = min(first + CHUNK, pc.triangles);
+        // Bit i: triangle first + i is on a working front; emits 6 or 9 vertices.
+        uint working = 0u;
+        uint six = 0u;
+        uint nine = 0u;
+        cursor = start;
+        for (uint t = first; t < end; ++t) {
+            V tri[3] = load(t);
+            uint count = output_count(tri, pc.pass_index, pc.speleothem_count);
+            uint sp = uint(tri[0].normal_sp.w + 0.5);
+            vec4 s0 = plan_step(4u * (pc.pass_index * pc.speleothem_count + sp));
+            bool front = tri[0].pos_id.w <= 0.0 && tri[1].pos_id.w <= 0.0 && tri[2].pos_id.w <= 0.0;
+            uint bit = 1u << (t - first);
+            if (front && uint(s0.w + 0.5) != 0u) {
+                working |= bit;
+                six |= count == 6u ? bit : 0u;
+                nine |= count == 9u ? bit : 0u;
+                cursor += count;
+            } else {
+                float id_step = front ? 0.0 : 2.0;
+                for (int k = 0; k < 3; ++k) {
+                    emit(moved(tri[k], tri[k].normal_sp.xyz * s0.z, id_step));
+                }
+            }
+        }
+        while (working != 0u) {
+            // Lanes already done run this masked: keep their reads inside the run.
+            uint i = min(uint(findLSB(working)) & 31u, end - 1u - first);
+            working &= working - 1u;
+            uint below = (1u << i) - 1u;
+            cursor = start + 3u * i + 3u * uint(bitCount(six & below))
+                   + 6u * uint(bitCount(nine & below));
+            grow_triangle(load(first + i), pc.pass_index, pc.speleothem_count, pc.segments, EMIT_ALL);
         }
     }
 }
