@@ -154,7 +154,10 @@ void main() {
         uint six = 0u;
         uint nine = 0u;
         cursor = start;
-        for (uint t = first; t < end; ++t) {
+        // Do-whiles (tested at the end: a `for` tests at the top of one more iteration,
+        // which llvmpipe runs masked; `ring_growth.glsl` says so too). first < end.
+        uint t = first;
+        do {
             V tri[3] = load(t);
             uint count = output_count(tri, pc.pass_index, pc.speleothem_count);
             uint sp = uint(tri[0].normal_sp.w + 0.5);
@@ -172,15 +175,18 @@ void main() {
                     emit(moved(tri[k], tri[k].normal_sp.xyz * s0.z, id_step));
                 }
             }
-        }
-        while (working != 0u) {
-            // Lanes already done run this masked: keep their reads inside the run.
-            uint i = min(uint(findLSB(working)) & 31u, end - 1u - first);
-            working &= working - 1u;
-            uint below = (1u << i) - 1u;
-            cursor = start + 3u * i + 3u * uint(bitCount(six & below))
-                   + 6u * uint(bitCount(nine & below));
-            grow_triangle(load(first + i), pc.pass_index, pc.speleothem_count, pc.segments, EMIT_ALL);
+            t += 1u;
+        } while (t < end);
+        if (working != 0u) {
+            do {
+                // Lanes already done run this masked: keep their reads inside the run.
+                uint i = min(uint(findLSB(working)) & 31u, end - 1u - first);
+                working &= working - 1u;
+                uint below = (1u << i) - 1u;
+                cursor = start + 3u * i + 3u * uint(bitCount(six & below))
+                       + 6u * uint(bitCount(nine & below));
+                grow_triangle(load(first + i), pc.pass_index, pc.speleothem_count, pc.segments, EMIT_ALL);
+            } while (working != 0u);
         }
     }
 }

@@ -232,14 +232,20 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
     uint t0 = uint(take[0]);
     uint t1 = uint(take[1]);
     uint count = t0 + t1 + uint(take[2]);
-    for (uint k = 0u; k < count; ++k) {
-        // The k-th taken slot: 0, 1 or 2.
-        uint s = k == 0u ? (t0 == 1u ? 0u : (t1 == 1u ? 1u : 2u))
-                         : (k == 1u && t0 + t1 == 2u ? 1u : 2u);
-        put(to, pick(s, slot[0], slot[3], slot[6]));
-        put(to, pick(s, slot[1], slot[4], slot[7]));
-        put(to, pick(s, slot[2], slot[5], slot[8]));
-        end_triangle();
+    // A do-while under an if: tested at its end, the loop stops when no lane goes on,
+    // where a `for` tests at the top of an iteration that then runs masked.
+    if (count > 0u) {
+        uint k = 0u;
+        do {
+            // The k-th taken slot: 0, 1 or 2.
+            uint s = k == 0u ? (t0 == 1u ? 0u : (t1 == 1u ? 1u : 2u))
+                             : (k == 1u && t0 + t1 == 2u ? 1u : 2u);
+            put(to, pick(s, slot[0], slot[3], slot[6]));
+            put(to, pick(s, slot[1], slot[4], slot[7]));
+            put(to, pick(s, slot[2], slot[5], slot[8]));
+            end_triangle();
+            k += 1u;
+        } while (k < count);
     }
 }
 
