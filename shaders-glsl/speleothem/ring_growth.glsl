@@ -225,10 +225,11 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
     }
 
     // The taken triangles in slot order, from one place in a loop that runs as often
-    // as the most-emitting lane (once more, masked, on llvmpipe): a triangle off the
-    // front takes one slot, so most groups of lanes emit 3 vertices here, not 9 (the
-    // geometry stage stores every emit for all 8 lanes, taken or not). The slot is
-    // picked by selects on constant indices, so the slots stay registers.
+    // as the most-emitting lane (every lane through each, masked, on llvmpipe): a
+    // triangle off the front takes one slot, so most groups of lanes emit 3 vertices
+    // here, not 9 (the geometry stage stores every emit for all 8 lanes, taken or
+    // not). The slot is picked by selects on constant indices, so the slots stay
+    // registers.
     uint t0 = uint(take[0]);
     uint t1 = uint(take[1]);
     uint count = t0 + t1 + uint(take[2]);
