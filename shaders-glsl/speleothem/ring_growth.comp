@@ -141,15 +141,15 @@ void main() {
         // (masked): `grow_triangle` on every triangle paid for the working front's
         // branch (three more plan reads, the flank profile's atan, the new band) and an
         // emission loop run twice, though at most a few triangles of a run are on a
-        // working front. The first loop emits each of the others (3 vertices: moved by
-        // the thickening, IDs up by 2 behind the front, unchanged on an idle one, as
-        // `grow_triangle` makes them) at its place and only marks the working-front
-        // ones; the second runs `grow_triangle` on the marked ones, at the places the
-        // first left them (so as often as the lane with most, once more masked).
+        // working front. The first loop emits each of the others (3 vertices,
+        // `thickened` as `grow_triangle` makes them) at its place and only marks the
+        // working-front ones; the second runs `grow_triangle` on the marked ones, at
+        // the places the first left them (as often as the lane with most).
         uint start = runs.value[run];
         uint first = run * CHUNK;
         uint end = min(first + CHUNK, pc.triangles);
-        // Bit i: triangle first + i is on a working front; emits 6 or 9 vertices.
+        // Bit i of `working`: triangle first + i is on a working front; of `six` and
+        // `nine`: that triangle emits 6 or 9 vertices (their places follow from these).
         uint working = 0u;
         uint six = 0u;
         uint nine = 0u;
@@ -160,9 +160,8 @@ void main() {
         do {
             V tri[3] = load(t);
             uint count = output_count(tri, pc.pass_index, pc.speleothem_count);
-            uint sp = uint(tri[0].normal_sp.w + 0.5);
-            vec4 s0 = plan_step(4u * (pc.pass_index * pc.speleothem_count + sp));
-            bool front = tri[0].pos_id.w <= 0.0 && tri[1].pos_id.w <= 0.0 && tri[2].pos_id.w <= 0.0;
+            vec4 s0 = plan_step(plan_base(tri, pc.pass_index, pc.speleothem_count));
+            bool front = on_front(tri);
             uint bit = 1u << (t - first);
             if (front && uint(s0.w + 0.5) != 0u) {
                 working |= bit;
@@ -172,7 +171,7 @@ void main() {
             } else {
                 float id_step = front ? 0.0 : 2.0;
                 for (int k = 0; k < 3; ++k) {
-                    emit(moved(tri[k], tri[k].normal_sp.xyz * s0.z, id_step));
+                    emit(thickened(tri[k], s0.z, id_step));
                 }
             }
             t += 1u;

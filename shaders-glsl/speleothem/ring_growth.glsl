@@ -54,6 +54,22 @@ V moved(V v, vec3 offset, float id_step) {
     return V(vec4(v.pos_id.xyz + offset, v.pos_id.w + id_step), v.normal_sp, v.extra);
 }
 
+// `v` thickened (moved along its radial normal) and its ID stepped: a triangle off a
+// working front, behind it (`id_step` 2) or idle on it (0).
+V thickened(V v, float thicken, float id_step) {
+    return moved(v, v.normal_sp.xyz * thicken, id_step);
+}
+
+// Whether `t` is on the growth front (all its IDs <= 0).
+bool on_front(V t[3]) {
+    return t[0].pos_id.w <= 0.0 && t[1].pos_id.w <= 0.0 && t[2].pos_id.w <= 0.0;
+}
+
+// The first of the 4 plan steps of `t`'s speleothem in pass `pass_index`.
+uint plan_base(V t[3], uint pass_index, uint speleothem_count) {
+    return 4u * (pass_index * speleothem_count + uint(t[0].normal_sp.w + 0.5));
+}
+
 // The flank deposit's profile: 1 at `angle`, 0 beyond +-`width` radians.
 float flank_profile(vec3 n, float angle, float width) {
     float theta = atan(n.z, n.x);
@@ -94,21 +110,20 @@ void put(Target to, V v) {
 // the source costs on every triangle: nine here, against 45 in the geometry shader
 // (27 in compute) when each branch emitted its own.
 void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments, uint mode) {
-    uint sp = uint(t[0].normal_sp.w + 0.5);
-    uint base = 4u * (pass_index * speleothem_count + sp);
+    uint base = plan_base(t, pass_index, speleothem_count);
     vec4 s0 = plan_step(base);
     float thicken = s0.z;
     V slot[9];
     bool take[3] = bool[3](false, false, false);
     Target to = Target(mode, 0.0, 2.0 * float(pass_index + 1u));
 
-    bool front = t[0].pos_id.w <= 0.0 && t[1].pos_id.w <= 0.0 && t[2].pos_id.w <= 0.0;
+    bool front = on_front(t);
     uint action = uint(s0.w + 0.5);
     if (!front) {
         // Behind the front (most triangles): only the paper's pass re-streams it, and
         // it needs nothing of the plan but the thickening.
         for (int k = 0; k < 3; ++k) {
-            slot[k] = moved(t[k], t[k].normal_sp.xyz * thicken, 2.0);
+            slot[k] = thickened(t[k], thicken, 2.0);
         }
         take[0] = mode == EMIT_ALL;
     } else if (action == 0u) {
@@ -116,7 +131,7 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
         // stopped at the cave boundary) stays the front: IDs unchanged, so it grows
         // again when the parameters allow.
         for (int k = 0; k < 3; ++k) {
-            slot[3 + k] = moved(t[k], t[k].normal_sp.xyz * thicken, 0.0);
+            slot[3 + k] = thickened(t[k], thicken, 0.0);
         }
         take[1] = mode != EMIT_FROZEN;
     } else {
@@ -254,10 +269,8 @@ void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments
 // triangle off the front or of an idle speleothem; on the front, 9 when a band grows,
 // 6 when a B triangle closes a tip or any front triangle joins a column, else 3.
 uint output_count(V t[3], uint pass_index, uint speleothem_count) {
-    uint sp = uint(t[0].normal_sp.w + 0.5);
-    uint action = uint(plan_step(4u * (pass_index * speleothem_count + sp)).w + 0.5);
-    bool front = t[0].pos_id.w <= 0.0 && t[1].pos_id.w <= 0.0 && t[2].pos_id.w <= 0.0;
-    if (!front || action == 0u) {
+    uint action = uint(plan_step(plan_base(t, pass_index, speleothem_count)).w + 0.5);
+    if (!on_front(t) || action == 0u) {
         return 3u;
     }
     uint on_base = 0u;
