@@ -171,25 +171,30 @@ fn dune_shadow_map_matches_the_cpu_reference() {
         };
         let (dir, rise) = ([0.8f32, 0.6f32], 0.25f32);
         let cpu = shadow_map(&grid, 128, dir, rise);
-        let pass = DuneShadowPass::new(ctx, n as u32, &heights, 128).expect("pass");
-        ctx.submit_and_wait("dune shadow", |cmd| {
-            pass.record(cmd, dir, rise)?;
-            cmd.shader_to_host_barrier();
-            Ok(())
-        })
-        .expect("submit");
-        let gpu: Vec<f32> = pass.visibility.read().expect("read");
         let shadowed = cpu.iter().filter(|&&v| v == 0.0).count();
         assert!(
             shadowed > cpu.len() / 20,
             "the scene has shadows ({shadowed})"
         );
-        let differ = gpu.iter().zip(&cpu).filter(|(g, c)| g != c).count();
-        // Grazing rays may round either way on different hardware: allow 0.2 %.
-        assert!(
-            differ * 500 <= cpu.len(),
-            "out of {} texels, {differ} differed",
-            cpu.len()
-        );
+        // Both ways of reading the heights: as texels (where the device's texel
+        // buffers hold them, lavapipe's path) and as a storage buffer.
+        for storage_reads in [false, true] {
+            let pass = DuneShadowPass::with_reads(ctx, n as u32, &heights, 128, storage_reads)
+                .expect("pass");
+            ctx.submit_and_wait("dune shadow", |cmd| {
+                pass.record(cmd, dir, rise)?;
+                cmd.shader_to_host_barrier();
+                Ok(())
+            })
+            .expect("submit");
+            let gpu: Vec<f32> = pass.visibility.read().expect("read");
+            let differ = gpu.iter().zip(&cpu).filter(|(g, c)| g != c).count();
+            // Grazing rays may round either way on different hardware: allow 0.2 %.
+            assert!(
+                differ * 500 <= cpu.len(),
+                "storage reads {storage_reads}: out of {} texels, {differ} differed",
+                cpu.len()
+            );
+        }
     });
 }

@@ -7,7 +7,8 @@ use glam::Vec4;
 
 use crate::error::Result;
 use crate::gpu::{
-    Buffer, BufferDesc, Commands, Context, DescriptorSet, Pipeline, PipelineLayout, Pod, vk,
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, Pipeline, PipelineLayout, Pod, TexelView,
+    vk,
 };
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
@@ -28,19 +29,26 @@ pub struct ShadowPush {
 unsafe impl Pod for ShadowPush {}
 
 /// `dune_shadow.comp`: heights (binding 0) and visibilities (binding 1) as storage
-/// buffers, and `ShadowPush`.
+/// buffers, the heights again as an R32F texel buffer (binding 2), and `ShadowPush`.
 pub static INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUNE_SHADOW_COMP,
     bindings: &[
         DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer),
         DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer),
+        DescriptorBinding::new(0, 2, DescriptorKind::UniformTexelBuffer),
     ],
     push_constant_bytes: size_of::<ShadowPush>() as u32,
 };
 
+/// `dune_shadow.comp`'s `HEIGHTS_AS_TEXELS`: the heights read through binding 2.
+const HEIGHTS_AS_TEXELS: u32 = 0;
+
 /// The shadow-map compute pass and its buffers.
 pub struct DuneShadowPass {
     set: DescriptorSet,
+    // The view before the buffers it views.
+    _texels: TexelView,
+    _texel_stand_in: Option<Box<Buffer>>,
     /// `res` x `res` visibilities (1 lit, 0 shadow).
     pub visibility: Buffer,
     /// The heights it marches over (cell units), also sampled by the per-pixel variant.
@@ -56,13 +64,51 @@ pub struct DuneShadowPass {
 impl DuneShadowPass {
     /// For an `n` x `n` grid of heights (in cell units) and a `res` x `res` map.
     pub fn new(ctx: &Arc<Context>, n: u32, heights: &[f32], res: u32) -> Result<Self> {
+        Self::with_reads(ctx, n, heights, res, false)
+    }
+
+    /// [`DuneShadowPass::new`], reading the heights as a storage buffer where
+    /// `storage_reads` even if the device's texel buffers would hold them (the path of
+    /// devices whose `maxTexelBufferElements` is below `n` x `n`; llvmpipe reads a
+    /// texel buffer faster).
+    pub fn with_reads(
+        ctx: &Arc<Context>,
+        n: u32,
+        heights: &[f32],
+        res: u32,
+        storage_reads: bool,
+    ) -> Result<Self> {
         let layout = PipelineLayout::new(ctx, "dune shadow layout", &[&INTERFACE])?;
-        let pipeline = Pipeline::compute(ctx, "dune shadow", INTERFACE.shader, &layout)?;
         let heights_buffer = Buffer::with_data(
             ctx,
             "dune heights",
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             heights,
+        )?;
+        let as_texels = !storage_reads
+            && heights.len() as u64 <= u64::from(ctx.info().max_texel_buffer_elements);
+        // Where the heights are not read as texels the binding still needs a valid
+        // view: of a one-texel stand-in that is never read.
+        let (texels, texel_stand_in) = if as_texels {
+            (TexelView::r32f(ctx, "dune heights", &heights_buffer)?, None)
+        } else {
+            let stand_in = Buffer::with_data(
+                ctx,
+                "dune heights texel stand-in",
+                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+                &[0.0f32],
+            )?;
+            let view = TexelView::r32f(ctx, "dune heights texel stand-in", &stand_in)?;
+            (view, Some(Box::new(stand_in)))
+        };
+        let pipeline = Pipeline::compute_specialized(
+            ctx,
+            "dune shadow",
+            INTERFACE.shader,
+            &layout,
+            &[(HEIGHTS_AS_TEXELS, u32::from(as_texels))],
         )?;
         let visibility = Buffer::new(
             ctx,
@@ -75,8 +121,11 @@ impl DuneShadowPass {
         let set = layout.allocate_set("dune shadow set", 0)?;
         set.write_buffer(0, &heights_buffer)?;
         set.write_buffer(1, &visibility)?;
+        set.write_texel_buffer(2, &texels)?;
         Ok(Self {
             set,
+            _texels: texels,
+            _texel_stand_in: texel_stand_in,
             visibility,
             heights: heights_buffer,
             pipeline,
