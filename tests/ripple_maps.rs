@@ -58,6 +58,39 @@ fn normal_chain_and_horizon_match_the_cpu_reference() {
 }
 
 #[test]
+fn the_brute_walk_on_the_gpu_matches_the_cpu_reference_both_ways_of_reading() {
+    // The paper's walk reads the heights as a texel buffer where the device's texel
+    // buffers hold them (lavapipe) and as a storage buffer elsewhere: both against
+    // the CPU walk, on ripples and on noise (whose steep slopes wrap often).
+    use sediment::render::ripple_maps::horizon_map_brute_gpu;
+    common::with_gpu(|ctx| {
+        for (name, field, scale) in [
+            ("ripples", ripples(64), 0.4f32),
+            ("noise", Heightfield::random(32, 32, 0.0, 1.0, 3), 1.0),
+        ] {
+            let steps = field.width - 1;
+            let cpu = horizon_map(&field, scale, steps);
+            for storage_reads in [false, true] {
+                let (gpu, ms) =
+                    horizon_map_brute_gpu(ctx, &field, scale, steps as u32, storage_reads)
+                        .expect("walk");
+                assert!(ms > 0.0, "{name}: the pass is timed");
+                assert_eq!(gpu.len(), cpu.len());
+                let worst = gpu
+                    .iter()
+                    .zip(&cpu)
+                    .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+                    .fold(0.0f32, f32::max);
+                assert!(
+                    worst <= 1e-5,
+                    "{name}, storage reads {storage_reads}: GPU walk vs CPU walk {worst}"
+                );
+            }
+        }
+    });
+}
+
+#[test]
 fn the_linear_horizon_pass_equals_the_brute_walk() {
     // Issue 19 item 1: Timonen & Westerholm's convex-hull sweep (horizon_linear.comp)
     // against the brute walk over the whole periodic row (the paper's horizon.comp and
@@ -157,44 +190,47 @@ fn dune_shadow_map_matches_the_cpu_reference() {
     use sediment::model::dune_shadow::{DuneGrid, shadow_map};
     use sediment::render::dune_shadow::DuneShadowPass;
     common::with_gpu(|ctx| {
-        // Bumpy dunes: a few sines, so shadows have long and short edges.
-        let n = 64usize;
-        let heights: Vec<f32> = (0..n * n)
-            .map(|i| {
-                let (x, z) = ((i % n) as f32, (i / n) as f32);
-                4.0 * (x * 0.21).sin() * (z * 0.13).cos() + 2.0 * (x * 0.07 + z * 0.05).sin()
-            })
-            .collect();
-        let grid = DuneGrid {
-            n,
-            heights: &heights,
-        };
-        let (dir, rise) = ([0.8f32, 0.6f32], 0.25f32);
-        let cpu = shadow_map(&grid, 128, dir, rise);
-        let shadowed = cpu.iter().filter(|&&v| v == 0.0).count();
-        assert!(
-            shadowed > cpu.len() / 20,
-            "the scene has shadows ({shadowed})"
-        );
-        // Both ways of reading the heights: as texels (where the device's texel
-        // buffers hold them, lavapipe's path) and as a storage buffer.
-        for storage_reads in [false, true] {
-            let pass = DuneShadowPass::with_reads(ctx, n as u32, &heights, 128, storage_reads)
-                .expect("pass");
-            ctx.submit_and_wait("dune shadow", |cmd| {
-                pass.record(cmd, dir, rise)?;
-                cmd.shader_to_host_barrier();
-                Ok(())
-            })
-            .expect("submit");
-            let gpu: Vec<f32> = pass.visibility.read().expect("read");
-            let differ = gpu.iter().zip(&cpu).filter(|(g, c)| g != c).count();
-            // Grazing rays may round either way on different hardware: allow 0.2 %.
+        // Bumpy dunes: a few sines, so shadows have long and short edges; a field of
+        // 64 and one of 48 (the shader wraps without an integer division: a side that
+        // is not a power of two checks its quotient), the sun from either side.
+        for (n, dir) in [(64usize, [0.8f32, 0.6f32]), (48, [-0.6, -0.8])] {
+            let heights: Vec<f32> = (0..n * n)
+                .map(|i| {
+                    let (x, z) = ((i % n) as f32, (i / n) as f32);
+                    4.0 * (x * 0.21).sin() * (z * 0.13).cos() + 2.0 * (x * 0.07 + z * 0.05).sin()
+                })
+                .collect();
+            let grid = DuneGrid {
+                n,
+                heights: &heights,
+            };
+            let rise = 0.25f32;
+            let cpu = shadow_map(&grid, 128, dir, rise);
+            let shadowed = cpu.iter().filter(|&&v| v == 0.0).count();
             assert!(
-                differ * 500 <= cpu.len(),
-                "storage reads {storage_reads}: out of {} texels, {differ} differed",
-                cpu.len()
+                shadowed > cpu.len() / 20,
+                "n {n}: the scene has shadows ({shadowed})"
             );
+            // Both ways of reading the heights: as texels (where the device's texel
+            // buffers hold them, lavapipe's path) and as a storage buffer.
+            for storage_reads in [false, true] {
+                let pass = DuneShadowPass::with_reads(ctx, n as u32, &heights, 128, storage_reads)
+                    .expect("pass");
+                ctx.submit_and_wait("dune shadow", |cmd| {
+                    pass.record(cmd, dir, rise)?;
+                    cmd.shader_to_host_barrier();
+                    Ok(())
+                })
+                .expect("submit");
+                let gpu: Vec<f32> = pass.visibility.read().expect("read");
+                let differ = gpu.iter().zip(&cpu).filter(|(g, c)| g != c).count();
+                // Grazing rays may round either way on different hardware: allow 0.2 %.
+                assert!(
+                    differ * 500 <= cpu.len(),
+                    "n {n}, storage reads {storage_reads}: out of {} texels, {differ} differed",
+                    cpu.len()
+                );
+            }
         }
     });
 }

@@ -15,6 +15,16 @@ layout(set = 0, binding = 1, std430) buffer Horizon {
     vec4 slopes[];
 } horizon;
 
+// The same heights as an R32F texel buffer, read instead of binding 0 when
+// `HEIGHTS_AS_TEXELS` (where the device's texel buffers hold them): llvmpipe gathers a
+// texel fetch for its 8 lanes at once but reads a storage buffer lane by lane.
+layout(set = 0, binding = 2) uniform samplerBuffer height_texels;
+layout(constant_id = 0) const bool HEIGHTS_AS_TEXELS = true;
+
+float height_at(int i) {
+    return HEIGHTS_AS_TEXELS ? texelFetch(height_texels, i).r : heights.h[i];
+}
+
 layout(push_constant) uniform Params {
     uint size;
     uint steps;
@@ -22,13 +32,22 @@ layout(push_constant) uniform Params {
     uint unused;
 } pc;
 
+// `i` mod `n` as the CPU twin's rem_euclid, without an integer division: x86 has no
+// vector one, so llvmpipe divides lane by lane (four of them a step made the walk about
+// 2x slower). The float quotient's floor is exact for |i| < 2^23: the added half keeps
+// it at least 0.5 / n from a whole number, far more than its rounding. (Scalar, not
+// ivec2: naga 30 misreads integer vector modulo.)
+int wrap(int i, int n) {
+    return i - n * int(floor((float(i) + 0.5) / float(n)));
+}
+
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     int n = int(pc.size);
     if (p.x >= n || p.y >= n) {
         return;
     }
-    float here = heights.h[p.y * n + p.x];
+    float here = height_at(p.y * n + p.x);
     float s[8];
     for (int d = 0; d < 8; ++d) {
         // Direction d at d * 45 degrees: exact unit steps along axes and diagonals.
@@ -37,11 +56,9 @@ void main() {
         float step_len = sqrt(float(dir.x * dir.x + dir.y * dir.y));
         float best = -3.402823e38;
         for (int k = 1; k <= int(pc.steps); ++k) {
-            // Scalar arithmetic: naga 30 misreads integer vector modulo (it widens the
-            // splatted divisor to 64 bits).
-            int qx = ((p.x + dir.x * k) % n + n) % n;
-            int qy = ((p.y + dir.y * k) % n + n) % n;
-            float there = heights.h[qy * n + qx];
+            int qx = wrap(p.x + dir.x * k, n);
+            int qy = wrap(p.y + dir.y * k, n);
+            float there = height_at(qy * n + qx);
             best = max(best, (there - here) * pc.height_scale / (float(k) * step_len));
         }
         s[d] = best;

@@ -254,6 +254,61 @@ impl TexelView {
     }
 }
 
+/// A buffer of floats offered to a shader as an R32F texel buffer where the device's
+/// texel buffers hold it, else a view of a one-texel stand-in (a descriptor must be
+/// valid even where the shader, told by a specialization constant, never reads it):
+/// the passes that read heights lane by lane from a storage buffer read them as texels
+/// instead where they can (llvmpipe gathers a texel fetch for its 8 lanes at once).
+pub struct FloatTexels {
+    // The view before the stand-in it may view.
+    view: TexelView,
+    _stand_in: Option<Box<Buffer>>,
+    readable: bool,
+}
+
+impl FloatTexels {
+    /// `buffer` (created with UNIFORM_TEXEL_BUFFER usage) as R32F texels unless
+    /// `storage_reads` or the device's `maxTexelBufferElements` is below its floats.
+    pub fn new(
+        ctx: &Arc<Context>,
+        what: &str,
+        buffer: &Buffer,
+        storage_reads: bool,
+    ) -> Result<Self> {
+        let floats = buffer.size() / 4;
+        if !storage_reads && floats <= u64::from(ctx.info().max_texel_buffer_elements) {
+            return Ok(Self {
+                view: TexelView::r32f(ctx, what, buffer)?,
+                _stand_in: None,
+                readable: true,
+            });
+        }
+        let stand_in = Buffer::with_data(
+            ctx,
+            &format!("{what} (texel stand-in)"),
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+            &[0.0f32],
+        )?;
+        let view = TexelView::r32f(ctx, &format!("{what} (texel stand-in)"), &stand_in)?;
+        Ok(Self {
+            view,
+            _stand_in: Some(Box::new(stand_in)),
+            readable: false,
+        })
+    }
+
+    /// The view to bind (of the stand-in where not [`FloatTexels::readable`]).
+    pub fn view(&self) -> &TexelView {
+        &self.view
+    }
+
+    /// Whether the view holds the buffer's floats: the value of the shader's
+    /// specialization constant that chooses texel reads.
+    pub fn readable(&self) -> bool {
+        self.readable
+    }
+}
+
 /// The texels of `texel_bytes` in `bytes`, or an error naming `what` where there are
 /// more than the device's `limit`.
 fn texels_within(what: &str, bytes: u64, texel_bytes: u64, limit: u32) -> Result<u64> {

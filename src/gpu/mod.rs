@@ -23,7 +23,7 @@ pub use ash::vk;
 
 pub use crate::pod::{Pod, as_bytes, from_bytes};
 pub use barrier::ImageTransition;
-pub use buffer::{Buffer, BufferDesc, TexelView};
+pub use buffer::{Buffer, BufferDesc, FloatTexels, TexelView};
 pub use commands::Commands;
 pub use context::{Context, ContextOptions, DeviceInfo, probe_devices};
 pub use features::{Capability, DeviceReport};

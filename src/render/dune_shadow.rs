@@ -7,8 +7,8 @@ use glam::Vec4;
 
 use crate::error::Result;
 use crate::gpu::{
-    Buffer, BufferDesc, Commands, Context, DescriptorSet, Pipeline, PipelineLayout, Pod, TexelView,
-    vk,
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, FloatTexels, Pipeline, PipelineLayout,
+    Pod, vk,
 };
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
@@ -46,9 +46,8 @@ const HEIGHTS_AS_TEXELS: u32 = 0;
 /// The shadow-map compute pass and its buffers.
 pub struct DuneShadowPass {
     set: DescriptorSet,
-    // The view before the buffers it views.
-    _texels: TexelView,
-    _texel_stand_in: Option<Box<Buffer>>,
+    // The texel view before the buffer it views.
+    _texels: FloatTexels,
     /// `res` x `res` visibilities (1 lit, 0 shadow).
     pub visibility: Buffer,
     /// The heights it marches over (cell units), also sampled by the per-pixel variant.
@@ -87,28 +86,13 @@ impl DuneShadowPass {
                 | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             heights,
         )?;
-        let as_texels = !storage_reads
-            && heights.len() as u64 <= u64::from(ctx.info().max_texel_buffer_elements);
-        // Where the heights are not read as texels the binding still needs a valid
-        // view: of a one-texel stand-in that is never read.
-        let (texels, texel_stand_in) = if as_texels {
-            (TexelView::r32f(ctx, "dune heights", &heights_buffer)?, None)
-        } else {
-            let stand_in = Buffer::with_data(
-                ctx,
-                "dune heights texel stand-in",
-                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
-                &[0.0f32],
-            )?;
-            let view = TexelView::r32f(ctx, "dune heights texel stand-in", &stand_in)?;
-            (view, Some(Box::new(stand_in)))
-        };
+        let texels = FloatTexels::new(ctx, "dune heights", &heights_buffer, storage_reads)?;
         let pipeline = Pipeline::compute_specialized(
             ctx,
             "dune shadow",
             INTERFACE.shader,
             &layout,
-            &[(HEIGHTS_AS_TEXELS, u32::from(as_texels))],
+            &[(HEIGHTS_AS_TEXELS, u32::from(texels.readable()))],
         )?;
         let visibility = Buffer::new(
             ctx,
@@ -121,11 +105,10 @@ impl DuneShadowPass {
         let set = layout.allocate_set("dune shadow set", 0)?;
         set.write_buffer(0, &heights_buffer)?;
         set.write_buffer(1, &visibility)?;
-        set.write_texel_buffer(2, &texels)?;
+        set.write_texel_buffer(2, texels.view())?;
         Ok(Self {
             set,
             _texels: texels,
-            _texel_stand_in: texel_stand_in,
             visibility,
             heights: heights_buffer,
             pipeline,

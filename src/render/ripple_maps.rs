@@ -8,8 +8,8 @@ use std::sync::Arc;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Buffer, BufferDesc, Commands, Context, DescriptorSet, GpuTimer, Pipeline, PipelineLayout, Pod,
-    Span, TexelView, vk,
+    Buffer, BufferDesc, Commands, Context, DescriptorSet, FloatTexels, GpuTimer, Pipeline,
+    PipelineLayout, Pod, Span, vk,
 };
 use crate::model::ripple_maps::normal_level0;
 use crate::model::sand::Heightfield;
@@ -55,12 +55,14 @@ pub static NORMAL_MIP_INTERFACE: ShaderInterface = ShaderInterface {
 };
 
 /// `horizon.comp`: heights (binding 0) and the two-plane horizon map (binding 1) as
-/// storage buffers, and `HorizonPush`.
+/// storage buffers, the heights again as an R32F texel buffer (binding 2), and
+/// `HorizonPush`.
 pub static HORIZON_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_HORIZON_COMP,
     bindings: &[
         DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer),
         DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer),
+        DescriptorBinding::new(0, 2, DescriptorKind::UniformTexelBuffer),
     ],
     push_constant_bytes: size_of::<HorizonPush>() as u32,
 };
@@ -95,7 +97,8 @@ pub static HORIZON_LINEAR_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<SweepPush>() as u32,
 };
 
-/// `horizon_linear.comp`'s `HEIGHTS_AS_TEXELS`: the heights read through binding 3.
+/// `horizon.comp`'s and `horizon_linear.comp`'s `HEIGHTS_AS_TEXELS`: the heights read
+/// through a texel buffer (binding 2 and 3).
 const HEIGHTS_AS_TEXELS: u32 = 0;
 
 /// How a [`HorizonSweep`] runs; the default is what the scenes use.
@@ -145,9 +148,8 @@ pub struct HorizonSweep {
     layout: PipelineLayout,
     pipeline: Pipeline,
     set: DescriptorSet,
-    // The view before the buffer it views.
-    _texels: TexelView,
-    _texel_buffer: Option<Box<Buffer>>,
+    // The texel view before the buffer it views.
+    _texels: FloatTexels,
     _heights: Buffer,
     _hull: Buffer,
     size: u32,
@@ -212,26 +214,12 @@ impl HorizonSweep {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             &heights,
         )?;
-        // The texel buffer where it holds both copies; else the binding still needs a
-        // valid view, of a one-texel stand-in that is never read.
-        let as_texels = !options.storage_reads
-            && 2 * u64::from(size) * u64::from(size)
-                <= u64::from(ctx.info().max_texel_buffer_elements);
-        let (texels, texel_buffer) = if as_texels {
-            (
-                TexelView::r32f(ctx, "horizon sweep heights", &heights)?,
-                None,
-            )
-        } else {
-            let stand_in = Buffer::with_data(
-                ctx,
-                "horizon sweep texel stand-in",
-                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
-                &[0.0f32],
-            )?;
-            let view = TexelView::r32f(ctx, "horizon sweep texel stand-in", &stand_in)?;
-            (view, Some(Box::new(stand_in)))
-        };
+        let texels = FloatTexels::new(
+            ctx,
+            "horizon sweep heights",
+            &heights,
+            options.storage_reads,
+        )?;
         let entries = u64::from(size);
         let per_direction = entries * u64::from(size) * 8;
         let per_dispatch = (HULL_BUDGET_BYTES / per_direction)
@@ -250,19 +238,18 @@ impl HorizonSweep {
             "horizon sweep",
             HORIZON_LINEAR_INTERFACE.shader,
             &layout,
-            &[(HEIGHTS_AS_TEXELS, u32::from(as_texels))],
+            &[(HEIGHTS_AS_TEXELS, u32::from(texels.readable()))],
         )?;
         let set = layout.allocate_set("horizon sweep set", 0)?;
         set.write_buffer(0, &heights)?;
         set.write_buffer(1, horizon)?;
         set.write_buffer(2, &hull)?;
-        set.write_texel_buffer(3, &texels)?;
+        set.write_texel_buffer(3, texels.view())?;
         Ok(Self {
             layout,
             pipeline,
             set,
             _texels: texels,
-            _texel_buffer: texel_buffer,
             _heights: heights,
             _hull: hull,
             size,
@@ -334,6 +321,41 @@ pub fn horizon_map_linear_gpu(
     ))
 }
 
+/// The horizon map of `field` along the 8 directions by the paper's walk on the GPU
+/// (`steps` texels each way; two planes of vec4, as [`horizon_map`] lays them out),
+/// with the walk's GPU time in milliseconds; the heights read as a storage buffer
+/// where `storage_reads`, else as texels where the device's texel buffers hold them.
+///
+/// [`horizon_map`]: crate::model::ripple_maps::horizon_map
+pub fn horizon_map_brute_gpu(
+    ctx: &Arc<Context>,
+    field: &Heightfield,
+    height_scale: f32,
+    steps: u32,
+    storage_reads: bool,
+) -> Result<(Vec<[f32; 4]>, f64)> {
+    let horizon = Buffer::new(
+        ctx,
+        "horizon map",
+        BufferDesc::readback(
+            (field.data.len() * 8 * 4) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        ),
+    )?;
+    let walk = BruteWalk::new(ctx, field, steps, &horizon, storage_reads)?;
+    let mut timer = GpuTimer::new(ctx, "horizon walk timer", 1)?;
+    ctx.submit_and_wait("horizon walk", |cmd| {
+        timer.reset(cmd);
+        let span = timer.begin(cmd, "horizon map")?;
+        walk.record(cmd, height_scale)?;
+        timer.end(cmd, span);
+        cmd.shader_to_host_barrier();
+        Ok(())
+    })?;
+    let ms = timer.read()?.first().map_or(0.0, |s| s.milliseconds);
+    Ok((horizon.read()?, ms))
+}
+
 /// The texel that position `pos` of line `line` along `dir` is, in an `n` x `n`
 /// tile: `horizon_linear.comp`'s frame (transposed where the direction is steeper in
 /// y; along a row, line k is row k; across rows, the line through (k, 0)).
@@ -377,6 +399,8 @@ struct BruteWalk {
     layout: PipelineLayout,
     pipeline: Pipeline,
     set: DescriptorSet,
+    // The texel view before the buffer it views.
+    _texels: FloatTexels,
     _heights: Buffer,
     size: u32,
     steps: u32,
@@ -385,23 +409,38 @@ struct BruteWalk {
 impl BruteWalk {
     /// Prepares the walk of `steps` texels along 8 directions over `field`, writing
     /// two planes of vec4 into `horizon`.
-    fn new(ctx: &Arc<Context>, field: &Heightfield, steps: u32, horizon: &Buffer) -> Result<Self> {
+    fn new(
+        ctx: &Arc<Context>,
+        field: &Heightfield,
+        steps: u32,
+        horizon: &Buffer,
+        storage_reads: bool,
+    ) -> Result<Self> {
         let heights: Vec<f32> = field.data.iter().map(|&h| h as f32).collect();
         let heights = Buffer::with_data(
             ctx,
             "ripple heights",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             &heights,
         )?;
+        let texels = FloatTexels::new(ctx, "ripple heights", &heights, storage_reads)?;
         let layout = PipelineLayout::new(ctx, "horizon layout", &[&HORIZON_INTERFACE])?;
-        let pipeline = Pipeline::compute(ctx, "horizon", HORIZON_INTERFACE.shader, &layout)?;
+        let pipeline = Pipeline::compute_specialized(
+            ctx,
+            "horizon",
+            HORIZON_INTERFACE.shader,
+            &layout,
+            &[(HEIGHTS_AS_TEXELS, u32::from(texels.readable()))],
+        )?;
         let set = layout.allocate_set("horizon set", 0)?;
         set.write_buffer(0, &heights)?;
         set.write_buffer(1, horizon)?;
+        set.write_texel_buffer(2, texels.view())?;
         Ok(Self {
             layout,
             pipeline,
             set,
+            _texels: texels,
             _heights: heights,
             size: tile_side(field, "ripple tile")?,
             steps,
@@ -520,7 +559,7 @@ impl RippleMaps {
         let pass = match walk {
             HorizonWalk::Linear => HorizonPass::Sweep(HorizonSweep::new(ctx, field, 8, &horizon)?),
             HorizonWalk::Brute { steps } => {
-                HorizonPass::Walk(BruteWalk::new(ctx, field, steps, &horizon)?)
+                HorizonPass::Walk(BruteWalk::new(ctx, field, steps, &horizon, false)?)
             }
         };
 
