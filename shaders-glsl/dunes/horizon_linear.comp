@@ -3,13 +3,19 @@
 // "Scalable Height Field Self-Shadowing"): the same map as horizon.comp over the whole
 // periodic row. On the periodic N x N tile every line of texels along one of the
 // directions (axes, diagonals and, with 16, the knight's moves (2, 1) between them) is
-// a cycle of N texels. One invocation per line sweeps it backwards once round, keeping
+// a cycle of N texels. An invocation takes one line and sweeps it backwards once round, keeping
 // the upper convex hull of the heights ahead; the hull's top after popping what a
 // texel sees past is its horizon. Texels beyond the line's highest one never set a
 // horizon (the highest is nearer and at least as high, so it is seen more steeply),
 // so one lap starting at the highest texel sees all that matters; the highest
 // texel's own horizon (below zero: everything else is lower, and its own copy a lap
 // ahead must not count) is the largest (h - highest) / k, taken as the sweep passes.
+// The opposite direction's line is the same cycle stepped the other way, with the
+// same highest texel: the same invocation sweeps it next (`sweep_line` twice), so the
+// highest texel is found once for both and the second sweep reads what the scan and
+// the first left in the cache (the map the same to the bit; 1024 x 1024 x 16 in the
+// scratch harness, alternated, medians of 9: 74.2 against 86.4 ms, and 74.1 against
+// 86.6 with the order reversed).
 //
 // What makes it fast on Mesa 22.3's llvmpipe, which runs 8 invocations as one SIMD
 // program, runs the body of every `if` and every loop at least once whether or not
@@ -97,8 +103,9 @@ layout(push_constant) uniform Params {
     // 8 (axes and diagonals) or 16 (and the knight's moves).
     uint directions;
     float height_scale;
-    // The direction of this dispatch's first line (dispatches share the hull buffer).
-    uint first_direction;
+    // This dispatch's first pair of opposite directions, d and d + directions / 2
+    // (dispatches share the hull buffer).
+    uint first_pair;
 } pc;
 
 // Direction k of 16, counter-clockwise from +x: even k the axes and diagonals, odd k
@@ -241,46 +248,9 @@ float height_back() {
     return here;
 }
 
-void main() {
-    n = int(pc.size);
-    int id = int(gl_GlobalInvocationID.x);
-    int d = int(pc.first_direction) + id / n;
-    if (d >= int(pc.directions)) {
-        return;
-    }
-    int line = id % n;
-    ivec2 dir = direction16(pc.directions == 8u ? 2 * d : d);
-    // The line's frame: the heights transposed where the direction is steeper in y,
-    // so that a line steps +-1 along rows (axes: one texel further in memory) or
-    // +-1 row and su along it (diagonals, knight's moves).
-    bool transposed = abs(dir.y) > abs(dir.x);
-    su = transposed ? dir.y : dir.x;
-    sv = transposed ? dir.x : dir.y;
-    frame = transposed ? n * n : 0;
-    float step_len = sqrt(float(dir.x * dir.x + dir.y * dir.y));
-    // Along a row, line k is row k; across rows, the line through (k, 0).
-    u = sv == 0 ? 0 : line;
-    v = sv == 0 ? line : 0;
-    hull_base = uint(id) * uint(n);
-    uint out_base = uint(d * n + line) * uint(n);
-
-    // The line's highest texel (the first of equals), position p.
-    p = 0;
-    int pu = u;
-    int pv = v;
-    highest = height_at(frame + v * n + u);
-    for (int t = 1; t < n; ++t) {
-        u = wrap(u + su, n);
-        v = wrap(v + sv, n);
-        float here = height_at(frame + v * n + u);
-        if (here > highest) {
-            highest = here;
-            p = t;
-            pu = u;
-            pv = v;
-        }
-    }
-
+// Sweeps the line whose frame (su, sv, frame, n) is set, its highest texel at
+// position p, (pu, pv), writing its horizons from out_base.
+void sweep_line(uint out_base, float step_len, int pu, int pv) {
     // From the last position of the peak's group of four, a lap ahead (q0 + N), down
     // to the first of that group (N + 4 steps), the hull empty at first.
     int q0 = p | 3;
@@ -322,4 +292,52 @@ void main() {
     }
     horizon.s[(out_base + uint(p)) / 4u][p & 3] =
         best_rise * pc.height_scale / (best_k * step_len);
+}
+
+void main() {
+    n = int(pc.size);
+    int id = int(gl_GlobalInvocationID.x);
+    int half_turn = int(pc.directions) / 2;
+    int d = int(pc.first_pair) + id / n;
+    if (d >= half_turn) {
+        return;
+    }
+    int line = id % n;
+    ivec2 dir = direction16(pc.directions == 8u ? 2 * d : d);
+    // The line's frame: the heights transposed where the direction is steeper in y,
+    // so that a line steps +-1 along rows (axes: one texel further in memory) or
+    // +-1 row and su along it (diagonals, knight's moves).
+    bool transposed = abs(dir.y) > abs(dir.x);
+    su = transposed ? dir.y : dir.x;
+    sv = transposed ? dir.x : dir.y;
+    frame = transposed ? n * n : 0;
+    float step_len = sqrt(float(dir.x * dir.x + dir.y * dir.y));
+    // Along a row, line k is row k; across rows, the line through (k, 0).
+    u = sv == 0 ? 0 : line;
+    v = sv == 0 ? line : 0;
+    hull_base = uint(id) * uint(n);
+
+    // The line's highest texel (the first of equals), position p.
+    p = 0;
+    int pu = u;
+    int pv = v;
+    highest = height_at(frame + v * n + u);
+    for (int t = 1; t < n; ++t) {
+        u = wrap(u + su, n);
+        v = wrap(v + sv, n);
+        float here = height_at(frame + v * n + u);
+        if (here > highest) {
+            highest = here;
+            p = t;
+            pu = u;
+            pv = v;
+        }
+    }
+    sweep_line(uint(d * n + line) * uint(n), step_len, pu, pv);
+    // The opposite direction: the same line stepped the other way, from the same
+    // start, so position t is this one's N - t, and the same highest texel.
+    su = -su;
+    sv = -sv;
+    p = (n - p) & (n - 1);
+    sweep_line(uint((d + half_turn) * n + line) * uint(n), step_len, pu, pv);
 }

@@ -77,8 +77,9 @@ pub struct SweepPush {
     pub directions: u32,
     /// Factor on the stored heights before slopes are taken.
     pub height_scale: f32,
-    /// The direction of the dispatch's first line.
-    pub first_direction: u32,
+    /// The dispatch's first pair of opposite directions (pair d: directions d and
+    /// d + directions / 2, each invocation one line of both).
+    pub first_pair: u32,
 }
 // SAFETY: repr(C), four 4-byte fields.
 unsafe impl Pod for SweepPush {}
@@ -104,8 +105,9 @@ const HEIGHTS_AS_TEXELS: u32 = 0;
 /// How a [`HorizonSweep`] runs; the default is what the scenes use.
 #[derive(Clone, Copy, Debug)]
 pub struct SweepOptions {
-    /// At most this many directions a dispatch (fewer: less memory for the hull
-    /// stacks, which the dispatches reuse); the memory budget may make it fewer.
+    /// At most this many pairs of opposite directions a dispatch (fewer: less memory
+    /// for the hull stacks, which the dispatches reuse); the memory budget may make it
+    /// fewer.
     pub group: u32,
     /// Read the heights as a storage buffer even where the device's texel buffers
     /// would hold them (llvmpipe reads a texel buffer faster): the path of devices whose
@@ -116,7 +118,7 @@ pub struct SweepOptions {
 impl Default for SweepOptions {
     fn default() -> Self {
         Self {
-            group: 16,
+            group: 8,
             storage_reads: false,
         }
     }
@@ -138,8 +140,8 @@ fn tile_side(field: &Heightfield, what: &str) -> Result<u32> {
     Ok(size)
 }
 
-/// The hull stacks of one dispatch are kept under this many bytes; directions beyond
-/// it are swept in further dispatches that reuse them.
+/// The hull stacks of one dispatch are kept under this many bytes; pairs of directions
+/// beyond it are swept in further dispatches that reuse them.
 const HULL_BUDGET_BYTES: u64 = 64 << 20;
 
 /// The linear-time horizon sweep (`horizon_linear.comp`) of one tile, ready to record:
@@ -154,6 +156,7 @@ pub struct HorizonSweep {
     _hull: Buffer,
     size: u32,
     directions: u32,
+    /// Pairs of opposite directions a dispatch.
     per_dispatch: u32,
 }
 
@@ -220,10 +223,12 @@ impl HorizonSweep {
             &heights,
             options.storage_reads,
         )?;
+        // An invocation sweeps one line along a pair of opposite directions, one after
+        // the other on the same stack of at most a lap.
         let entries = u64::from(size);
-        let per_direction = entries * u64::from(size) * 8;
-        let per_dispatch = (HULL_BUDGET_BYTES / per_direction)
-            .clamp(1, u64::from(directions.min(options.group).max(1)))
+        let per_pair = entries * u64::from(size) * 8;
+        let per_dispatch = (HULL_BUDGET_BYTES / per_pair)
+            .clamp(1, u64::from((directions / 2).min(options.group).max(1)))
             as u32;
         let lanes = u64::from((per_dispatch * size).div_ceil(64) * 64);
         let hull = Buffer::new(
@@ -258,12 +263,12 @@ impl HorizonSweep {
         })
     }
 
-    /// Records the sweep: one dispatch per group of directions whose stacks fit the
-    /// budget, a barrier between (they reuse the stacks).
+    /// Records the sweep: one dispatch per group of direction pairs whose stacks fit
+    /// the budget, a barrier between (they reuse the stacks).
     pub fn record(&self, cmd: &Commands, height_scale: f32) -> Result<()> {
         cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
         let mut first = 0;
-        while first < self.directions {
+        while first < self.directions / 2 {
             if first > 0 {
                 cmd.full_barrier();
             }
@@ -273,7 +278,7 @@ impl HorizonSweep {
                     size: self.size,
                     directions: self.directions,
                     height_scale,
-                    first_direction: first,
+                    first_pair: first,
                 },
             )?;
             cmd.dispatch((self.per_dispatch * self.size).div_ceil(64), 1, 1);
