@@ -300,26 +300,12 @@ pub fn horizon_map_linear_gpu(
     directions: u32,
     options: SweepOptions,
 ) -> Result<(Vec<[f32; 4]>, f64)> {
-    let horizon = Buffer::new(
+    let (lines, ms) = run_alone::<f32, _>(
         ctx,
-        "horizon map",
-        BufferDesc::readback(
-            (field.data.len() * directions as usize * 4) as u64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        ),
+        field.data.len() * directions as usize,
+        |horizon| HorizonSweep::with_options(ctx, field, directions, horizon, options),
+        |sweep, cmd| sweep.record(cmd, height_scale),
     )?;
-    let sweep = HorizonSweep::with_options(ctx, field, directions, &horizon, options)?;
-    let mut timer = GpuTimer::new(ctx, "horizon sweep timer", 1)?;
-    ctx.submit_and_wait("horizon sweep", |cmd| {
-        timer.reset(cmd);
-        let span = timer.begin(cmd, "horizon map")?;
-        sweep.record(cmd, height_scale)?;
-        timer.end(cmd, span);
-        cmd.shader_to_host_barrier();
-        Ok(())
-    })?;
-    let ms = timer.read()?.first().map_or(0.0, |s| s.milliseconds);
-    let lines: Vec<f32> = horizon.read()?;
     Ok((
         planes_from_lines(&lines, field.width, directions as usize),
         ms,
@@ -339,20 +325,34 @@ pub fn horizon_map_brute_gpu(
     steps: u32,
     storage_reads: bool,
 ) -> Result<(Vec<[f32; 4]>, f64)> {
+    run_alone(
+        ctx,
+        field.data.len() * 8,
+        |horizon| BruteWalk::new(ctx, field, steps, horizon, storage_reads),
+        |walk, cmd| walk.record(cmd, height_scale),
+    )
+}
+
+/// One horizon pass alone: `prepare` builds it over a fresh host-readable map of
+/// `floats` floats, `record` records it between two timestamps; the map as `T`s and the
+/// pass's GPU milliseconds.
+fn run_alone<T: Pod, P>(
+    ctx: &Arc<Context>,
+    floats: usize,
+    prepare: impl FnOnce(&Buffer) -> Result<P>,
+    record: impl Fn(&P, &Commands) -> Result<()>,
+) -> Result<(Vec<T>, f64)> {
     let horizon = Buffer::new(
         ctx,
         "horizon map",
-        BufferDesc::readback(
-            (field.data.len() * 8 * 4) as u64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        ),
+        BufferDesc::readback((floats * 4) as u64, vk::BufferUsageFlags::STORAGE_BUFFER),
     )?;
-    let walk = BruteWalk::new(ctx, field, steps, &horizon, storage_reads)?;
-    let mut timer = GpuTimer::new(ctx, "horizon walk timer", 1)?;
-    ctx.submit_and_wait("horizon walk", |cmd| {
+    let pass = prepare(&horizon)?;
+    let mut timer = GpuTimer::new(ctx, "horizon map timer", 1)?;
+    ctx.submit_and_wait("horizon map", |cmd| {
         timer.reset(cmd);
         let span = timer.begin(cmd, "horizon map")?;
-        walk.record(cmd, height_scale)?;
+        record(&pass, cmd)?;
         timer.end(cmd, span);
         cmd.shader_to_host_barrier();
         Ok(())
