@@ -14,10 +14,15 @@ layout(set = 0, binding = 0, std430) buffer Table {
 } table;
 
 // Hillaire's multiple scattering, Psi_ms by altitude (rows) and sun cosine (columns):
-// MultipleScattering in src/model/atmosphere.rs, made there once per atmosphere.
-layout(set = 0, binding = 1, std430) readonly buffer Multiple {
-    vec4 psi[];
-} multiple;
+// MultipleScattering in src/model/atmosphere.rs, made there once per atmosphere. An
+// RGBA32F texel buffer (MS_SIZE^2 texels, within every device's limit): llvmpipe
+// gathers a texel fetch for its 8 lanes at once but reads a storage buffer lane by
+// lane, and each view sample reads four.
+layout(set = 0, binding = 1) uniform samplerBuffer multiple_psi;
+
+vec3 psi_at(uint i, uint j) {
+    return texelFetch(multiple_psi, int(j * MS_SIZE + i)).rgb;
+}
 
 // The same table for the sky to sample (bilinear, half floats).
 layout(set = 0, binding = 2, rgba16f) uniform writeonly image2D table_image;
@@ -42,8 +47,8 @@ vec3 multiple_at(Air a, float h, float mu_s) {
     uint j1 = min(j + 1u, MS_SIZE - 1u);
     float fx = x - float(i);
     float fy = y - float(j);
-    vec3 p = mix(multiple.psi[j * MS_SIZE + i].rgb, multiple.psi[j * MS_SIZE + i1].rgb, fx);
-    vec3 q = mix(multiple.psi[j1 * MS_SIZE + i].rgb, multiple.psi[j1 * MS_SIZE + i1].rgb, fx);
+    vec3 p = mix(psi_at(i, j), psi_at(i1, j), fx);
+    vec3 q = mix(psi_at(i, j1), psi_at(i1, j1), fx);
     return mix(p, q, fy);
 }
 

@@ -11,7 +11,7 @@ use super::tone_map::ToneMap;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
-    ImageTransition, Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, vk,
+    ImageTransition, Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, TexelView, vk,
 };
 use crate::model::atmosphere::{Atmosphere, MS_SIZE, MultipleScattering};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
@@ -65,13 +65,14 @@ struct SkyViewPush {
 // SAFETY: repr(C), six Vec4 and four u32, no padding.
 unsafe impl Pod for SkyViewPush {}
 
-/// `sky_view.comp`: the table buffer (0), the Psi_ms buffer (1), the half-float storage
-/// image (2) and `SkyViewPush`.
+/// `sky_view.comp`: the table buffer (0), the Psi_ms table as an RGBA32F texel buffer
+/// (1), the half-float storage image (2) and `SkyViewPush`. Declared by hand: naga
+/// reads no texel buffers.
 pub static SKY_VIEW_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SKY_VIEW_COMP,
     bindings: &[
         DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer),
-        DescriptorBinding::new(0, 1, DescriptorKind::StorageBuffer),
+        DescriptorBinding::new(0, 1, DescriptorKind::UniformTexelBuffer),
         DescriptorBinding::new(0, 2, DescriptorKind::StorageImage),
     ],
     push_constant_bytes: size_of::<SkyViewPush>() as u32,
@@ -88,7 +89,9 @@ pub struct SkyViewPass {
     pub table: Buffer,
     /// The same table as an RGBA16F storage + sampled image, always in GENERAL.
     pub image: Image,
-    /// Hillaire's Psi_ms table (zeros when multiple scattering is off).
+    /// Hillaire's Psi_ms table (zeros when multiple scattering is off), its view first
+    /// (dropped before the buffer).
+    _multiple_view: TexelView,
     _multiple: Buffer,
     multiple_on: bool,
     pipeline: Pipeline,
@@ -115,9 +118,10 @@ impl SkyViewPass {
         let multiple_buffer = Buffer::with_data(
             ctx,
             "multiple scattering table",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             &psi,
         )?;
+        let multiple_view = TexelView::rgba32f(ctx, "multiple scattering table", &multiple_buffer)?;
         let image = Image::new(
             ctx,
             "sky view image",
@@ -130,12 +134,13 @@ impl SkyViewPass {
         )?;
         let set = layout.allocate_set("sky view set", 0)?;
         set.write_buffer(0, &table)?;
-        set.write_buffer(1, &multiple_buffer)?;
+        set.write_texel_buffer(1, &multiple_view)?;
         set.write_image(2, image.view(), vk::ImageLayout::GENERAL)?;
         Ok(Self {
             set,
             table,
             image,
+            _multiple_view: multiple_view,
             _multiple: multiple_buffer,
             multiple_on: multiple.is_some(),
             pipeline,
