@@ -17,6 +17,14 @@ fn ripples(size: usize) -> Heightfield {
     sim.into_field()
 }
 
+/// The largest difference between two horizon maps, component by component.
+fn worst_difference(a: &[[f32; 4]], b: &[[f32; 4]]) -> f32 {
+    a.iter()
+        .zip(b)
+        .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+        .fold(0.0f32, f32::max)
+}
+
 #[test]
 fn normal_chain_and_horizon_match_the_cpu_reference() {
     common::with_gpu(|ctx| {
@@ -76,11 +84,7 @@ fn the_brute_walk_on_the_gpu_matches_the_cpu_reference_both_ways_of_reading() {
                         .expect("walk");
                 assert!(ms > 0.0, "{name}: the pass is timed");
                 assert_eq!(gpu.len(), cpu.len());
-                let worst = gpu
-                    .iter()
-                    .zip(&cpu)
-                    .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
-                    .fold(0.0f32, f32::max);
+                let worst = worst_difference(&gpu, &cpu);
                 assert!(
                     worst <= 1e-5,
                     "{name}, storage reads {storage_reads}: GPU walk vs CPU walk {worst}"
@@ -124,11 +128,7 @@ fn the_linear_horizon_pass_equals_the_brute_walk() {
                 ("CPU brute", &cpu),
                 ("CPU linear", &cpu_linear),
             ] {
-                let worst = linear
-                    .iter()
-                    .zip(other)
-                    .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
-                    .fold(0.0f32, f32::max);
+                let worst = worst_difference(&linear, other);
                 assert!(worst <= 1e-5, "{name}: GPU linear vs {what}: {worst}");
             }
         }
@@ -169,11 +169,7 @@ fn the_linear_horizon_pass_along_16_directions_equals_the_brute_walk() {
             let cpu_linear = horizon_map_linear_along(&field, scale, &HORIZON_DIRECTIONS_16);
             assert_eq!(gpu.len(), 4 * field.data.len());
             for (what, other) in [("CPU brute", &brute), ("CPU linear", &cpu_linear)] {
-                let worst = gpu
-                    .iter()
-                    .zip(other)
-                    .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
-                    .fold(0.0f32, f32::max);
+                let worst = worst_difference(&gpu, other);
                 assert!(worst <= 1e-5, "{name}: GPU linear vs {what}: {worst}");
             }
         }

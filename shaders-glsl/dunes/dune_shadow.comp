@@ -4,6 +4,9 @@
 // incrementally); shadowed if the heightfield there rises above the ray. The CPU twin
 // is `visibility` / `shadow_map` in src/model/dune_shadow.rs.
 
+#extension GL_GOOGLE_include_directive : require
+#include "periodic.glsl"
+
 layout(local_size_x = 8, local_size_y = 8) in;
 
 const float NEVER = 3.0e38;
@@ -30,18 +33,10 @@ layout(push_constant) uniform Params {
     uint unused1;
 } pc;
 
-// The field is periodic (the simulation's boundary condition): `i` mod `n` as the CPU
-// twin's rem_euclid, without an integer division (x86 has no vector one, so llvmpipe
-// divides lane by lane: the map took 68-77 ms with `%`, 25-33 without, 256 x 256 over
-// 64 x 64). The float quotient's floor is exact for |i| < 2^23: the half keeps it at
-// least 0.5 / n from a whole number, far more than its rounding.
-int wrap(int i, int n) {
-    return i - n * int(floor((float(i) + 0.5) / float(n)));
-}
-
+// The field is periodic (the simulation's boundary condition).
 float at(int x, int z) {
     int n = int(pc.n);
-    int i = wrap(z, n) * n + wrap(x, n);
+    int i = wrap_periodic(z, n) * n + wrap_periodic(x, n);
     return HEIGHTS_AS_TEXELS ? texelFetch(height_texels, i).r : heights.h[i];
 }
 

@@ -4,6 +4,9 @@
 // slope to the texels along that direction on the periodic tile. The CPU twin is
 // `horizon_map` in src/model/ripple_maps.rs.
 
+#extension GL_GOOGLE_include_directive : require
+#include "periodic.glsl"
+
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 0, std430) readonly buffer Heights {
@@ -32,15 +35,6 @@ layout(push_constant) uniform Params {
     uint unused;
 } pc;
 
-// `i` mod `n` as the CPU twin's rem_euclid, without an integer division: x86 has no
-// vector one, so llvmpipe divides lane by lane (four of them a step made the walk about
-// 2x slower). The float quotient's floor is exact for |i| < 2^23: the added half keeps
-// it at least 0.5 / n from a whole number, far more than its rounding. (Scalar, not
-// ivec2: naga 30 misreads integer vector modulo.)
-int wrap(int i, int n) {
-    return i - n * int(floor((float(i) + 0.5) / float(n)));
-}
-
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     int n = int(pc.size);
@@ -56,8 +50,8 @@ void main() {
         float step_len = sqrt(float(dir.x * dir.x + dir.y * dir.y));
         float best = -3.402823e38;
         for (int k = 1; k <= int(pc.steps); ++k) {
-            int qx = wrap(p.x + dir.x * k, n);
-            int qy = wrap(p.y + dir.y * k, n);
+            int qx = wrap_periodic(p.x + dir.x * k, n);
+            int qy = wrap_periodic(p.y + dir.y * k, n);
             float there = height_at(qy * n + qx);
             best = max(best, (there - here) * pc.height_scale / (float(k) * step_len));
         }

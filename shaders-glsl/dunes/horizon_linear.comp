@@ -3,13 +3,14 @@
 // "Scalable Height Field Self-Shadowing"): the same map as horizon.comp over the whole
 // periodic row. On the periodic N x N tile every line of texels along one of the
 // directions (axes, diagonals and, with 16, the knight's moves (2, 1) between them) is
-// a cycle of N texels. An invocation takes one line and sweeps it backwards once round, keeping
-// the upper convex hull of the heights ahead; the hull's top after popping what a
-// texel sees past is its horizon. Texels beyond the line's highest one never set a
-// horizon (the highest is nearer and at least as high, so it is seen more steeply),
-// so one lap starting at the highest texel sees all that matters; the highest
-// texel's own horizon (below zero: everything else is lower, and its own copy a lap
-// ahead must not count) is the largest (h - highest) / k, taken as the sweep passes.
+// a cycle of N texels. An invocation takes one line and sweeps it backwards once
+// round, keeping the upper convex hull of the heights ahead; the hull's top after
+// popping what a texel sees past is its horizon. Texels beyond the line's highest one
+// never set a horizon (the highest is nearer and at least as high, so it is seen more
+// steeply), so one lap starting at the highest texel sees all that matters; the
+// highest texel's own horizon (below zero: everything else is lower, and its own copy
+// a lap ahead must not count) is the largest (h - highest) / k, taken as the sweep
+// passes.
 // The opposite direction's line is the same cycle stepped the other way, with the
 // same highest texel: the same invocation sweeps it next (`sweep_line` twice), so the
 // highest texel is found once for both and the second sweep reads what the scan and

@@ -283,13 +283,14 @@ impl FloatTexels {
                 readable: true,
             });
         }
+        let name = format!("{what} (texel stand-in)");
         let stand_in = Buffer::with_data(
             ctx,
-            &format!("{what} (texel stand-in)"),
+            &name,
             vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             &[0.0f32],
         )?;
-        let view = TexelView::r32f(ctx, &format!("{what} (texel stand-in)"), &stand_in)?;
+        let view = TexelView::r32f(ctx, &name, &stand_in)?;
         Ok(Self {
             view,
             _stand_in: Some(Box::new(stand_in)),
