@@ -342,26 +342,24 @@ pub fn detail_texture(field: &DetailField, sun: [f32; 3]) -> Vec<u8> {
     use rayon::prelude::*;
     let w = field.width;
     let march = SunMarch::new(field, sun);
-    let highest = field.data.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
     let mut out = vec![0u8; w * field.height * 4];
     out.par_chunks_mut(w * 4).enumerate().for_each(|(j, row)| {
         for (i, texel) in row.chunks_exact_mut(4).enumerate() {
             let (i, j) = (i as i64, j as i64);
-            // `blocked` needs a cell above the ray, and none is above `highest`.
-            let lit = march.lit(field, i, j, |start, rise_t| start + rise_t < highest);
-            texel.copy_from_slice(&detail_texel(field, i, j, lit));
+            texel.copy_from_slice(&detail_texel(field, i, j, march.lit(field, i, j)));
         }
     });
     out
 }
 
 /// The march toward the sun over a detail field: its direction in cells, its rise
-/// per cell and how far a print can shadow.
+/// per cell, how far a print can shadow and the highest cell.
 struct SunMarch {
     dx: f32,
     dz: f32,
     rise: f64,
     reach: usize,
+    highest: f64,
 }
 
 impl SunMarch {
@@ -380,27 +378,25 @@ impl SunMarch {
             dz: sun[2] / horizontal,
             rise,
             reach,
+            highest: field.data.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v)),
         }
     }
 
-    /// Whether cell (i, j) sees the sun, marching while `may_block(start, rise * t)`.
-    fn lit(
-        &self,
-        field: &DetailField,
-        i: i64,
-        j: i64,
-        may_block: impl Fn(f64, f64) -> bool,
-    ) -> bool {
+    /// Whether cell (i, j) sees the sun: no cell above the ray within `reach`, the
+    /// march ending where the ray rises above the highest cell (none further can be
+    /// above it).
+    fn lit(&self, field: &DetailField, i: i64, j: i64) -> bool {
         if self.rise <= 0.0 {
             // The sun at or below the horizon: nothing of it reaches the sand.
             return false;
         }
         let start = detail_at(field, i, j) + 1e-4;
         let blocked = (1..=self.reach)
-            .take_while(|&t| may_block(start, self.rise * t as f64))
-            .any(|t| {
+            .map(|t| (t, start + self.rise * t as f64))
+            .take_while(|&(_, ray)| ray < self.highest)
+            .any(|(t, ray)| {
                 let (x, z) = (i as f32 + self.dx * t as f32, j as f32 + self.dz * t as f32);
-                detail_at(field, x.round() as i64, z.round() as i64) > start + self.rise * t as f64
+                detail_at(field, x.round() as i64, z.round() as i64) > ray
             });
         !blocked
     }
