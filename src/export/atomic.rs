@@ -33,6 +33,20 @@ pub fn remove_in_flight() -> usize {
     n
 }
 
+/// Whether files can be created in `folder`: creates (exclusively) and removes a
+/// probe there, holding the in-flight list's lock meanwhile so that an interrupt
+/// cannot leave the probe behind.
+pub(crate) fn probe_writable(folder: &Path) -> std::io::Result<()> {
+    let probe = folder.join(format!(".sediment-probe-{}", std::process::id()));
+    let _flying = in_flight();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}
+
 thread_local! {
     /// The finished outputs of the open [`OutputSet`] on this thread, as (temporary,
     /// target): `None` when no set is open and each file is renamed as it is finished.
@@ -170,6 +184,11 @@ impl AtomicFile {
             });
         }
         let tmp = temporary_name(path);
+        // Held from before the file exists until it is listed: an interrupt arriving
+        // in between (the handler runs on its own thread) would otherwise find the
+        // file on disk but not in the list and leave it (seen once in CI, the
+        // reliability test's SIGTERM landing right after the GIF's file appeared).
+        let mut flying = in_flight();
         // A new file only (O_CREAT | O_EXCL): never one already there, nor through a
         // symlink planted under the temporary name (issue 17 #12).
         let file = std::fs::OpenOptions::new()
@@ -180,7 +199,8 @@ impl AtomicFile {
                 path: path.to_path_buf(),
                 source,
             })?;
-        in_flight().push(tmp.clone());
+        flying.push(tmp.clone());
+        drop(flying);
         Ok(Self {
             path: path.to_path_buf(),
             tmp,
@@ -283,6 +303,32 @@ fn temporary_name(path: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_temporary_file_exists_only_once_it_is_listed_for_an_interrupt() {
+        // The interrupt handler takes the in-flight list's lock and removes what it
+        // lists: while it holds the lock, no temporary file may appear unlisted.
+        let dir = std::env::temp_dir().join(format!("sediment-atomic-race-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let target = dir.join("out.gif");
+        let tmp = temporary_name(&target);
+        let handler = in_flight();
+        let writer = {
+            let target = target.clone();
+            std::thread::spawn(move || AtomicFile::create(&target).map(drop))
+        };
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        let early = tmp.exists();
+        drop(handler);
+        let created = writer.join().expect("join");
+        assert!(
+            !early,
+            "the temporary file appeared while the list was locked, unlisted"
+        );
+        assert!(created.is_ok(), "{created:?}");
+        assert!(!tmp.exists(), "dropped uncommitted, it is removed");
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
 
     #[test]
     fn a_symlink_planted_at_the_temporary_name_is_not_followed() {

@@ -56,26 +56,16 @@ fn check_folder(path: &std::path::Path, argument: &str) -> crate::error::Result<
         .filter(|f| !f.as_os_str().is_empty())
         .unwrap_or(std::path::Path::new("."));
     if folder.is_dir() {
-        // Writable: create (exclusively) and remove a probe beside the output.
-        let probe = folder.join(format!(".sediment-probe-{}", std::process::id()));
-        match std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&probe)
-        {
-            Ok(_) => {
-                let _ = std::fs::remove_file(&probe);
-                Ok(())
-            }
-            Err(e) => Err(crate::error::Error::invalid(
+        atomic::probe_writable(folder).map_err(|e| {
+            crate::error::Error::invalid(
                 argument,
                 format!(
                     "{}: cannot write in the folder {} ({e})",
                     path.display(),
                     folder.display()
                 ),
-            )),
-        }
+            )
+        })
     } else {
         Err(crate::error::Error::invalid(
             argument,
