@@ -343,6 +343,9 @@ pub const SLOPE_RANGE: f32 = 1.0;
 pub fn detail_texture(field: &DetailField, sun: [f32; 3]) -> Vec<u8> {
     use rayon::prelude::*;
     let w = field.width;
+    if w == 0 || field.height == 0 {
+        return Vec::new();
+    }
     let march = SunMarch::new(field, sun);
     let mut out = vec![0u8; w * field.height * 4];
     out.par_chunks_mut(w * 4).enumerate().for_each(|(j, row)| {
@@ -616,6 +619,15 @@ mod tests {
                 );
             }
         }
+        // An empty field (no rows to split) has an empty texture.
+        let empty = DetailField {
+            width: 0,
+            height: 0,
+            data: Vec::new(),
+            trodden: Vec::new(),
+            ..field
+        };
+        assert!(detail_texture(&empty, deg(0.0, 8.0)).is_empty());
     }
 
     fn params() -> FootprintParams {
