@@ -141,8 +141,8 @@ fn the_linear_horizon_pass_along_16_directions_equals_the_brute_walk() {
     // the axes and diagonals): each against the CPU brute walk over its whole cycle,
     // on ripples, noise and a tile smaller than a workgroup; in one dispatch and in
     // groups of 3 pairs of opposite directions (the hull stacks reused, a last group
-    // of 2; at 1024 one dispatch holds the 8 pairs); the heights read as a texel buffer and, as on
-    // devices with small texel buffers, as a storage buffer.
+    // of 2; at 1024 one dispatch holds the 8 pairs); the heights read as a texel
+    // buffer and, as on devices with small texel buffers, as a storage buffer.
     use sediment::model::ripple_maps::{
         HORIZON_DIRECTIONS_16, horizon_map_along, horizon_map_linear_along,
     };

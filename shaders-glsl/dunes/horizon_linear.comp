@@ -122,6 +122,8 @@ ivec2 direction16(int k) {
     return axis + ivec2(round(cos(next)), round(sin(next)));
 }
 
+// One step past either end only (a line steps at most 2 texels): two selects, cheaper
+// than common/periodic.glsl's wrap_periodic, which takes any index.
 int wrap(int i, int n) {
     return i < 0 ? i + n : (i >= n ? i - n : i);
 }

@@ -337,7 +337,7 @@ pub const SLOPE_RANGE: f32 = 1.0;
 /// so the march stops where the ray has risen above the highest cell it could reach
 /// (the highest of the tiles around the cell's: nothing further can block it), flat
 /// cells skip `round`, and rows are made in parallel. On this machine's two cores it
-/// took 170-240 ms of a sun move's 195-288 and takes about 20-25 (one thread: 33-40 ms
+/// took 170-240 ms of a sun move's 195-288 and takes about 20-25 (one thread: 32-43 ms
 /// with the tiles' bound, 44-69 with the whole field's); the same bytes
 /// (`tests::the_detail_texture_is_the_plain_marchs`).
 pub fn detail_texture(field: &DetailField, sun: [f32; 3]) -> Vec<u8> {
@@ -374,25 +374,27 @@ struct SunMarch {
 
 impl SunMarch {
     fn new(field: &DetailField, sun: [f32; 3]) -> Self {
-        let horizontal = (sun[0] * sun[0] + sun[2] * sun[2]).sqrt().max(1e-6);
-        let rise = f64::from(sun[1] / horizontal * field.cell);
-        // A print is at most a sole's depth deep: rays climb out of it within `reach`.
-        let deepest = field.data.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let reach = if rise > 0.0 {
-            ((2.0 * deepest / rise).ceil() as usize).clamp(1, 48)
-        } else {
-            0
-        };
         let (w, tiles_x, tiles_z) = (
             field.width,
             field.width.div_ceil(MARCH_TILE),
             field.height.div_ceil(MARCH_TILE),
         );
+        // One pass over the field: each tile's highest cell and the deepest offset.
         let mut tile_highest = vec![f64::NEG_INFINITY; tiles_x * tiles_z];
+        let mut deepest = 0.0f64;
         for (k, &v) in field.data.iter().enumerate() {
             let t = (k / w / MARCH_TILE) * tiles_x + (k % w) / MARCH_TILE;
             tile_highest[t] = tile_highest[t].max(v);
+            deepest = deepest.max(v.abs());
         }
+        let horizontal = (sun[0] * sun[0] + sun[2] * sun[2]).sqrt().max(1e-6);
+        let rise = f64::from(sun[1] / horizontal * field.cell);
+        // A print is at most a sole's depth deep: rays climb out of it within `reach`.
+        let reach = if rise > 0.0 {
+            ((2.0 * deepest / rise).ceil() as usize).clamp(1, 48)
+        } else {
+            0
+        };
         // A march samples cells at most `reach` away, rounded (or clamped toward the
         // cell): within `reach + 1` on each axis, so within `near` tiles.
         let near = (reach + 1).div_ceil(MARCH_TILE);
