@@ -197,7 +197,7 @@ fn memory_hint(result: vk::Result) -> &'static str {
 }
 
 /// A user's text as an error message quotes it: long input cut to its first 60
-/// characters (a 20 MB preset name was echoed whole).
+/// characters, so that an argument megabytes long is not echoed back whole.
 pub fn echo(text: &str) -> String {
     const MAX: usize = 60;
     match text.char_indices().nth(MAX) {

@@ -25,7 +25,7 @@ pub struct NumberRow {
 /// `timeline`); `columns` name the values ("year", "temperature C", ...).
 pub fn read_numbers(text: &str, what: &str, columns: &[&str]) -> Result<Vec<NumberRow>> {
     // Excel's "CSV UTF-8" starts with a byte order mark: it is not part of the first
-    // cell (the first row was taken for a header and lost).
+    // cell (kept, it would make the first row a header, and lose it).
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
@@ -228,7 +228,7 @@ mod tests {
 
     #[test]
     fn reads_what_spreadsheets_save() {
-        // Excel's "CSV UTF-8": a BOM, CRLF, no header. The first row was lost.
+        // Excel's "CSV UTF-8": a BOM, CRLF, no header. The first row must not be lost.
         assert_eq!(
             values("\u{feff}0,0.5\r\n1,0.25\r\n").expect("reads"),
             vec![vec![0.0, 0.5], vec![1.0, 0.25]]

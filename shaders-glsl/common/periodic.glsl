@@ -4,8 +4,7 @@
 #define SEDIMENT_PERIODIC_GLSL
 
 // `i` mod `n` as the CPU twins' rem_euclid, without an integer division: x86 has no
-// vector one, so llvmpipe divides lane by lane (the dune shadow map took 68-77 ms with
-// `%`, 25-33 without; the horizon walk about 2x). The float quotient's floor is exact
+// vector one, so llvmpipe divides lane by lane. The float quotient's floor is exact
 // for |i| < 2^23: the added half keeps it at least 0.5 / n from a whole number, far
 // more than its rounding. (Scalar, not ivec2: naga 30 misreads integer vector modulo.)
 int wrap_periodic(int i, int n) {

@@ -4,9 +4,8 @@
 // hardware applies the transfer curve.
 //
 // The operator is a specialization constant (ids 16..18, `ToneMap::constants`), fixed
-// per pipeline: read from a uniform, llvmpipe ran all three operators in every pixel
-// (a CPU rasteriser runs both sides of a branch), which cost a tenth of the desert's
-// dune pass (an eighth with the dust, which tone-maps per vertex).
+// per pipeline: read from a uniform, llvmpipe would run all three operators in every
+// pixel (a CPU rasteriser runs both sides of a branch).
 #ifndef SEDIMENT_TONEMAP_GLSL
 #define SEDIMENT_TONEMAP_GLSL
 

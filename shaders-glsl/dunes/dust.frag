@@ -15,7 +15,7 @@ layout(set = 0, binding = 0) uniform Light {
     vec4 tone;     // z dune grid side, w the dunes' highest point (m)
 } light;
 // One period of dune heights over the highest (8-bit: lavapipe filters those on its
-// fast path; a 32-bit float texture here cost a third of the dust).
+// fast path, 32-bit float textures off it).
 layout(set = 0, binding = 1) uniform texture2D dune_heights;
 layout(set = 0, binding = 2) uniform sampler repeat_sampler;
 

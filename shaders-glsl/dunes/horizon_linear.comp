@@ -14,9 +14,7 @@
 // The opposite direction's line is the same cycle stepped the other way, with the
 // same highest texel: the same invocation sweeps it next (`sweep_line` twice), so the
 // highest texel is found once for both and the second sweep reads what the scan and
-// the first left in the cache (the map the same to the bit; 1024 x 1024 x 16 in the
-// scratch harness, alternated, medians of 9: 74.2 against 86.4 ms, and 74.1 against
-// 86.6 with the order reversed).
+// the first left in the cache (the map the same to the bit).
 //
 // What makes it fast on Mesa 22.3's llvmpipe, which runs 8 invocations as one SIMD
 // program, runs the body of every `if` and every loop at least once whether or not
@@ -30,8 +28,8 @@
 // - The pops of a step are computed at once, not in a loop: popping from the top
 //   meets pair i's test with the same two entries as the window holds them, so the
 //   pops are the prefix of the seven tests that hold, and the window shifts by that
-//   count in three select stages (a loop ran as often as the most-popping of the 8
-//   lanes, 2.7 times a step on noise, each time masked).
+//   count in three select stages (a loop would run as often as the most-popping of
+//   the 8 lanes, each time masked).
 // - The sweep runs in groups of four positions aligned to the line's storage, the
 //   same in every invocation, and writes each group as one vec4: it starts at the end
 //   of the highest texel's group a lap ahead (positions past the highest texel first,
@@ -46,27 +44,12 @@
 //   rows, step one texel further in memory.
 // - The heights are read as a texel buffer (one gather for the 8 lanes) where the
 //   device's texel buffers hold both copies, else as a storage buffer (a loop over
-//   the lanes): `HEIGHTS_AS_TEXELS`. Under `perf` the reads were a third of the
-//   shader's samples, the instruction after each load holding most: lines across rows
-//   step 4 KB a texel at 1024, which the prefetchers do not follow, so the reads
-//   wait on the cache; a gather lets the next steps' loads start meanwhile.
-// 1024 x 1024 noise x 16 directions, variants alternated in one process (medians of
-// 7-11, in hours of different speed): the pop loop with per-step stores 211 ms, the
-// pops at once 139-196, and with the vec4 groups and the spill every other step
-// 108-112 against 139-145 for the pops at once alone. Without the refill (wrong, only
-// to size it) 88 against 108: it is a quarter of what is left, and every way found
-// to avoid it (a cached pair or a larger window, the line swept again where they run
-// out) ran out on most lines of noise or of smooth profiles. Before these: four
-// entries moved as four vec2 loads and stores 203 ms against 158 for one vec4; a
-// window of 4, 6 or 10 entries slower; reading the heights with texelFetch from an
-// image 326 against 257 for the storage buffer; as a texel buffer 164 against 201
-// (medians of 9 in a slow minute; 169 against 183 in another), and with a group's
-// four reads together 130-136 against 138-146. Not kept: the lines
-// copied in the sweep's order by a pass before it (read four at a time, the sweep
-// took 114 against 179 ms, but the copy itself cost 60-105 ms, its reads across rows
-// waiting on the cache as the sweep's did, and its stores a loop over the lanes), or
-// by each invocation into its own stretch of memory (211 against 201); the hull
-// stack in a private array (199 against 141).
+//   the lanes): `HEIGHTS_AS_TEXELS`. Lines across rows step a whole row (4 KB at
+//   N = 1024) a texel, which the prefetchers do not follow, so the reads wait on the
+//   cache; a gather lets the next steps' loads start meanwhile.
+// The refill stays because a cached pair or a larger window runs out on most lines of
+// noise or of smooth profiles, and the heights are read in place because a copy of
+// the lines in the sweep's order would read across rows and wait on the cache itself.
 // The CPU twin is `horizon_map_linear_along` in src/model/ripple_maps.rs (one lap
 // from the peak, as the paper's method reads: the same map to the bit on the tests'
 // fields).
@@ -278,7 +261,7 @@ void sweep_line(uint out_base, float step_len, int pu, int pv) {
     int t = q0 + n;
     for (int g = 0; g <= n / 4; ++g) {
         // The group's four heights read together, so that their waits on the cache
-        // overlap (a step is some 300 instructions for the 8 lanes).
+        // overlap.
         float h3 = height_back();
         float h2 = height_back();
         float h1 = height_back();

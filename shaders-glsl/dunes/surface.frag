@@ -34,8 +34,8 @@ layout(set = 0, binding = 7, std430) readonly buffer Levels {
 } quads;
 
 // The pass's switches, fixed per pipeline (render::dune_surface::DuneSwitches): a CPU
-// rasteriser runs both sides of a branch on a uniform, and the per-pixel shadow march
-// alone cost a fifth of the frame while switched off.
+// rasteriser runs both sides of a branch on a uniform, so a switched-off pass such as
+// the per-pixel shadow march would still cost its full price.
 layout(constant_id = 0) const bool LOD_ON = true;          // else ripple level 0 only
 layout(constant_id = 1) const bool LOD_PER_QUAD = false;   // the paper's level per quad
 layout(constant_id = 2) const bool DUNE_SHADOWS = true;
@@ -144,11 +144,10 @@ void main() {
             // The sampler's level is isotropic: it follows the longer axis of the
             // pixel's footprint, which on sand seen at a grazing angle is several
             // times the shorter one, and blurs the ripples across it. 1.25 levels
-            // finer brings the frame nearest the 4x4-supersampled one (mean error 3.14
-            // -> 1.71 /255 for fig17 at 720x480, 4x MSAA; bias 1, 1.5, 2: 1.78, 1.74,
-            // 1.98). Anisotropic filtering would be the real fix; on lavapipe it is
-            // too slow to use. Under temporal anti-aliasing each frame's sample
-            // filters over its share of the pixel (frame.params.z, `Jitter::lod_bias`).
+            // finer brings the frame nearest the 4x4-supersampled one. Anisotropic
+            // filtering would be the real fix; on lavapipe it is too slow to use.
+            // Under temporal anti-aliasing each frame's sample filters over its share
+            // of the pixel (frame.params.z, `Jitter::lod_bias`).
             r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25 + frame.params.z);
         }
     } else {

@@ -5,9 +5,8 @@
 // (src/model/atmosphere.rs) taken as it is at the ground: over a field's few hundred
 // metres of a 1.2 km aerosol and 8 km air scale height, the closed form of a
 // homogeneous medium, L T + S / sigma_t (1 - T), of the sun and of the sky's and sand's
-// light — is computed here per vertex: it
-// changes little across a 4 m quad, and per pixel it cost 10 % of the frame on
-// lavapipe.
+// light — is computed here per vertex: it changes little across a 4 m quad, and per
+// pixel lavapipe would pay for it in every fragment.
 #extension GL_GOOGLE_include_directive : require
 #include "atmosphere.glsl"
 

@@ -8,15 +8,13 @@
 // run's output count, 1 (one workgroup) turns the sums into each run's offset and
 // writes the draw count, 2 writes each run's vertices from its offset on. Runs instead
 // of a per-triangle scan: on lavapipe the workgroup barriers of a scan cost as much as
-// the growth itself (measured).
+// the growth itself.
 // The plan and the input mesh are texel buffers, not storage buffers: llvmpipe (Mesa
 // 22.3) reads a storage buffer for its 8 lanes as a loop over them, component by
-// component, where a texel fetch gathers the lanes' texels with vector instructions.
-// Nine vec4 reads a triangle: `sediment bench grow --variants compute-restream`, old
-// and new binaries alternated, 10.4-11.9 -> 11.9-16.4 M vertices/s. (The writes stay
-// a storage buffer: nothing else can be written at an address per lane. The geometry
-// shader reads its plan from a storage buffer still: there the change measured
-// nothing.)
+// component, where a texel fetch gathers the lanes' texels with vector instructions,
+// and a triangle makes nine vec4 reads. (The writes stay a storage buffer: nothing else
+// can be written at an address per lane. The geometry shader reads its plan from a
+// storage buffer still: there a texel buffer makes no difference.)
 
 layout(local_size_x = 256) in;
 

@@ -8,8 +8,8 @@
 //
 // At most 3 triangles (9 vertices x 12 captured components) per invocation = 108
 // output components, well under maxGeometryTotalOutputComponents. No gl_Position: the
-// pipeline discards rasterisation, and leaving it out of every vertex raises lavapipe's
-// GS throughput by a quarter (5.7 -> 7.1 M vertices/s, `sediment bench grow`).
+// pipeline discards rasterisation, and without it lavapipe's geometry stage has one
+// output fewer to store for every vertex emitted.
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 9) out;

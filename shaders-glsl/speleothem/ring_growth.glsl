@@ -107,8 +107,7 @@ void put(Target to, V v) {
 //      (EMIT_ALL, EMIT_FROZEN).
 // Why slots and not an emit where each vertex is made: llvmpipe (Mesa 22.3) runs the
 // body of every `if` whether or not an invocation takes it (masked), so each emit in
-// the source costs on every triangle: nine here, against 45 in the geometry shader
-// (27 in compute) when each branch emitted its own.
+// the source costs on every triangle, and an emit in every branch would multiply them.
 void grow_triangle(V t[3], uint pass_index, uint speleothem_count, uint segments, uint mode) {
     uint base = plan_base(t, pass_index, speleothem_count);
     vec4 s0 = plan_step(base);

@@ -2,8 +2,8 @@
 // Ring growth: hand every captured vertex to the geometry shader unchanged. Position
 // and ID ride in gl_Position (the geometry shader reads them there as gl_in[k], and the
 // pass discards rasterisation, so nothing clips or divides them): lavapipe copies each
-// vertex-shader output a geometry-shader input matches, per vertex: one output fewer
-// (README, Performance: about 1.03-1.10x on xfb-restream, within this machine's noise).
+// vertex-shader output a geometry-shader input matches, per vertex, so one output fewer
+// is one copy fewer.
 
 layout(location = 0) in vec4 in_pos_id;
 layout(location = 1) in vec4 in_normal_sp;

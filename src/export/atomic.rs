@@ -186,8 +186,8 @@ impl AtomicFile {
         let tmp = temporary_name(path);
         // Held from before the file exists until it is listed: an interrupt arriving
         // in between (the handler runs on its own thread) would otherwise find the
-        // file on disk but not in the list and leave it (seen once in CI, the
-        // reliability test's SIGTERM landing right after the GIF's file appeared).
+        // file on disk but not in the list and leave it (a SIGTERM landing right
+        // after the file appears).
         let mut flying = in_flight();
         // A new file only (O_CREAT | O_EXCL): never one already there, nor through a
         // symlink planted under the temporary name (issue 17 #12).
@@ -332,8 +332,8 @@ mod tests {
 
     #[test]
     fn a_symlink_planted_at_the_temporary_name_is_not_followed() {
-        // Issue 17 #12: the temporary file was opened without O_EXCL, so a symlink
-        // planted at its name had its target overwritten.
+        // Issue 17 #12: a symlink planted at the temporary file's name must not have
+        // its target overwritten (the file is opened with O_EXCL).
         let dir = std::env::temp_dir().join(format!("sediment-atomic-link-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("temp dir");
         let target = dir.join("out.png");

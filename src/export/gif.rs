@@ -20,8 +20,8 @@ pub fn write_gif(path: &Path, frames: &[image::RgbaImage], frame_ms: u32) -> Res
 }
 
 /// A GIF written frame by frame as the frames are made, so an animation of any length
-/// holds one frame in memory (issue 17 #7: every frame was kept, 2.25 GB for a 2048x2048
-/// growth). Written to a temporary file; `finish` renames it into place, and dropping
+/// holds one frame in memory (issue 17 #7: at 2048x2048 every frame kept is 16 MiB
+/// more). Written to a temporary file; `finish` renames it into place, and dropping
 /// it unfinished removes it.
 pub struct GifStream {
     // A second handle on the temporary file, unbuffered (so no flush error is lost on

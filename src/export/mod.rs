@@ -48,8 +48,7 @@ pub fn check_extension(
 }
 
 /// Refuses an output whose folder does not exist, is not a folder or cannot be written
-/// in, before any work is done (issue 17 #10: the run used to work for seconds and then
-/// fail to write).
+/// in, before any work is done rather than at the first write after it (issue 17 #10).
 fn check_folder(path: &std::path::Path, argument: &str) -> crate::error::Result<()> {
     let folder = path
         .parent()

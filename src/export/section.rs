@@ -154,8 +154,8 @@ fn strokes(s: &Stalagmite, style: &SectionStyle, frame: &Frame) -> Vec<Stroke> {
         dashed: true,
     });
     // At most MAX_DRAWN_LAYERS thin lines (every k-th; the emphasised ones and the last
-    // always): 20 000 layers of 2000 points made a 1.1 GB SVG (issue 17 #2), and more
-    // lines than pixels show nothing more.
+    // always): 20 000 layers of 2000 points would make a gigabyte SVG (issue 17 #2), and
+    // more lines than pixels show nothing more.
     let every = n.div_ceil(MAX_DRAWN_LAYERS).max(1);
     for (k, layer) in s.layers.iter().enumerate().take(n) {
         let marked = style.emphasis >= every && k % style.emphasis == 0;

@@ -6,11 +6,10 @@
 //! Under temporal anti-aliasing a still camera cycles through the 16 sample positions
 //! of `frame::temporal`, so 16 kept targets hold every frame it draws; a scene fills
 //! them a few a frame (`GrowthFrame` draws the samples still missing beside the
-//! frame's own). On lavapipe the rock was about a quarter of the viewer's Fig. 9g
-//! frame (its fragment shading runs in every pixel it covers, most of the window);
-//! copied in, the frame is about 8 ms shorter (README, Performance). A
-//! moving camera draws the layer into the frame as before and keeps nothing; the
-//! pictures are the same to the byte (`tests/layer_cache.rs`).
+//! frame's own). On lavapipe the rock's fragment shading runs in every pixel it covers,
+//! most of the window, where a copy is a memcpy. A moving camera draws the layer into
+//! the frame and keeps nothing; the pictures are the same to the byte
+//! (`tests/layer_cache.rs`).
 
 use std::sync::Arc;
 

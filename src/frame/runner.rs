@@ -60,7 +60,7 @@ impl FrameRunner {
     /// `new` for a window whose images are in `format`: under temporal anti-aliasing
     /// the frame shown is resolved in that format, so it is copied to the window
     /// (`Swapchain::blit_target`) instead of blitted — a copy is a memcpy on lavapipe,
-    /// the blit a draw (about 1.3 ms of a Fig. 9g viewer frame).
+    /// the blit a draw.
     /// Other formats (not 8-bit sRGB) keep the target's and the blit.
     pub fn for_window(ctx: &Arc<Context>, size: Size, format: vk::Format) -> Result<Self> {
         let srgb = matches!(

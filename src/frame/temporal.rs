@@ -4,7 +4,7 @@
 //! and `render::temporal` averages it into a running mean of the frames before. A still
 //! camera converges on exactly the samples of a 4x4-supersampled frame; a moving one
 //! reprojects the mean through the depth. On lavapipe it costs one full-screen pass
-//! where 4x multisampling costs several (README, Performance).
+//! where 4x multisampling costs several.
 
 use std::sync::Arc;
 
@@ -25,8 +25,7 @@ use crate::scene::camera::Jitter;
 const ORDER: [u8; 16] = [0, 10, 2, 8, 5, 15, 7, 13, 1, 11, 3, 9, 4, 14, 6, 12];
 
 /// Texture level-of-detail bias of each frame: its sample stands for a cell a quarter
-/// of the pixel wide, log2(1/4) (fig17 at 720x480 against its 4x4-supersampled frame:
-/// bias 0 1.11, -1 0.81, -1.5 0.79, -2 0.80).
+/// of the pixel wide, log2(1/4).
 const LOD_BIAS: f32 = -2.0;
 
 /// Frames a still picture accumulates: every position once.

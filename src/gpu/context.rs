@@ -29,7 +29,7 @@ pub struct ContextOptions {
     pub samples: Option<u32>,
     /// Shade surfaces with sub-pixel detail (the speleothems' normal map) once per
     /// sample rather than once per pixel when multisampled (`None`: on for headless
-    /// work, off with a window, where it costs the viewer about a third of its frame rate).
+    /// work, off with a window, where the viewer's frame rate would pay for it).
     pub sample_shading: Option<bool>,
     /// Pictures read back are drawn at this many times their size each way and
     /// averaged down (`frame::supersample`), 1..=4 (`None`: 1). Reduced where the

@@ -4,12 +4,9 @@
 //! allocates its vertex outputs with `malloc` for every draw and frees them after. By
 //! default glibc hands the top of the heap back to the kernel once more than 128 KiB
 //! of it is free (and serves large blocks with their own `mmap`), so the next draw
-//! page-faults the same megabytes in again and the kernel zeroes them. Profiled with
-//! `perf` over `sediment view grow --preset fig9g`: about 3 000 page faults a frame,
-//! 8 % of the submitting thread's samples in the kernel's fault handler. Raising both
-//! thresholds keeps that memory: 390 k faults over 120 frames became 34 k and the
-//! frame's GPU time fell by about a seventh (README, Performance). Peak memory is
-//! unchanged; what was freed is only not returned.
+//! page-faults the same megabytes in again and the kernel zeroes them, every frame.
+//! Raising both thresholds keeps that memory in the process for the next draw. Peak
+//! memory is unchanged; what was freed is only not returned.
 
 /// Raises glibc's trim and mmap thresholds, once per process; does nothing with any
 /// other C library. `Context::new` calls it for a CPU device.

@@ -41,9 +41,8 @@ impl TargetFormat {
     /// Memory a `width` x `height` frame of this format costs, bytes: the resolved
     /// colour, the multisampled colour and depth, the readback buffer, and on the host
     /// the picture read back and its PNG encoding (about one more RGBA copy): 48 bytes
-    /// a pixel at 4 samples, 20 at 1. Measured peaks (/usr/bin/time -v) stay under it:
-    /// `cave --size 9000x9000` 3.45 GiB against 3.62 estimated, with `--samples 1` at
-    /// 12000x12000 2.28 against 2.68.
+    /// a pixel at 4 samples, 20 at 1: an estimate meant to lie above the process's
+    /// peak.
     pub fn frame_bytes(&self, width: u32, height: u32) -> u64 {
         let (color, depth) = (texel_bytes(self.color), texel_bytes(self.depth));
         let samples = u64::from(self.samples.as_raw().max(1));

@@ -265,7 +265,7 @@ impl DuneLod {
         };
         // Nearest chunks first: the depth test then rejects the dunes they hide before
         // shading them (a CPU rasteriser tests depth before running the fragment
-        // shader; in grid order it shaded far slopes the near ones then covered).
+        // shader; in grid order it would shade far slopes the near ones then cover).
         let size = self.chunk as f32
             * (mesh.positions[index(1, 0) as usize].x - mesh.positions[index(0, 0) as usize].x);
         let origin = mesh.positions[0];

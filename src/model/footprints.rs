@@ -336,9 +336,7 @@ pub const SLOPE_RANGE: f32 = 1.0;
 /// Made again whenever the viewer's sun moves (Fig. 18's field is 1126 x 2048 cells),
 /// so the march stops where the ray has risen above the highest cell it could reach
 /// (the highest of the tiles around the cell's: nothing further can block it), flat
-/// cells skip `round`, and rows are made in parallel. On this machine's two cores it
-/// took 170-240 ms of a sun move's 195-288 and takes about 20-25 (one thread: 32-43 ms
-/// with the tiles' bound, 44-69 with the whole field's); the same bytes
+/// cells skip `round`, and rows are made in parallel; the bytes are the plain march's
 /// (`tests::the_detail_texture_is_the_plain_marchs`).
 pub fn detail_texture(field: &DetailField, sun: [f32; 3]) -> Vec<u8> {
     use rayon::prelude::*;

@@ -27,7 +27,7 @@ fn periodic_noise(seed: u64, p: Vec2, period: i64) -> f32 {
 
 /// Noise octaves: the finest has 16 cells across the map, features of 8 texels of a
 /// 128² map — about four pixels on a speleothem in a 720x480 frame, so the relief is
-/// resolved rather than averaged away (finer octaves only sparkled and aliased).
+/// resolved rather than averaged away (finer octaves only sparkle and alias).
 const OCTAVES: u64 = 3;
 
 /// A `size` x `size` tileable normal map (RGBA8, row-major); `strength` scales the

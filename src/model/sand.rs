@@ -29,17 +29,16 @@
 //!   widths), since the model's sand amounts are not lengths.
 //! - Dune asymmetry (beyond the paper, on by default): the printed dune law makes the
 //!   flux grow with the windward slope, which steepens slopes on both sides until they
-//!   avalanche — measured here (64x64, 1500 steps), it gives symmetric piles at the
-//!   angle of repose (90th-percentile slope 33 degrees on both sides), not real dunes' gentle
+//!   avalanche: symmetric piles at the angle of repose, not real dunes' gentle
 //!   windward and steep lee face. Two mechanisms from the dune-modelling literature
 //!   supply it: the *shadow zone* of Werner (1995) — a cell below a line falling at
 //!   15 degrees from the crests upwind is in the separated flow behind a crest, is not
 //!   eroded, and catches every grain that flies into it, so the lee becomes a slip face
 //!   — and the *wind speed-up* of Momiji et al. (2000), hops lengthened by
 //!   `speedup * (H - mean H)` over high ground (the same height dependence as the
-//!   ripple law). With both, the windward 90th-percentile slope is about 14 degrees
-//!   and the lee's 32 (tested below); without the shadow zone the dunes stay symmetric
-//!   (about 20 degrees on both sides).
+//!   ripple law). With both, the windward slope stays gentle and the lee is a slip
+//!   face at the angle of repose (tested); without the shadow zone the dunes stay
+//!   symmetric.
 //!
 //! Rows are independent in saltation (the wind is along x) and creep reads only the
 //! previous buffer, so each phase writes row bands of a second buffer in parallel and
@@ -155,9 +154,8 @@ pub struct SandParams {
 
 impl SandParams {
     /// The paper's ripple values (L0 = 7.3, q = 0.6, b = 2.0). The paper does not print
-    /// D; 0.8 gives coherent crests across the wind (the dominant along-wind band holds
-    /// 0.89 of the tile's spectral power at 256x256 after 1200 steps, against 0.34 at
-    /// Nishimori & Ouchi's 0.2, a maze of short crests: see the sand tests).
+    /// D; 0.8 gives coherent crests across the wind, where Nishimori & Ouchi's 0.2
+    /// gives a maze of short crests (see the sand tests).
     pub fn paper_ripples() -> Self {
         Self {
             saltation: Saltation::Ripple {
@@ -176,10 +174,10 @@ impl SandParams {
     /// avalanching at 33 degrees, the wind speed-up, the 15-degree shadow zone and
     /// transport across the wind (0.3) with D = 0.05. The paper prints no D; with
     /// Nishimori & Ouchi's 0.2 and nothing across the wind every row grows its own
-    /// crests and the field is scattered mounds (crest lines 0.21 of the dune spacing
-    /// long); lateral transport joins them into ridges across the wind (0.6-0.9 in six
-    /// seeds, see `crest_lines` and the sand tests), and the lower D keeps them about
-    /// 21 cells apart (0.2 with it: one or two straight ridges to a 64-cell field).
+    /// crests and the field is scattered mounds; lateral transport joins them into
+    /// ridges across the wind (see `crest_lines` and the sand tests), and the lower D
+    /// keeps several of them to a field (with 0.2, one or two straight ridges fill a
+    /// 64-cell field).
     pub fn paper_dunes() -> Self {
         Self {
             saltation: Saltation::Dune {
@@ -333,8 +331,8 @@ impl SandSim {
     /// the field is left part-way through a step. Other fields step on rayon, each 64
     /// steps on one of its worker threads (`rayon::scope` moves them there when called
     /// from outside the pool: a parallel loop started from another thread hands its
-    /// work to the pool and sleeps until it is done, which cost a third of the
-    /// simulation's time on 64x64).
+    /// work to the pool and sleeps until it is done, a wake-up small fields cannot
+    /// afford).
     pub fn run(&mut self, steps: u32, progress: &mut dyn FnMut(u32)) {
         if steps == 0 {
             return;
@@ -364,7 +362,7 @@ impl SandSim {
     /// (the band and the rows either side it needs), the halo rows computed twice (by
     /// this band and its neighbour) and identically. One parallel dispatch runs
     /// saltation and creep, one each avalanche sweep: on small fields the dispatches,
-    /// not the cells, were the cost.
+    /// not the cells, are the cost.
     pub fn step(&mut self) {
         let law = self.step_law();
         {
@@ -383,9 +381,8 @@ impl SandSim {
             // Relax until no axial slope exceeds the limit by more than 1 %, or a
             // bounded number of sweeps: along the wind, where slip faces form, row by
             // row in place; across it, red-black over pairs of rows (each pair shares
-            // half its excess, as along the wind). The pairs converge in about 3.3
-            // sweeps a step on the 64x64 dunes, where a Jacobi sweep (a quarter of
-            // each excess, every cell at once) took 7.8.
+            // half its excess, as along the wind), which converges in fewer sweeps
+            // than a Jacobi sweep (a quarter of each excess, every cell at once).
             for _ in 0..MAX_AVALANCHE_SWEEPS {
                 if self.avalanche(limit) <= CONVERGED * limit {
                     break;

@@ -49,7 +49,7 @@ unsafe impl Pod for DunePush {}
 
 /// What the dune shading does, fixed per pipeline as `surface.frag`'s specialization
 /// constants (in this order): on lavapipe a switch read from a uniform costs what it
-/// turns off (the per-pixel shadow march alone a fifth of the frame while off).
+/// turns off (the per-pixel shadow march is paid for even while off).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct DuneSwitches {
     /// Level of detail over the ripple chain (off: level 0 everywhere).
@@ -114,10 +114,10 @@ pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
 };
 
 /// What the pass samples, made once per scene and again when the sun moves. Every
-/// texture is 8-bit (lavapipe filters those on a fixed-point fast path; 32-bit floats
-/// made the normal chain alone a third of the frame) and what one lookup needs shares
-/// one texel: a dune pixel reads the ripples' normal and horizon in one trilinear
-/// fetch and the dune's normal and shadow in one bilinear fetch.
+/// filtered texture is 8-bit (lavapipe filters those on a fixed-point fast path, 32-bit
+/// floats off it; only the per-pixel shadow march's heights are floats) and what one
+/// lookup needs shares one texel: a dune pixel reads the ripples' normal and horizon in
+/// one trilinear fetch and the dune's normal and shadow in one bilinear fetch.
 pub struct DuneTextures {
     /// The ripple tile's LOD chain, RGBA8 UNORM, every level given: rg the normal's x
     /// and y (`n * 0.5 + 0.5`, unit length: z follows), b the horizon toward the sun
@@ -357,7 +357,7 @@ pub struct DuneSurfacePass {
     /// is chosen per quad.
     levels: Buffer,
     /// The switches the next draws use, and a pipeline for each set of switches
-    /// used so far (lavapipe compiles one in about 0.1-0.3 s).
+    /// used so far (each one costs lavapipe a shader compilation).
     switches: DuneSwitches,
     pipelines: HashMap<DuneSwitches, Pipeline>,
     target: TargetFormat,
@@ -476,8 +476,7 @@ impl DuneSurfacePass {
         }
         // With footprints, the triangles away from their detail field are drawn by the
         // pipeline without them: a CPU rasteriser would fetch the detail texture in
-        // every pixel, inside the field or not (in Fig. 17's view, a fifth of the
-        // frame).
+        // every pixel, inside the field or not.
         let split = if self.switches.footprints {
             geometry.detail_count
         } else {

@@ -142,7 +142,7 @@ impl GrowthPath {
     }
 
     /// Refuses, before anything is allocated, a growth whose vertex buffers would not
-    /// fit the device's memory (a raw ERROR_OUT_OF_DEVICE_MEMORY said nothing of what to
+    /// fit the device's memory (a raw ERROR_OUT_OF_DEVICE_MEMORY says nothing of what to
     /// reduce: issue 17 #8). Half the largest device heap is the budget: the frame,
     /// the shading and the driver need the rest.
     pub fn check_budget(self, ctx: &Context, plan: &GrowthPlan) -> Result<()> {

@@ -6,11 +6,9 @@
 //! tail), so nothing lags on screen. Each speleothem's vertices live in a buffer of
 //! their own, of which only what changed is rewritten as it grows.
 //!
-//! Measured in one viewer process (Fig. 9g, frames alternating with the capture drawn
-//! as it is): the speleothems' shading about a tenth shorter. Redrawing the same
-//! triangles from a buffer of their own was slower than drawing the capture (by 4-10 %,
-//! in either memory type, in any order), and an index buffer over the capture slower
-//! still: only skipping segments pays (README, Performance).
+//! Only skipping segments pays: on lavapipe the same triangles redrawn from buffers of
+//! their own, or through an index buffer over the capture, cost more than the capture
+//! drawn as it is.
 
 use std::sync::Arc;
 

@@ -142,9 +142,8 @@ impl SpeleothemSurfacePass {
         seed: u64,
         environment: &EnvironmentMap,
     ) -> Result<Self> {
-        // Per sample, the bump detail inside the silhouettes is anti-aliased too:
-        // fig9g's distance from a 4x4-supersampled frame 0.72 -> 0.55 (of 1.13 at
-        // one sample, tests/anti_aliasing.rs), for half as much again shading time.
+        // Per sample, the bump detail inside the silhouettes is anti-aliased too
+        // (tests/anti_aliasing.rs), at the price of shading every sample.
         let multisampled = target.samples != vk::SampleCountFlags::TYPE_1;
         let fragment = if ctx.sample_shading() && multisampled {
             &PER_SAMPLE_FRAGMENT_INTERFACE
@@ -238,8 +237,7 @@ impl SpeleothemSurfacePass {
         // Back faces culled: with the caps every speleothem is closed but for its
         // base ring, which is in the rock, so no back face shows. Culled, the
         // rasteriser sets up half the triangles (the pass is geometry-bound on
-        // lavapipe; the fig9 presets differ in 3-24 edge samples). The caps pipeline
-        // keeps both sides, as before.
+        // lavapipe). The caps pipeline keeps both sides.
         desc.cull_mode = vk::CullModeFlags::BACK;
         let pipeline = desc.build(ctx, layout)?;
         desc.cull_mode = vk::CullModeFlags::NONE;

@@ -245,9 +245,8 @@ impl Default for DunesScene {
             // tile over 4 cells of 4 m.
             ripple_tile: 16.0,
             ripple_height_scale: 0.35,
-            // The paper prints no bump contrast. The LOD-vs-level-0 difference grows
-            // with it (measured at 720x480 on fig13: 0.3 -> 0.83/255, 0.65 -> 1.81,
-            // 1.0 -> 2.87; the paper's 3.92 is at a contrast it does not print).
+            // The paper prints no bump contrast, and the LOD-vs-level-0 difference it
+            // reports grows with the contrast, so that figure fixes no value here.
             ripple_strength: 0.65,
             wind_degrees: 0.0,
             sun_elevation_degrees: 30.0,
@@ -292,9 +291,8 @@ pub const PRESETS: &[(&str, &str)] = &[
 pub fn preset(name: &str) -> Result<DunesScene> {
     // The paper gives no sun positions, only that Figs. 14 and 15 lower the sun. A
     // sun 16 degrees high brings out these dunes' relief (at 30 degrees their gentle
-    // slopes differ by a few per cent in brightness: the ground's 5th-95th percentile
-    // luminance spread is 32/255 for fig12, 67/255 at 15 degrees); 8 degrees is the
-    // lowered sun of the shadow figures.
+    // slopes barely differ in brightness); 8 degrees is the lowered sun of the shadow
+    // figures.
     let base = DunesScene {
         sun_elevation_degrees: 16.0,
         ..DunesScene::default()

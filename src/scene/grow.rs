@@ -152,7 +152,7 @@ pub enum Lamp {
     /// White light: the minerals show their own colours (Table 1).
     #[default]
     Neutral,
-    /// A warm incandescent lamp (as sediment drew before), which tints every mineral.
+    /// A warm incandescent lamp, which tints every mineral.
     Warm,
 }
 

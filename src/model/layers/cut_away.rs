@@ -84,8 +84,8 @@ pub fn cut_away(s: &Stalagmite, band: usize) -> CutAway {
     let mut dark = Mesh::default();
     let band = band.max(1);
     // Ribbons between at most MAX_CUT_LAYERS layers (every k-th, the bands' edges
-    // kept): each ribbon is a layer's points twice over, and 20 000 layers of 2000
-    // points exhausted memory (issue 17 #2).
+    // kept): each ribbon is a layer's points twice over, so 20 000 layers of 2000
+    // points would exhaust memory (issue 17 #2).
     let every = s.layers.len().div_ceil(MAX_CUT_LAYERS).max(1);
     let drawn: Vec<usize> = (0..s.layers.len())
         .filter(|&k| k % every == 0 || (band >= every && k % band == 0) || k + 1 == s.layers.len())

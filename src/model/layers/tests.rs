@@ -53,9 +53,8 @@ fn constant_supply_becomes_stationary_at_the_predicted_radius() {
                 (height_at(last, x).expect("x") - height_at(prev, x).expect("x") - DIC).abs()
             })
             .fold(0.0, f64::max);
-        // Measured: 2.6 % (Gaussian).
         assert!(worst < 0.05 * DIC, "{decay:?}: off by {} dic", worst / DIC);
-        // The flank stands at R = integral f(s / r) ds (measured 0.894 vs 0.886).
+        // The flank stands at R = integral f(s / r) ds.
         let flank = flank_radius(last, 3.0);
         assert!(
             (flank - radius).abs() < 0.03 * radius,
@@ -117,7 +116,6 @@ fn the_three_decay_laws_give_similar_stationary_caps() {
                     .abs()
             })
             .fold(0.0, f64::max);
-        // Measured: 0.12 (linear) and 0.22 (exponential) of the radius.
         assert!(worst < 0.3 * radius, "caps differ by {worst}");
     }
 }
@@ -248,8 +246,8 @@ fn a_timeline_dates_the_layers_in_millimetres() {
 
 #[test]
 fn a_huge_deposit_keeps_the_layers_at_pz_points() {
-    // Issue 17 #1: `--dic 1e300` asked for (gap / max_gap).ceil() insertions per gap
-    // before truncating to pz: 8 GiB in 14 s. Each layer now stops at pz points.
+    // Issue 17 #1: `--dic 1e300` must not ask for (gap / max_gap).ceil() insertions per
+    // gap and truncate to pz only after them; each layer stops at pz points.
     let params = FrankeParams {
         dic: 1e300,
         pz: 40,
@@ -265,9 +263,9 @@ fn a_huge_deposit_keeps_the_layers_at_pz_points() {
 
 #[test]
 fn many_layers_draw_and_cut_within_bounds() {
-    // Issue 17 #2: 20 000 layers of 2000 points made a 1.1 GB SVG and exhausted memory
-    // in the cut-away. A section draws at most MAX_DRAWN_LAYERS lines, a cut-away
-    // builds ribbons between at most MAX_CUT_LAYERS layers.
+    // Issue 17 #2: 20 000 layers of 2000 points must neither make a gigabyte SVG nor
+    // exhaust memory in the cut-away. A section draws at most MAX_DRAWN_LAYERS lines, a
+    // cut-away builds ribbons between at most MAX_CUT_LAYERS layers.
     let s = candlestick(Decay::Gaussian, 1.0, 3000, None);
     let style = crate::export::section::SectionStyle::default();
     let svg = crate::export::section::svg(&s, &style, 200, 200);

@@ -1,26 +1,18 @@
 //! Steps on a fixed set of threads that meet at a barrier between phases, instead of
 //! one rayon dispatch a phase.
 //!
-//! Why: a step of the 64x64 dunes is a saltation-and-creep phase and about 3.3
-//! avalanche sweeps, each a few tens of microseconds of work on two threads. Between
-//! rayon's dispatches the thread without work goes to sleep and the next dispatch
-//! wakes it: on this 2-core virtual machine two threads ran at 1.4-1.7x one thread
-//! (CPU use 177 % at 64x64, 148 % at 256x256; a tenth of the samples in the kernel's
-//! wake-ups), and in some runs at 8-13 M cell-steps/s where others of the same minute
-//! ran 21-23 M, while two single-threaded simulations side by side each ran as fast as
-//! one alone. Here each thread owns the same bands from phase to phase and spins (then
-//! yields) at the barrier, so none sleeps between phases: 189-195 % CPU, 23.7-32.7 M
-//! in eight runs alternated with the rayon build's 9.4-23.5 M. The threads are spawned
-//! once a `run` (a thread spawned every 64 steps often started on its partner's core
-//! and ran at half speed until moved).
+//! Why: a step of a small field is a saltation-and-creep phase and a few avalanche
+//! sweeps, each only tens of microseconds of work. Between rayon's dispatches the
+//! thread without work goes to sleep and the next dispatch wakes it, and a wake-up
+//! can cost a virtual machine milliseconds. Here each thread owns the same bands from
+//! phase to phase and spins (then yields) at the barrier, so none sleeps between
+//! phases. The threads are spawned once a `run`: a thread spawned every 64 steps may
+//! start on its partner's core and run at half speed until moved.
 //!
-//! The price, measured with a busy loop on one of the two cores: two lockstep threads
-//! 9.0-10.6 M against rayon's 11.0-14.6 M and one thread's 13.5-15.5 M (a waiting
-//! thread keeps its core busy, so the scheduler does not move its partner off the
-//! shared one). Sleeping after a short spin instead (50 us to 6 ms tried) was worse
-//! both alone (5-7 M in the hour rayon read 8-11 M) and beside the busy loop (3-6 M):
-//! a wake-up costs this virtual machine up to milliseconds, and a band owned by a
-//! sleeping thread waits for it, where rayon's other worker would take it.
+//! The price: on a core shared with other work a waiting thread keeps it busy, so the
+//! scheduler does not move its partner off it, and lockstep runs slower than rayon.
+//! Sleeping after a short spin instead is no cure: a band owned by a sleeping thread
+//! waits for it, where rayon's other worker would take it.
 //!
 //! Each band is computed by exactly the functions `SandSim::step` uses
 //! (`saltate_band`, `avalanche_band`), from the same buffer, and the sweeps stop on

@@ -85,7 +85,7 @@ fn ripples_emerge_with_the_predicted_wavelength_across_the_wind() {
     };
     let along_crest = corr(0, 1);
     let half = (lambda / 2.0).round() as isize;
-    // (Crest junctions and defects remain after 1500 steps; measured 0.78 here.)
+    // (Crest junctions and defects remain after 1500 steps: rows differ there.)
     assert!(along_crest > 0.7, "row-to-row correlation {along_crest}");
     assert!(
         corr(half, 0) < 0.0,
@@ -190,8 +190,7 @@ fn dunes_have_a_gentle_windward_slope_and_a_steep_lee() {
             "seed {seed}: windward {windward:.1} deg, lee {lee:.1} deg, windward share {share:.2}"
         );
         // Real transverse dunes: stoss slopes of 5-15 degrees, slip faces at the angle
-        // of repose. Measured here: 14.1 and 13.2, 33 and 33 degrees, 58 and 63 % of the
-        // length windward.
+        // of repose, most of the length windward.
         assert!(
             windward < 18.0,
             "seed {seed}: windward slope {windward} deg"
@@ -304,7 +303,7 @@ fn dominant_band_share(f: &Heightfield) -> f64 {
 #[test]
 fn the_default_ripples_are_coherent_crests_across_the_wind() {
     // The scene's tile: 256x256 after 1200 steps. D 0.2 (Nishimori & Ouchi's) gives a
-    // maze (0.34 measured); the default gives long straight crests.
+    // maze; the default gives long straight crests.
     let share = |params: SandParams| {
         dominant_band_share(&run(
             Heightfield::random(256, 256, 0.0, 1.0, 1),
@@ -362,9 +361,8 @@ fn crest_lines_tell_ridges_from_mounds_and_measure_the_dunes() {
     let m = crest_lines(&mounds, 1.0);
     assert!(m.ratio() < 1.0, "{m:?}");
     // sediment's dunes (64x64, 1500 steps, the scene's seeds 1-4): ridges across the
-    // wind, crest lines on average longer than half the spacing between them
-    // (measured 0.91, 0.62, 0.87, 0.43; 20-27 cells apart); without the lateral
-    // transport scattered mounds (0.21).
+    // wind, crest lines on average longer than half the spacing between them, and
+    // more than one ridge to a row; without the lateral transport scattered mounds.
     let measure = |params: SandParams, seed: u64| {
         let vs = params.vertical_scale;
         let d = crest_lines(

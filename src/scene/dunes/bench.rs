@@ -271,11 +271,10 @@ impl DunesBench {
     /// The horizon map on the GPU both ways (issue 19 item 1): the paper's brute walk
     /// and the linear-time sweep on the scene's ripple tile, and the sweep on a
     /// 1024 x 1024 tile along 8 and 16 directions; each the median over `frames` builds
-    /// (the series' measured frames, at least 3 and at most 10: a 1024 x 1024 x 16 build
-    /// with its read-back is a quarter of a second of wall clock) of the pass's GPU
-    /// timestamps. Every build is fresh (pipeline and first-touched memory), as a scene
-    /// load pays it; with three builds a burst of load on this shared machine over two
-    /// of them moved the median by half (82.6 / 124.1 / 85.0 ms in three runs).
+    /// (the series' measured frames, clamped to 3..=10: more builds keep a burst of load
+    /// on a shared machine from moving the median, and each 1024 x 1024 x 16 build with
+    /// its read-back costs wall clock) of the pass's GPU timestamps. Every build is
+    /// fresh (pipeline and first-touched memory), as a scene load pays it.
     fn horizon_metrics(
         &mut self,
         ctx: &Arc<Context>,
@@ -351,8 +350,8 @@ impl DunesBench {
             .num_threads(1)
             .build()
             .map_err(|e| Error::internal("bench", format!("a one-thread pool: {e}")))?;
-        // The median of five runs from the same start: one run of a 64x64 field is
-        // about 0.1 s, short enough to fall inside one of the machine's slow stretches.
+        // The median of five runs from the same start: one run of a small field is
+        // short enough to fall inside one of a shared machine's slow stretches.
         let sim = |params: SandParams, size: usize, steps: u32| -> Result<f64> {
             let mut rates = Vec::new();
             for _ in 0..5 {

@@ -112,13 +112,12 @@ const HALF_WINDOW: u32 = 7;
 /// growth stands at ring 8 - 7 and another at ring 128 - 7, and their next 15 passes
 /// alternate, one of each in turn; the ratio of their interquartile means. In the
 /// series (one pass a frame, 130 frames) the two rings are seconds apart, and on
-/// lavapipe a pass of one ring (about 2 ms) takes one of two levels (1.6-2.1 or
-/// 2.4-3.0 ms), pass by pass and in stretches: the series' ratio read 0.8-1.7 for
-/// passes whose work does not change, and so did the medians of the interleaved
-/// passes (0.93-1.42 in four runs: with the levels near half and half, a median takes
-/// one or the other); the interquartile means of the same passes read 0.93-1.0. Only
-/// for a path whose pass is O(one ring): a re-streaming path would take seconds to
-/// reach ring 121.
+/// lavapipe a pass of one ring takes one of two levels, pass by pass and in stretches,
+/// so the series' ratio wanders even where the work does not change; passes grown side
+/// by side share the levels, and an interquartile mean averages over them where a
+/// median of passes split near half and half takes one level or the other. Only for a
+/// path whose pass is O(one ring): a re-streaming path would take seconds to reach ring
+/// 121.
 fn interleaved_ratio(ctx: &Arc<Context>, path: GrowthPath) -> Result<f64> {
     let (early_ring, late_ring) = (8, 128);
     // Every pass of the bench scene adds the same ring to each speleothem, so ring k

@@ -65,8 +65,7 @@ fn chamber_meshes(scene: &GrowthScene) -> (Mesh, Mesh) {
     // Graded: the cells under the speleothems as fine as a uniform 128-cell grid's
     // (0.6 of a uniform 80-cell one's), three times coarser at the edges, where the
     // planes recede into the dark: 2.6 times fewer triangles, most of those dropped
-    // smaller than a pixel. The viewer's fig9g frame without speleothems: the rock
-    // 2.8 floor passes against 4.2 (48 cells at 0.4: 2.7; README, Performance).
+    // smaller than a pixel.
     let (cells, centre) = (80, 0.6);
     let floor = Mesh::graded_height_grid(half, scene.floor_y, cells, centre, true, relief);
     let ceiling =
@@ -439,7 +438,8 @@ impl GrowthFrame {
     /// Grows up to `passes` more passes without drawing, in submissions of bounded work
     /// (about `VERTICES_PER_SUBMISSION` vertices through the growth pass each, at
     /// least one pass), reporting `progress(done, total)` after each: the largest
-    /// growths ran for minutes in one submission with no progress (issue 17 #8).
+    /// growths would otherwise run for minutes in one submission with no progress
+    /// (issue 17 #8).
     /// Returns the growth's time, ms (GPU timestamps; the clock on the CPU path).
     pub fn advance(
         &mut self,
@@ -603,9 +603,8 @@ fn cycle<T: Copy + PartialEq>(all: &[T], now: T) -> T {
     all[(i + 1) % all.len()]
 }
 
-/// The pass-time samples around ring `k` (nine passes), for the bench. (Five gave
-/// ring 128's pass over ring 8's anywhere in 0.73-1.47 across runs of one build on
-/// this machine, each pass 2-4 ms: too few samples for a median.)
+/// The pass-time samples around ring `k` (nine passes), for the bench: passes of a
+/// few milliseconds vary too much from run to run for a median of fewer.
 fn around(pass_ms: &[f64], k: u32) -> &[f64] {
     let lo = (k as usize).saturating_sub(4);
     let hi = (k as usize + 4).min(pass_ms.len().saturating_sub(1));
@@ -728,12 +727,12 @@ impl Scene for GrowthFrame {
             );
         }
         // The ratio from a line through every pass (Theil–Sen), not from the two
-        // windows: on lavapipe a short pass switches between two levels (append-only
-        // passes 1.7-2.0 and 2.8-3.2 ms) in stretches longer than a window, and the
-        // line through all 130 follows the trend better than two nine-pass medians.
-        // A slow stretch over more than about 29 % of the passes still tilts it (1.39
-        // in one append-only run): the append-only target is judged on passes grown
-        // side by side instead (`pass_ratio_ring_128_to_8_interleaved`, grow/bench.rs).
+        // windows: on lavapipe a short pass switches between two levels in stretches
+        // longer than a window, and a line through all the passes follows the trend
+        // better than two nine-pass medians. A slow stretch over more than about 29 %
+        // of the passes (Theil–Sen's breakdown point) still tilts it, so the
+        // append-only target is judged on passes grown side by side instead
+        // (`pass_ratio_ring_128_to_8_interleaved`, grow/bench.rs).
         // Only where ring 128 was reached: the line is not extrapolated.
         if let Some((a, b)) = crate::bench::report::theil_sen(&self.pass_ms) {
             let at = |k: u32| a + b * f64::from(k);
@@ -1208,7 +1207,8 @@ impl SceneKind for Kind {
                     let outputs = GrowOutputs {
                         look: super::preset_look(name),
                         // The climate's 117 passes: the append-only path (the same
-                        // mesh, tests/ring_growth.rs), ten times faster here.
+                        // mesh, tests/ring_growth.rs), whose passes cost O(one ring)
+                        // rather than O(mesh).
                         path: if scene.climate.is_some() {
                             GrowthPath::XfbAppend
                         } else {
