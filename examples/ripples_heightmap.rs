@@ -44,6 +44,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         height: field.height,
         cell_m,
         heights_m: field.data.iter().map(|&h| (h - lo) * scale).collect(),
+        // The simulation's boundaries are periodic: the tile repeats seamlessly.
+        periodic: true,
     };
     let (range, files) = write_heightmap(&out, &map)?;
     for f in &files {

@@ -2,15 +2,8 @@
 //! tEXt chunks record the metres at 0 and at 65535 and the cell size, or a float
 //! OpenEXR holding the heights in metres, each with a JSON sidecar of the same range.
 //!
-//! Importing the 16-bit PNG (`range` is what sediment prints and the sidecar holds):
-//! - Blender: a plane of `width * cell_m` metres, subdivided, a Displace modifier with
-//!   the PNG as its image texture (Color Space: Non-Color), Strength
-//!   `height_at_65535_m - height_at_0_m`, Midlevel 0, and the object moved up by
-//!   `height_at_0_m`.
-//! - Unreal (Landscape import): X and Y scale `cell_m * 100` (centimetres per
-//!   sample); Z scale `(height_at_65535_m - height_at_0_m) * 100 / 512` (at Z scale
-//!   100 the 16-bit range spans 512 m, centred on sample 32768), and Z location
-//!   `(height_at_0_m + height_at_65535_m) / 2 * 100` cm.
+//! The sidecar also carries the settings other tools need, computed from the range
+//! ([`ImportSettings`]): Blender's Displace modifier and Unreal's Landscape import.
 
 use std::path::{Path, PathBuf};
 
@@ -30,6 +23,8 @@ pub struct Heightmap {
     pub cell_m: f64,
     /// `width * height` finite heights in metres, row by row.
     pub heights_m: Vec<f64>,
+    /// Whether the field repeats every `width` samples and every `height` rows.
+    pub periodic: bool,
 }
 
 /// What one 16-bit sample means, as the PNG's tEXt chunks and the JSON sidecar record
@@ -49,6 +44,59 @@ pub struct HeightRange {
     /// Metres at sample value 65535: the highest height, or a micrometre above the
     /// lowest for a flat field, so a reader can divide by the span.
     pub height_at_65535_m: f64,
+    /// Which way the samples run in sediment's world (y up): along each row `+x`, from
+    /// row to row `+z`.
+    pub rows_run_along: String,
+    /// The axis from one row to the next.
+    pub columns_run_along: String,
+    /// Whether the field repeats: sample `width` is sample 0 again (and so for rows),
+    /// so copies placed `width * cell_m` apart tile without a seam.
+    pub periodic: bool,
+    /// The numbers to type into other tools, computed from the range above.
+    pub import: ImportSettings,
+}
+
+/// Import settings for other tools, derived from a [`HeightRange`] (the book's chapter
+/// "Outputs in other tools" says where each goes).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ImportSettings {
+    /// Blender: the plane's size along x, metres (`width * cell_m`).
+    pub blender_plane_x_m: f64,
+    /// Blender: the plane's size along y, metres (`height * cell_m`).
+    pub blender_plane_y_m: f64,
+    /// Blender: the Displace modifier's Strength (Midlevel 0, the image's Color Space
+    /// Non-Color): the metres sample 65535 stands for above sample 0 (PNG), or 1 for
+    /// an EXR that holds metres.
+    pub blender_displace_strength: f64,
+    /// Blender: the object's z location, metres (the height of sample 0; 0 for EXR).
+    pub blender_location_z_m: f64,
+    /// Unreal Landscape import (16-bit PNG only): X and Y scale, centimetres per sample.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unreal_scale_xy: Option<f64>,
+    /// Unreal: Z scale (at 100 the 16-bit range spans 512 m, centred on sample 32768).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unreal_scale_z: Option<f64>,
+    /// Unreal: the landscape's Z location, centimetres.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unreal_location_z_cm: Option<f64>,
+}
+
+impl ImportSettings {
+    /// The settings for a heightmap of `range`, stored as float metres (`exr`) or as
+    /// 16-bit samples spanning the range (PNG).
+    fn of(width: usize, height: usize, cell_m: f64, lo: f64, hi: f64, exr: bool) -> Self {
+        let span = hi - lo;
+        let png = (!exr).then_some(());
+        Self {
+            blender_plane_x_m: width as f64 * cell_m,
+            blender_plane_y_m: height as f64 * cell_m,
+            blender_displace_strength: if exr { 1.0 } else { span },
+            blender_location_z_m: if exr { 0.0 } else { lo },
+            unreal_scale_xy: png.map(|()| cell_m * 100.0),
+            unreal_scale_z: png.map(|()| span * 100.0 / 512.0),
+            unreal_location_z_cm: png.map(|()| (lo + hi) / 2.0 * 100.0),
+        }
+    }
 }
 
 impl HeightRange {
@@ -88,6 +136,9 @@ pub fn write_heightmap(path: &Path, map: &Heightmap) -> Result<(HeightRange, Vec
         .iter()
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
+    // A flat field still gets a range a reader can divide by.
+    let hi = if hi > lo { hi } else { lo + 1e-6 };
+    let exr = super::extension(path).as_deref() == Some("exr");
     let range = HeightRange {
         file: path
             .file_name()
@@ -97,14 +148,16 @@ pub fn write_heightmap(path: &Path, map: &Heightmap) -> Result<(HeightRange, Vec
         height: map.height,
         cell_m: map.cell_m,
         height_at_0_m: lo,
-        // A flat field still gets a range a reader can divide by.
-        height_at_65535_m: if hi > lo { hi } else { lo + 1e-6 },
+        height_at_65535_m: hi,
+        rows_run_along: "+x".to_owned(),
+        columns_run_along: "+z".to_owned(),
+        periodic: map.periodic,
+        import: ImportSettings::of(map.width, map.height, map.cell_m, lo, hi, exr),
     };
     let encode = |e: image::ImageError| Error::Encode {
         path: path.to_path_buf(),
         source: e,
     };
-    let exr = super::extension(path).as_deref() == Some("exr");
     if exr {
         let pixels: Vec<f32> = map.heights_m.iter().flat_map(|&h| [h as f32; 3]).collect();
         let mut bytes = std::io::Cursor::new(Vec::new());

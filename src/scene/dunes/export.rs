@@ -65,6 +65,7 @@ pub fn dune_heightmap(scene: &DunesScene, terrain: &Terrain) -> Heightmap {
         height: scene.dune_size,
         cell_m: f64::from(scene.cell),
         heights_m: terrain.dune_heights.iter().map(|&h| f64::from(h)).collect(),
+        periodic: true,
     }
 }
 
@@ -81,6 +82,7 @@ pub fn ripple_heightmap(scene: &DunesScene, terrain: &Terrain) -> Heightmap {
         height: field.height,
         cell_m: texel_m,
         heights_m: field.data.iter().map(|&h| (h - lo) * scale).collect(),
+        periodic: true,
     }
 }
 
