@@ -51,6 +51,7 @@ fn reports_round_trip_and_compare_with_themselves_as_one() {
             warmup: 1,
             size: Size::new(64, 48),
             reversed: false,
+            run: bench::report::RunInfo::here("temporal", 1, "test"),
         };
         let report = bench::run(ctx, &opts, &mut |_| {}).expect("bench");
         assert_eq!(report.floor.len(), 2);
@@ -65,6 +66,15 @@ fn reports_round_trip_and_compare_with_themselves_as_one() {
         assert!(s.frame_gpu_ms.median > 0.0, "GPU time measured");
         assert!(s.metrics["triangles_after_split"] > s.metrics["triangles_before_split"]);
         assert!(!report.meta.git_commit.is_empty() && !report.meta.device.is_empty());
+        // What reproduces the table: when, on which host, how.
+        let run = &report.meta.run;
+        assert!(
+            run.date_utc.ends_with('Z') && run.date_utc.len() == 20,
+            "{run:?}"
+        );
+        assert!(run.host_cores >= 1 && !run.host_cpu.is_empty() && !run.os.is_empty());
+        let markdown = report.markdown();
+        assert!(markdown.contains(&run.date_utc) && markdown.contains("command: `test`"));
         let json = report.to_json();
         let back = Report::from_json(&json).expect("parse");
         assert_eq!(back, report);
@@ -95,6 +105,7 @@ fn a_reversed_run_runs_the_variants_the_other_way_round() {
             warmup: 0,
             size: Size::new(32, 24),
             reversed: false,
+            run: Default::default(),
         };
         let order = |reversed: bool| -> Vec<String> {
             let opts = BenchOptions {

@@ -32,7 +32,7 @@ use crate::gpu::{Context, GpuTimer, OffscreenTarget, Span, TargetFormat};
 use crate::render::sky::SkyPass;
 use crate::scene::Size;
 use crate::scene::camera::{Camera, Jitter};
-use report::{Meta, PassResult, Report, SCHEMA, SeriesResult, Stats};
+use report::{Meta, PassResult, Report, RunInfo, SCHEMA, SeriesResult, Stats};
 
 /// The metric holding a series' own floor: the median GPU time of the floor frames
 /// drawn between its measured frames (`Report::times_floor` divides by it).
@@ -67,6 +67,8 @@ pub struct BenchOptions {
     /// Runs the scenes and each scene's variants in reverse order (`--repeat`
     /// alternates, so no variant always runs first or last).
     pub reversed: bool,
+    /// When, where and how it runs, copied into the report.
+    pub run: RunInfo,
 }
 
 impl BenchOptions {
@@ -130,6 +132,7 @@ pub fn run(
             frames: opts.frames,
             warmup: opts.warmup,
             threads: rayon::current_num_threads(),
+            run: opts.run.clone(),
         },
         floor: Vec::new(),
         series: Vec::new(),

@@ -492,6 +492,7 @@ mod tests {
                 frames: 10,
                 warmup: 0,
                 threads: 1,
+                run: Default::default(),
             },
             floor: vec![series("floor", "fullscreen", &[2.0; 10])],
             series: vec![

@@ -254,6 +254,7 @@ mod tests {
                 frames: 3,
                 warmup: 0,
                 threads: 2,
+                run: Default::default(),
             },
             floor: vec![series("floor", "fullscreen", 2.0 * scale, 0.0)],
             series: grown,

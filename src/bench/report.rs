@@ -150,6 +150,58 @@ pub struct Meta {
     pub warmup: u32,
     /// CPU threads available (lavapipe's rasteriser and the dune simulation use them).
     pub threads: usize,
+    /// When, on what host and how the run was made (empty in reports written before
+    /// these fields existed).
+    #[serde(default)]
+    pub run: RunInfo,
+}
+
+/// When, on what host and with which settings a bench ran: what a reader needs to
+/// reproduce a table (on lavapipe the CPU is the GPU, so the host CPU matters).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RunInfo {
+    /// Start of the run, UTC, RFC 3339 to the second.
+    pub date_utc: String,
+    /// The host CPU's model name (Linux: /proc/cpuinfo), or "unknown".
+    pub host_cpu: String,
+    /// Logical CPU cores of the host.
+    pub host_cores: usize,
+    /// Operating system and kernel release.
+    pub os: String,
+    /// Anti-aliasing of the measured frames ("temporal" or "multisample, N samples").
+    pub anti_aliasing: String,
+    /// Whole runs this report is the median of (1: a single run).
+    pub repeat: u32,
+    /// The command line that made the report.
+    pub command_line: String,
+}
+
+impl RunInfo {
+    /// This host now, with the settings the caller states.
+    pub fn here(anti_aliasing: &str, repeat: u32, command_line: &str) -> Self {
+        let cpu = std::fs::read_to_string("/proc/cpuinfo")
+            .ok()
+            .and_then(|text| {
+                text.lines()
+                    .find(|l| l.starts_with("model name"))
+                    .and_then(|l| l.split_once(':'))
+                    .map(|(_, name)| name.trim().to_owned())
+            })
+            .unwrap_or_else(|| "unknown".to_owned());
+        let kernel = std::fs::read_to_string("/proc/sys/kernel/osrelease")
+            .map(|r| format!(" {}", r.trim()))
+            .unwrap_or_default();
+        Self {
+            date_utc: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
+            host_cpu: cpu,
+            host_cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            os: format!("{}{kernel}", std::env::consts::OS),
+            anti_aliasing: anti_aliasing.to_owned(),
+            repeat,
+            command_line: command_line.to_owned(),
+        }
+    }
 }
 
 /// A whole bench run.
@@ -274,6 +326,16 @@ impl Report {
             m.warmup,
             m.threads,
         );
+        let r = &m.run;
+        if !r.date_utc.is_empty() {
+            out.push_str(&format!(
+                "measured {} on {} ({} cores, {}); anti-aliasing: {}\n\n",
+                r.date_utc, r.host_cpu, r.host_cores, r.os, r.anti_aliasing
+            ));
+        }
+        if !r.command_line.is_empty() {
+            out.push_str(&format!("command: `{}`\n\n", r.command_line));
+        }
         out.push_str("| scene | variant | pass | GPU min ms | GPU median ms | GPU p95 ms | CPU median ms | x floor |\n");
         out.push_str("|---|---|---|---:|---:|---:|---:|---:|\n");
         for s in self.floor.iter().chain(&self.series) {

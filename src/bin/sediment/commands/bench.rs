@@ -34,6 +34,10 @@ pub struct BenchArgs {
     /// One CSV row per series and pass (default: not written).
     #[arg(long, value_name = "FILE.csv")]
     csv: Option<PathBuf>,
+    /// The Markdown tables printed on stdout, also as a file, headed by when, where
+    /// and how they were measured (the book's performance page) (default: not written).
+    #[arg(long, value_name = "FILE.md")]
+    markdown: Option<PathBuf>,
     /// A chart as .png or .svg: per scene, each variant's GPU time frame by frame
     /// (axes, legend); every series' median as a bar with p5-p95 whiskers, the floor
     /// marked. With --compare: the ratios b / a per series and pass, 1.0 marked
@@ -141,11 +145,32 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
     for (path, what, ext) in [
         (&json_file.cloned(), "--json", "json"),
         (&a.csv, "--csv", "csv"),
+        (&a.markdown, "--markdown", "md"),
     ] {
         if let Some(p) = path {
             check_extension(p, what, &[ext])?;
         }
     }
+    // Frames as the viewer draws them.
+    let options = realtime_context_options(cli);
+    let anti_aliasing = if options.temporal {
+        "temporal".to_owned()
+    } else {
+        format!("multisample, {} samples", options.samples.unwrap_or(1))
+    };
+    // The program by its name, not the folder it was run from.
+    let command_line = std::env::args_os()
+        .enumerate()
+        .map(|(i, arg)| {
+            let arg = std::path::PathBuf::from(arg);
+            let arg = match (i, arg.file_name()) {
+                (0, Some(name)) => name.to_string_lossy().into_owned(),
+                _ => arg.to_string_lossy().into_owned(),
+            };
+            sediment::error::echo_long_words(&arg)
+        })
+        .collect::<Vec<_>>()
+        .join(" ");
     let opts = BenchOptions {
         scenes: a.scenes.clone(),
         variants: a.variants.clone(),
@@ -153,10 +178,10 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         warmup: a.warmup,
         size: cli.size,
         reversed: false,
+        run: bench::report::RunInfo::here(&anti_aliasing, a.repeat, &command_line),
     };
     opts.validate()?;
-    // Frames as the viewer draws them.
-    let ctx = open_context_with(cli, &realtime_context_options(cli))?;
+    let ctx = open_context_with(cli, &options)?;
     let start = std::time::Instant::now();
     let mut step = 0usize;
     let mut runs = Vec::new();
@@ -188,27 +213,19 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
     } else {
         say!("{}", report.markdown());
     }
-    if let Some(path) = json_file {
-        let json = report.to_json();
-        sediment::export::atomic::write_atomically(path, |w| {
-            w.write_all(json.as_bytes())
-                .map_err(|source| sediment::Error::Write {
-                    path: path.clone(),
-                    source,
-                })
-        })?;
-        crate::output::wrote(path);
-    }
-    if let Some(path) = &a.csv {
-        let csv = report.csv()?;
-        sediment::export::atomic::write_atomically(path, |w| {
-            w.write_all(csv.as_bytes())
-                .map_err(|source| sediment::Error::Write {
-                    path: path.clone(),
-                    source,
-                })
-        })?;
-        crate::output::wrote(path);
+    let reports = [
+        (json_file, Some(report.to_json())),
+        (a.markdown.as_ref(), Some(report.markdown())),
+        (
+            a.csv.as_ref(),
+            a.csv.as_ref().map(|_| report.csv()).transpose()?,
+        ),
+    ];
+    for (path, text) in reports {
+        if let (Some(path), Some(text)) = (path, text) {
+            sediment::export::atomic::write_bytes(path, text.as_bytes())?;
+            crate::output::wrote(path);
+        }
     }
     if let Some(path) = &a.plot {
         bench::plot::write_chart(path, &report)?;
