@@ -44,12 +44,14 @@ fn frame_heightmaps_and_mesh_are_written() {
     ];
     args.extend(SMALL);
     let out = sediment(&args);
-    common::cli::assert_success(&out, "sediment");
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = common::cli::assert_success(&out, "sediment");
+    // What the run measured is status (stderr); stdout holds only a report.
+    let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stdout.contains("GPU frame over 3 timing frames: median"),
-        "{stdout}"
+        stderr.contains("GPU frame over 3 timing frames: median"),
+        "{stderr}"
     );
+    assert_eq!(stdout, "", "nothing but a report on stdout");
     let frame = image::open(&png).expect("frame");
     assert_eq!((frame.width(), frame.height()), (160, 120));
     let height = image::open(&hm).expect("heightmap");

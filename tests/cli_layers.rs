@@ -59,14 +59,15 @@ fn a_physical_timeline_gives_dated_layers_in_millimetres() {
         "--color",
         "supply",
     ]);
-    let stdout = String::from_utf8_lossy(&out.stdout);
     common::cli::assert_success(&out, "sediment");
-    // W0 and R0 of the first row, as the unit tests compute them by hand.
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // W0 and R0 of the first row, as the unit tests compute them by hand (status
+    // lines, on stderr).
     assert!(
-        stdout.contains("W0 = 4.6332e-12 m/s = 0.1462 mm/yr, R0 = 50.47 mm"),
-        "{stdout}"
+        stderr.contains("W0 = 4.6332e-12 m/s = 0.1462 mm/yr, R0 = 50.47 mm"),
+        "{stderr}"
     );
-    assert!(stdout.contains("grew 100 layers"), "{stdout}");
+    assert!(stderr.contains("grew 100 layers"), "{stderr}");
     let csv = std::fs::read_to_string(s("t.csv")).expect("csv");
     let last = csv.lines().last().expect("rows");
     assert!(last.starts_with("100,2000,"), "{last}");

@@ -42,14 +42,21 @@ fn stderr_into_a_file_gets_lines_not_progress_frames() {
         "{stderr:?}"
     );
     assert!(stderr.contains("wrote "), "status on stderr: {stderr}");
-    // The report on stdout: the measurements, not the file chatter.
-    assert!(stdout.contains("GPU frame: dunes"), "{stdout}");
-    assert!(!stdout.contains("wrote "), "{stdout}");
-    // -q: nothing on stderr at all when all goes well; the report unchanged.
+    // What the run did and measured is status too; a picture has no report, so
+    // stdout stays empty (`sediment dunes -o d.png > out.txt` leaves out.txt empty).
+    assert!(stderr.contains("GPU frame: dunes"), "{stderr}");
+    assert_eq!(stdout, "", "stdout holds only a report");
+    // "wrote" once the file is in place: after every other line of the run.
+    let last = stderr.lines().last().unwrap_or_default();
+    assert!(
+        last.starts_with("wrote ") && last.ends_with("d.png"),
+        "{stderr}"
+    );
+    // -q: nothing on stderr at all when all goes well, nothing on stdout.
     let quiet = dunes(&dir, &["-q"], &[]);
     let q_stdout = assert_success(&quiet, "dunes -q");
     assert_eq!(text(&quiet.stderr), "", "quiet");
-    assert!(q_stdout.contains("GPU frame: dunes"), "{q_stdout}");
+    assert_eq!(q_stdout, "", "quiet");
     // -v: each stage as a debug line; RUST_LOG does the same without -v.
     let verbose = dunes(&dir, &["-v"], &[]);
     assert_success(&verbose, "dunes -v");
@@ -197,4 +204,57 @@ fn every_option_with_a_value_states_its_default() {
             "{command}: no default stated for {missing:?}"
         );
     }
+}
+
+#[test]
+fn a_picture_and_a_mesh_leave_stdout_empty_and_say_wrote_only_when_written() {
+    // `sediment grow --preset fig9f --mesh c.glb -o c.png > out.txt` leaves out.txt
+    // empty: every "wrote" line and the run's summary are status, on stderr.
+    let dir = scratch("out-grow");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let out = sediment(
+        &[
+            "grow",
+            "--preset",
+            "fig9f",
+            "--mesh",
+            &s("c.glb"),
+            "--size",
+            "64x48",
+            "-o",
+            &s("c.png"),
+        ],
+        &[],
+    );
+    let stdout = assert_success(&out, "grow");
+    assert_eq!(stdout, "", "stdout holds only a report");
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains(&format!("wrote {}", s("c.png"))),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains(&format!("wrote {}: 1 part (columns)", s("c.glb"))),
+        "{stderr}"
+    );
+    // A run that fails writes nothing and says it wrote nothing.
+    let failed = sediment(
+        &[
+            "grow",
+            "--preset",
+            "fig9f",
+            "--mesh",
+            &s("no/such/folder/m.glb"),
+            "--size",
+            "64x48",
+            "-o",
+            &s("d.png"),
+        ],
+        &[],
+    );
+    assert!(!failed.status.success());
+    let stderr = text(&failed.stderr);
+    assert!(!stderr.contains("wrote"), "{stderr}");
+    assert!(!dir.join("d.png").exists());
+    std::fs::remove_dir_all(&dir).expect("clean up");
 }

@@ -177,10 +177,11 @@ fn dry_spells_narrow_the_stalagmite_and_wet_ones_widen_it() {
         "64x48",
         "--validate",
     ]);
-    let stdout = assert_success(&out, "sediment grow --climate");
+    assert_success(&out, "sediment grow --climate");
+    let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stdout.contains("climate: 0 CE to 6000 CE, 100 years a pass"),
-        "{stdout}"
+        stderr.contains("climate: 0 CE to 6000 CE, 100 years a pass"),
+        "{stderr}"
     );
     gltf_validate(&glb);
     // Heights of the spells from the rings' dates (the CSV), radii from the mesh.
@@ -255,10 +256,11 @@ fn the_holocene_command_writes_its_picture_animation_mesh_and_rings() {
         "96x64",
         "--validate",
     ]);
-    let stdout = assert_success(&out, "sediment grow --climate holocene");
+    assert_success(&out, "sediment grow --climate holocene");
+    let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stdout.contains("9700 BCE to 2000 CE, 450 years a pass"),
-        "{stdout}"
+        stderr.contains("9700 BCE to 2000 CE, 450 years a pass"),
+        "{stderr}"
     );
     for f in ["g.gif", "g.glb", "g.png", "c.png"] {
         assert!(dir.join(f).is_file(), "{f} written");

@@ -98,6 +98,15 @@ fn the_library_examples_run() {
     let map = image::open(&heightmap).expect("heightmap");
     assert!(matches!(map, image::DynamicImage::ImageLuma16(_)), "16-bit");
 
+    // The README's library example: ripples grown on the CPU.
+    let stdout = run("library_quickstart", &[]);
+    let highest: f64 = stdout
+        .trim()
+        .strip_prefix("highest sand: ")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(highest > 1.0, "sand piled up by saltation: {stdout}");
+
     let stdout = run("time_growth_pass", &["fig9a", "5"]);
     for path in [
         "xfb-restream",

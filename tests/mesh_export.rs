@@ -17,12 +17,13 @@ fn s(p: &Path) -> String {
     p.to_string_lossy().into_owned()
 }
 
-/// "N vertices (welded from M triangle corners), T triangles" from a command's report.
-fn reported_counts(stdout: &str) -> (usize, usize, usize) {
-    let line = stdout
+/// "N vertices (welded from M triangle corners), T triangles" from a command's "wrote"
+/// line (stderr).
+fn reported_counts(stderr: &str) -> (usize, usize, usize) {
+    let line = stderr
         .lines()
         .find(|l| l.contains("welded from"))
-        .unwrap_or_else(|| panic!("no mesh report: {stdout}"));
+        .unwrap_or_else(|| panic!("no mesh status line: {stderr}"));
     let number_before = |word: &str| -> usize {
         let head = &line[..line.find(word).unwrap_or_else(|| panic!("{word}: {line}"))];
         head.split_whitespace()
@@ -37,8 +38,8 @@ fn reported_counts(stdout: &str) -> (usize, usize, usize) {
     )
 }
 
-fn check_counts(glb: &Glb, stdout: &str) {
-    let (vertices, corners, triangles) = reported_counts(stdout);
+fn check_counts(glb: &Glb, stderr: &str) {
+    let (vertices, corners, triangles) = reported_counts(stderr);
     let (read_vertices, read_indices) = glb.counts();
     assert_eq!(read_vertices, vertices, "vertices in the file as reported");
     assert_eq!(read_indices, corners, "one index per triangle corner");
@@ -50,17 +51,19 @@ fn check_counts(glb: &Glb, stdout: &str) {
 }
 
 /// Runs `sediment ARGS --mesh DIR/FILE`, validates the file with the Khronos validator,
-/// reads it back and checks its counts against the report.
+/// reads it back and checks its counts against its "wrote" line.
 fn exported(dir: &Path, file: &str, args: &[&str]) -> (Glb, String, PathBuf) {
     let glb = dir.join(file);
     let path = s(&glb);
     let mut all = args.to_vec();
     all.extend(["--mesh", &path]);
-    let stdout = assert_success(&sediment(&all), &format!("sediment {}", args[0]));
+    let out = sediment(&all);
+    assert_success(&out, &format!("sediment {}", args[0]));
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     gltf_validate(&glb);
     let read = Glb::open(&glb);
-    check_counts(&read, &stdout);
-    (read, stdout, glb)
+    check_counts(&read, &stderr);
+    (read, stderr, glb)
 }
 
 fn grow_glb(dir: &Path, name: &str, extra: &[&str]) -> (Glb, String, PathBuf) {

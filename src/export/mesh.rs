@@ -31,13 +31,14 @@ impl Written {
     /// welded from 3702 corners, 1234 triangles".
     pub fn line(&self) -> String {
         format!(
-            "wrote {}: {} parts ({}), {} vertices (welded from {} triangle corners), {} triangles",
+            "wrote {}: {} part{} ({}), {} vertices (welded from {} triangle corners), {} triangles",
             self.files
                 .iter()
                 .map(|f| f.display().to_string())
                 .collect::<Vec<_>>()
                 .join(", "),
             self.parts.len(),
+            if self.parts.len() == 1 { "" } else { "s" },
             self.parts.join(", "),
             self.counts.vertices,
             self.counts.corners,

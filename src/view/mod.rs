@@ -329,7 +329,7 @@ impl App<'_> {
                 if let (true, Some(path)) = (last, &self.options.screenshot) {
                     state.pending = Some(path.clone());
                 }
-                state.frame(&mut self.report, self.say)?;
+                state.frame(&mut self.report)?;
                 if last {
                     event_loop.exit();
                 }
@@ -377,7 +377,7 @@ impl State {
     }
 
     /// Writes the frame just rendered (the scene, without the panel) as PNG.
-    fn screenshot(&self, path: &std::path::Path, say: &mut dyn FnMut(&str)) -> Result<()> {
+    fn screenshot(&self, path: &std::path::Path) -> Result<()> {
         let Some(runner) = &self.runner else {
             return Err(Error::internal(
                 "screenshot",
@@ -388,14 +388,14 @@ impl State {
         // exits 1 at the end with the errors, having written nothing (issue 17 #3).
         let errors = self.ctx.validation_error_count();
         if errors > 0 {
-            say(&format!(
+            log::warn!(
                 "screenshot {} not written: the validation layer reported {errors} error(s)",
                 path.display()
-            ));
+            );
             return Ok(());
         }
         crate::export::png::write_png(path, &runner.image()?)?;
-        say(&format!("wrote {}", path.display()));
+        log::info!("wrote {}", path.display());
         Ok(())
     }
 
@@ -444,7 +444,7 @@ impl State {
         Ok(true)
     }
 
-    fn frame(&mut self, report: &mut ViewReport, say: &mut dyn FnMut(&str)) -> Result<()> {
+    fn frame(&mut self, report: &mut ViewReport) -> Result<()> {
         let now = Instant::now();
         let seconds = now.duration_since(self.last_frame).as_secs_f32().min(0.25);
         self.last_frame = now;
@@ -513,7 +513,7 @@ impl State {
         }
         let spans = runner.finish(self.scene.as_mut())?;
         if let Some(path) = self.pending.take() {
-            self.screenshot(&path, say)?;
+            self.screenshot(&path)?;
         }
         let growth: f64 = spans
             .iter()

@@ -20,6 +20,7 @@ macro_rules! say {
 
 mod commands;
 mod output;
+mod reference;
 
 /// `--version`: the crate's version and the commit it was built from.
 const VERSION: &str = concat!(
@@ -162,6 +163,14 @@ enum Command {
     /// parameters, the camera orbiting or flying. Needs an X11 display (Xvfb works).
     #[command(after_help = view::all_controls())]
     View(Box<view::ViewArgs>),
+    /// Print a page of the book's reference (docs/src/reference/) as Markdown,
+    /// generated from these definitions.
+    #[command(hide = true)]
+    Reference {
+        /// commands or scene-files.
+        #[arg(value_enum)]
+        page: reference::Page,
+    },
 }
 
 pub fn parse_size(s: &str) -> Result<Size, String> {
@@ -220,18 +229,23 @@ fn main() -> ExitCode {
     let set =
         (!matches!(cli.command, Command::View(_))).then(sediment::export::atomic::OutputSet::begin);
     let mut discarded = Vec::new();
+    let mut committed = false;
     let result = match (run(cli), set) {
-        (Ok(()), Some(set)) => set.commit().map(drop).map_err(Into::into),
+        (Ok(()), Some(set)) => set.commit().map(|_| committed = true).map_err(Into::into),
         // A bench whose targets did not hold still measured: its reports are written.
-        (Err(e), Some(set)) if e.is::<commands::bench::TargetsMissed>() => {
-            set.commit().map_err(anyhow::Error::from).and(Err(e))
-        }
+        (Err(e), Some(set)) if e.is::<commands::bench::TargetsMissed>() => set
+            .commit()
+            .map(|_| committed = true)
+            .map_err(anyhow::Error::from)
+            .and(Err(e)),
         (Err(e), Some(set)) => {
             discarded = set.discard();
             Err(e)
         }
         (result, None) => result,
     };
+    // "wrote FILE" only once the files are in place.
+    output::committed(committed);
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -260,6 +274,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Layers(args) => layers::run(&cli, args),
         Command::Bench(args) => bench::run(&cli, args),
         Command::View(args) => view::run(&cli, args),
+        Command::Reference { page } => {
+            say!("{}", reference::page(*page)?.trim_end());
+            Ok(())
+        }
     }
 }
 

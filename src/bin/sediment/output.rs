@@ -158,7 +158,32 @@ pub fn clear() {
     }
 }
 
-/// A file written (status, not the report: stderr, info).
+/// Status lines about files written, held until the run's outputs are committed (a
+/// run writes all of its outputs or none, so "wrote" is only true after the commit).
+static WROTE: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+/// A file written: "wrote PATH" (status, not the report: stderr, info), said once the
+/// run's outputs are committed.
 pub fn wrote(path: impl AsRef<std::path::Path>) {
-    log::info!("wrote {}", path.as_ref().display());
+    wrote_line(format!("wrote {}", path.as_ref().display()));
+}
+
+/// A status line about files written ("wrote a.glb: 3 parts ..."), said once the run's
+/// outputs are committed.
+pub fn wrote_line(line: String) {
+    WROTE
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .push(line);
+}
+
+/// Says the held "wrote" lines (the outputs were committed), or drops them (`false`:
+/// nothing was written).
+pub fn committed(written: bool) {
+    let lines = std::mem::take(&mut *WROTE.lock().unwrap_or_else(PoisonError::into_inner));
+    if written {
+        for line in lines {
+            log::info!("{line}");
+        }
+    }
 }

@@ -91,7 +91,7 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
     })?);
     crate::output::done();
     let c = &model.cave;
-    say!(
+    log::info!(
         "octree depth {}: {} nodes; {} -> {} triangles after the crack-free split (+{:.1} %), {} voxels carved for manifoldness; {} speleothem sites ({} columns); generated in {:.0} ms (octree {:.0}, walls {:.0}, split {:.0}, smoothing {:.0})",
         scene.cave.depth,
         c.tree.node_count(),
@@ -141,17 +141,14 @@ pub fn run(cli: &Cli, a: &CaveArgs) -> anyhow::Result<()> {
     }
     if let (Some(path), Some(gif)) = (&a.flythrough, gif) {
         let frames = gif.finish()?;
-        log::info!("wrote {} ({frames} frames)", path.display());
+        crate::output::wrote_line(format!("wrote {} ({frames} frames)", path.display()));
     }
     if let Some(path) = &a.mesh {
         let title = format!("cave {}", a.scene.preset.as_deref().unwrap_or("scene"));
         let asset = cave::export(scene, &model, rendered.grown.as_ref(), &title);
-        say!(
-            "{}",
-            sediment::export::mesh::write_mesh(path, &asset)?.line()
-        );
+        crate::output::wrote_line(sediment::export::mesh::write_mesh(path, &asset)?.line());
     }
-    say!(
+    log::info!(
         "GPU frame: {}; wall {:.1} ms",
         sediment::frame::spans_line(&frame.spans),
         frame.wall_ms

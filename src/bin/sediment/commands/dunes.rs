@@ -1,6 +1,5 @@
 //! `sediment dunes`: Onoue & Nishita's desert of dunes and wind ripples.
 
-use std::io::Write as _;
 use std::path::PathBuf;
 
 use anyhow::bail;
@@ -89,7 +88,7 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
     crate::output::done();
     let cell_steps = (scene.ripple_size * scene.ripple_size) as f64 * f64::from(scene.ripple_steps)
         + (scene.dune_size * scene.dune_size) as f64 * f64::from(scene.dune_steps);
-    say!(
+    log::info!(
         "simulated {:.1} M cell-steps in {sim_s:.2} s ({:.0} M cell-steps/s on {} threads)",
         cell_steps / 1e6,
         cell_steps / 1e6 / sim_s.max(1e-9),
@@ -149,7 +148,7 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         crate::output::done();
         fail_on_validation_errors(&ctx)?;
         let written = gif.finish()?;
-        log::info!("wrote {} ({written} frames)", path.display());
+        crate::output::wrote_line(format!("wrote {} ({written} frames)", path.display()));
     }
     if let Some(path) = &a.heightmap {
         use sediment::export::heightmap::write_heightmap;
@@ -168,19 +167,20 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         ] {
             let (range, files) = write_heightmap(&target, &map)?;
             let files: Vec<_> = files.iter().map(|f| f.display().to_string()).collect();
-            say!("wrote {} ({what}; {})", files.join(" and "), range.line());
+            crate::output::wrote_line(format!(
+                "wrote {} ({what}; {})",
+                files.join(" and "),
+                range.line()
+            ));
         }
     }
     if let Some(path) = &a.mesh {
         let title = format!("dunes {}", a.scene.preset.as_deref().unwrap_or("scene"));
         let asset = dunes::export::export(scene, &terrain, &out.mesh, &title);
-        say!(
-            "{}",
-            sediment::export::mesh::write_mesh(path, &asset)?.line()
-        );
+        crate::output::wrote_line(sediment::export::mesh::write_mesh(path, &asset)?.line());
     }
     let spans = sediment::frame::spans_line;
-    say!(
+    log::info!(
         "{}/{} dune triangles drawn; GPU frame: {}; precompute: {}; wall {:.1} ms",
         out.visible_triangles,
         out.total_triangles,
@@ -190,7 +190,7 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
     );
     if !out.timed_ms.is_empty() {
         let ms = sediment::bench::report::Stats::of(&out.timed_ms);
-        say!(
+        log::info!(
             "GPU frame over {} timing frames: median {:.2} ms, min {:.2} ms, p95 {:.2} ms",
             ms.samples,
             ms.median,

@@ -1,6 +1,5 @@
 //! `sediment grow`: Tortelli & Walter's speleothem growth on the GS/XFB pipeline.
 
-use std::io::Write as _;
 use std::path::PathBuf;
 
 use anyhow::bail;
@@ -148,7 +147,7 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
     }
     if let (Some(path), Some(gif)) = (&a.gif, gif) {
         let frames = gif.finish()?;
-        log::info!("wrote {} ({frames} frames)", path.display());
+        crate::output::wrote_line(format!("wrote {} ({frames} frames)", path.display()));
     }
     if let (Some(path), Some(mesh)) = (&a.mesh, &grown.mesh) {
         let title = format!("grow {}", a.scene.preset.as_deref().unwrap_or("scene"));
@@ -159,26 +158,26 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
             a.unit_scale,
             scene.growth.floor_y,
         );
-        say!("{}", write_mesh(path, &asset)?.line());
+        crate::output::wrote_line(write_mesh(path, &asset)?.line());
     }
     if let Some(path) = &a.csv {
         grow::write_rings_csv(path, &grown.plan)?;
-        log::info!(
+        crate::output::wrote_line(format!(
             "wrote {} (every ring: date, height, radius)",
             path.display()
-        );
+        ));
     }
     if let Some(path) = &a.cut_away {
         let image = grow::cut_away_render(&ctx, &grown.plan, cli.size)?;
         fail_on_validation_errors(&ctx)?;
         sediment::export::png::write_png(path, &image)?;
-        log::info!(
+        crate::output::wrote_line(format!(
             "wrote {} (the first stalagmite's rings as growth layers)",
             path.display()
-        );
+        ));
     }
     if let Some((first, years)) = grown.plan.dates {
-        say!(
+        log::info!(
             "climate: {} to {}, {years} years a pass",
             sediment::model::speleothem::climate::calendar_year(first),
             sediment::model::speleothem::climate::calendar_year(
@@ -192,7 +191,7 @@ pub fn run(cli: &Cli, a: &GrowArgs) -> anyhow::Result<()> {
         .iter()
         .filter(|s| s.stop.is_some())
         .count();
-    say!(
+    log::info!(
         "{} speleothems, {} passes ({} stopped growing); GPU {}; wall {:.1} ms",
         grown.plan.speleothems.len(),
         grown.plan.passes,

@@ -1,6 +1,5 @@
 //! `sediment layers`: Franke's layered stalagmite, in his units or in real ones.
 
-use std::io::Write as _;
 use std::path::PathBuf;
 
 use anyhow::bail;
@@ -121,7 +120,7 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
     let layers_grown = stalagmite.layers.len() - 1;
     let apex = stalagmite.surface().first().map_or(0.0, |p| p[1]);
     let u = unit.as_deref().unwrap_or("units");
-    say!(
+    log::info!(
         "grew {layers_grown} layers in {:.0} ms; apex height {apex:.3} {u}; {} support points",
         start.elapsed().as_secs_f64() * 1e3,
         setup.franke.pz
@@ -134,7 +133,7 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
             excess_ca: first.excess_ca,
             film_m: p.film_mm * 1e-3,
         };
-        say!(
+        log::info!(
             "growth law at the start (T {} C, drip {} s, excess Ca {} mol/m^3, film {} mm): W0 = {:.4e} m/s = {:.4} mm/yr, R0 = {:.2} mm",
             first.temperature_c,
             first.drip_interval_s,
@@ -146,8 +145,8 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(o) = &stalagmite.overhang {
-        say!(
-            "note: the surface would overhang at layer {} (time {}) near x = {:.3}, y = {:.3} {u}: \
+        log::warn!(
+            "the surface would overhang at layer {} (time {}) near x = {:.3}, y = {:.3} {u}: \
              the supply widened the top past the flank below, where ceiling-formation rules take \
              over (Franke); growth stopped there",
             o.layer + 1,
@@ -177,10 +176,7 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
         if let Some(path) = &a.mesh {
             let title = format!("layers {}", a.scene.preset.as_deref().unwrap_or("scene"));
             let asset = layers::export(&cut, &title, layers::metres_per_unit(unit.as_deref()));
-            say!(
-                "{}",
-                sediment::export::mesh::write_mesh(path, &asset)?.line()
-            );
+            crate::output::wrote_line(sediment::export::mesh::write_mesh(path, &asset)?.line());
         }
     }
     if let Some(output) = &output {
@@ -210,7 +206,7 @@ pub fn run(cli: &Cli, a: &LayersArgs) -> anyhow::Result<()> {
             gif.push(&frame)?;
         }
         let frames = gif.finish()?;
-        log::info!("wrote {} ({frames} frames)", path.display());
+        crate::output::wrote_line(format!("wrote {} ({frames} frames)", path.display()));
     }
     if let (Some(path), Some(frame)) = (&a.render, render) {
         sediment::export::png::write_png(path, &frame.image)?;

@@ -326,7 +326,7 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
     {
         let title = format!("grow {}", g.scene.preset.as_deref().unwrap_or("scene"));
         let asset = grow::export_asset(plan, mesh, &title, 1.0, grow_floor_y);
-        say!(
+        log::info!(
             "{}",
             sediment::export::mesh::write_mesh(path, &asset)?.line()
         );
