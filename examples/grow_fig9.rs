@@ -8,9 +8,10 @@
 
 use std::path::PathBuf;
 
+use sediment::Size;
 use sediment::gpu::{Context, ContextOptions};
 use sediment::render::growth::GrowthPath;
-use sediment::scene::{Size, grow};
+use sediment::scene::grow;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);

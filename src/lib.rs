@@ -32,16 +32,20 @@
 
 pub mod bench;
 pub mod budget;
+pub mod camera;
 pub mod demo;
 pub mod error;
 pub mod export;
 pub mod frame;
 pub mod gpu;
+pub mod input;
 pub mod model;
 pub mod pod;
 pub mod render;
 pub mod scene;
 pub mod shaders;
+pub mod size;
+pub mod stats;
 pub mod tables;
 pub mod text;
 pub mod view;
@@ -53,3 +57,4 @@ pub use glam;
 /// The image types in sediment's API (frames are `image::RgbaImage`), re-exported for
 /// the same reason.
 pub use image;
+pub use size::Size;

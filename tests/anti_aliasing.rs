@@ -13,10 +13,10 @@ mod common;
 use std::sync::Arc;
 
 use common::picture::distance_from_supersampled;
+use sediment::Size;
 use sediment::frame::{FrameRunner, Time};
 use sediment::gpu::Context;
 use sediment::render::growth::GrowthPath;
-use sediment::scene::Size;
 use sediment::scene::{cave, grow};
 
 /// The pictures' default supersampling (the binary's `--supersample`).
@@ -196,7 +196,7 @@ fn viewer_frames(
     scene: &mut dyn sediment::frame::Scene,
     size: Size,
     frames: u32,
-    camera: impl Fn(u32) -> sediment::scene::camera::Camera,
+    camera: impl Fn(u32) -> sediment::camera::Camera,
     time: impl Fn(u32) -> Time,
 ) -> image::RgbaImage {
     let mut runner = FrameRunner::new(ctx, size).expect("runner");

@@ -4,10 +4,10 @@
 mod common;
 
 use glam::Vec3;
+use sediment::Size;
+use sediment::camera::{Camera, Jitter};
 use sediment::model::atmosphere::SkyLight;
 use sediment::render::atmosphere::{SKY_VIEW_HEIGHT, SKY_VIEW_WIDTH, SkyViewPass};
-use sediment::scene::Size;
-use sediment::scene::camera::{Camera, Jitter};
 use sediment::scene::dunes::{self, DunesScene};
 
 #[test]

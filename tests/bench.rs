@@ -4,12 +4,12 @@
 
 mod common;
 
+use sediment::Size;
 use sediment::bench::{self, BenchOptions, report::Report};
 use sediment::model::speleothem::plan::GrowthScene;
 use sediment::model::speleothem::{grow_reference, vertex_counts};
 use sediment::render::growth::Growth;
 use sediment::render::ring_growth_cpu::CpuGrowth;
-use sediment::scene::Size;
 
 #[test]
 fn the_cpu_growth_path_uploads_the_reference_mesh() {

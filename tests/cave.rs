@@ -8,8 +8,8 @@ use std::sync::Arc;
 
 use common::Tolerance;
 use common::growth::{assert_matches, sorted_triangles};
+use sediment::Size;
 use sediment::model::speleothem::grow_reference;
-use sediment::scene::Size;
 use sediment::scene::cave::{self, CaveScene, Speleothems};
 
 // Set on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, where these frames reproduce

@@ -4,7 +4,7 @@
 mod common;
 
 use common::Tolerance;
-use sediment::scene::Size;
+use sediment::Size;
 use sediment::scene::dunes::{self, DunesScene, Terrain};
 
 // Set on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, where these frames reproduce

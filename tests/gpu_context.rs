@@ -198,8 +198,8 @@ fn a_mip_chain_from_several_given_levels_completes_with_blits() {
 
 #[test]
 fn supersampling_is_lowered_to_what_the_device_and_the_budget_hold() {
+    use sediment::Size;
     use sediment::frame::supersample::factor_for;
-    use sediment::scene::Size;
     let ctx = common::gpu();
     let max = ctx.info().max_image_dimension_2d;
     assert_eq!(factor_for(&ctx, Size::new(720, 480), 2), 2);

@@ -6,10 +6,10 @@ mod common;
 use common::Tolerance;
 use common::growth::{assert_matches, sorted_triangles};
 use common::picture::{brightest_hue_saturation, hue_distance, hue_saturation_of};
+use sediment::Size;
 use sediment::model::speleothem::grow_reference;
 use sediment::model::speleothem::table2::Mineral;
 use sediment::render::growth::GrowthPath;
-use sediment::scene::Size;
 use sediment::scene::grow::{self, GrowOutputs};
 
 /// The default chamber's height, the scale of the presets' growth.

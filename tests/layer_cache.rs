@@ -4,9 +4,9 @@
 
 mod common;
 
+use sediment::Size;
 use sediment::frame::{FrameRunner, Time};
 use sediment::render::growth::GrowthPath;
-use sediment::scene::Size;
 use sediment::scene::grow;
 
 #[test]

@@ -4,8 +4,8 @@
 mod common;
 
 use common::Tolerance;
+use sediment::Size;
 use sediment::export::section::{self, Colouring, SectionStyle};
-use sediment::scene::Size;
 use sediment::scene::layers;
 
 // Set on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, where these frames reproduce

@@ -3,7 +3,8 @@
 mod common;
 
 use common::Tolerance;
-use sediment::scene::{Size, rock};
+use sediment::Size;
+use sediment::scene::rock;
 
 // Set on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, where the frame reproduces
 // exactly; the margin absorbs rasterisation and LLVM code-generation differences on

@@ -6,12 +6,12 @@
 mod common;
 
 use glam::Vec3;
+use sediment::Size;
+use sediment::camera::{Camera, Jitter};
 use sediment::frame::{FrameRunner, Time};
 use sediment::model::speleothem::plan::{GrowthParams, GrowthScene, Kind};
 use sediment::model::speleothem::table2::{Co2, DripInterval, Pil};
 use sediment::render::growth::GrowthPath;
-use sediment::scene::Size;
-use sediment::scene::camera::{Camera, Jitter};
 use sediment::scene::grow::GrowthFrame;
 
 #[test]

@@ -9,10 +9,10 @@ mod common;
 use std::collections::HashMap;
 
 use common::Tolerance;
+use sediment::Size;
 use sediment::frame::{FrameRunner, Time};
 use sediment::model::speleothem::RingVertex;
 use sediment::render::growth::GrowthPath;
-use sediment::scene::Size;
 use sediment::scene::grow;
 
 /// Fig. 9g grown and drawn under temporal anti-aliasing with the error bound `lod`

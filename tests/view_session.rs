@@ -4,14 +4,14 @@
 
 mod common;
 
+use sediment::Size;
 use sediment::frame::{FrameRunner, Scene, Time};
+use sediment::input::Key;
 use sediment::model::speleothem::grow_reference;
 use sediment::model::speleothem::plan::{GrowthParams, GrowthScene};
 use sediment::model::speleothem::table2::Pil;
 use sediment::render::growth::GrowthPath;
-use sediment::scene::Size;
 use sediment::scene::grow::{GrowthFrame, default_camera};
-use sediment::view::input::Key;
 
 /// Runs `frames` viewer ticks of the session (one pass each).
 fn frames(
@@ -63,7 +63,7 @@ fn steering_ends_in_the_reference_mesh_of_the_same_changes() {
                 session.plan(),
                 "{kind:?}: the plan of the same changes"
             );
-            let (_, mesh) = session.grown(ctx).expect("read back").expect("a mesh");
+            let mesh = session.read_back(ctx).expect("read back");
             let reference = grow_reference(&plan, plan.passes);
             assert_eq!(mesh.len(), reference.len(), "{kind:?}: vertex count");
             let key = |v: &sediment::model::speleothem::RingVertex| {

@@ -26,13 +26,14 @@ use std::time::Instant;
 
 use glam::Vec3;
 
+use crate::Size;
+use crate::camera::{Camera, Jitter};
 use crate::error::{Error, Result};
 use crate::frame::{Frame, FrameRunner};
 use crate::gpu::{Context, GpuTimer, OffscreenTarget, Span, TargetFormat};
 use crate::render::sky::SkyPass;
-use crate::scene::Size;
-use crate::scene::camera::{Camera, Jitter};
-use report::{Meta, PassResult, Report, RunInfo, SCHEMA, SeriesResult, Stats};
+use crate::stats::Stats;
+use report::{Meta, PassResult, Report, RunInfo, SCHEMA, SeriesResult};
 
 /// The metric holding a series' own floor: the median GPU time of the floor frames
 /// drawn between its measured frames (`Report::times_floor` divides by it).
@@ -204,7 +205,27 @@ pub fn run(
             s.metrics.extend(bench.frame_metrics(&frames));
             report.series.push(s);
         }
-        bench.finish(ctx, &mut report, progress)?;
+        let outcomes: Vec<crate::frame::SeriesOutcome> = report
+            .series
+            .iter()
+            .filter(|s| s.scene == kind.name())
+            .map(|s| crate::frame::SeriesOutcome {
+                variant: s.variant.clone(),
+                median_gpu_ms: s.frame_gpu_ms.median,
+                times_floor: report.times_floor(s),
+            })
+            .collect();
+        let added = bench.finish(ctx, &outcomes, opts.frames, progress)?;
+        for (variant, name, value) in added.metrics {
+            if let Some(s) = report
+                .series
+                .iter_mut()
+                .find(|s| s.scene == kind.name() && s.variant == variant)
+            {
+                s.metrics.insert(name, value);
+            }
+        }
+        report.paper_ratios.extend(added.paper_ratios);
     }
     Ok(report)
 }

@@ -458,7 +458,8 @@ mod tests {
     use std::collections::BTreeMap;
 
     use super::*;
-    use crate::bench::report::{Meta, PassResult, Stats};
+    use crate::bench::report::{Meta, PassResult};
+    use crate::stats::Stats;
 
     fn series(scene: &str, variant: &str, frames: &[f64]) -> SeriesResult {
         SeriesResult {

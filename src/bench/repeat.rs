@@ -6,8 +6,9 @@
 
 use std::collections::BTreeMap;
 
-use super::report::{PassResult, Report, SeriesResult, Stats, number};
+use super::report::{PassResult, Report, SeriesResult, number};
 use crate::error::{Error, Result};
+use crate::stats::Stats;
 
 /// The median of the runs' values (nearest rank, as [`Stats::of`]).
 fn median(values: &[f64]) -> f64 {

@@ -220,7 +220,7 @@ mod tests {
         let text = "[[target]]\nname = \"t\"\nscene = \"cave\"\nvariant = \"depth-5\"\nvalue = \"frame_x_floor\"\nat_most = 3.0\n";
         let t = Targets::from_toml(text).expect("targets");
         let run = |floor: f64, frame: f64| -> Report {
-            let stats = |ms: f64| crate::bench::report::Stats::of(&[ms]);
+            let stats = |ms: f64| crate::stats::Stats::of(&[ms]);
             let series = |scene: &str, variant: &str, ms: f64| crate::bench::report::SeriesResult {
                 scene: scene.into(),
                 variant: variant.into(),

@@ -21,13 +21,12 @@ use std::sync::Arc;
 
 pub use runner::{Frame, FrameRunner};
 
-use crate::bench::report::Report;
+use crate::Size;
+use crate::camera::Camera;
 use crate::error::Result;
+use crate::export::asset::Asset;
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
-use crate::model::speleothem::{GrowthPlan, RingVertex};
-use crate::scene::Size;
-use crate::scene::camera::Camera;
-use crate::view::input::Key;
+use crate::input::Key;
 
 /// Where a frame stands on the scene's clock. Only a growing scene has one (its
 /// passes); the others show the same scene at any time.
@@ -94,8 +93,9 @@ pub trait Scene {
     fn message(&self) -> &str {
         ""
     }
-    /// Grown speleothems' plan and mesh, for export, if the scene has any.
-    fn grown(&self, _ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
+    /// What the scene shows as a file's asset (named parts, materials, metres), for
+    /// `--mesh`; `None` for a scene with nothing to export.
+    fn asset(&self, _ctx: &Arc<Context>, _title: &str) -> Result<Option<Asset>> {
         Ok(None)
     }
 }
@@ -167,16 +167,52 @@ pub trait BenchScene {
     fn frame_metrics(&self, _frames: &[Frame]) -> BTreeMap<String, f64> {
         BTreeMap::new()
     }
-    /// After the variants ran: what else the scene measures (CPU timings, ratios to
-    /// the paper's), added to `report`.
+    /// After the variants ran (`series`: what each measured; `frames`: the measured
+    /// frames a series asked for): what else the scene measures (CPU timings, ratios
+    /// to the paper's), for the report.
     fn finish(
         &mut self,
         _ctx: &Arc<Context>,
-        _report: &mut Report,
+        _series: &[SeriesOutcome],
+        _frames: u32,
         _progress: &mut dyn FnMut(&str),
-    ) -> Result<()> {
-        Ok(())
+    ) -> Result<BenchAdditions> {
+        Ok(BenchAdditions::default())
     }
+}
+
+/// What one of a scene's bench series measured, as its `finish` sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeriesOutcome {
+    /// The variant.
+    pub variant: String,
+    /// The frame's median GPU time, ms.
+    pub median_gpu_ms: f64,
+    /// That over the floor frames drawn between the series' own frames.
+    pub times_floor: Option<f64>,
+}
+
+/// What a scene's bench adds to the report after its variants ran.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BenchAdditions {
+    /// (variant, metric, value): metrics added to that variant's series.
+    pub metrics: Vec<(String, String, f64)>,
+    /// The papers' timing ratios beside the same ratios measured.
+    pub paper_ratios: Vec<PaperRatio>,
+}
+
+/// A ratio of timings the paper reports, beside the same ratio measured.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PaperRatio {
+    /// What the ratio compares ("LOD on / off", ...).
+    pub what: String,
+    /// Where the paper reports it (paper, table or figure).
+    pub paper: String,
+    /// The paper's value.
+    pub paper_ratio: f64,
+    /// The same ratio measured in this run.
+    pub ours: f64,
 }
 
 /// What a scene offers the instruments: its presets, its gallery pictures and how the

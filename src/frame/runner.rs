@@ -6,10 +6,10 @@ use std::time::Instant;
 
 use super::temporal::{FRAMES_PER_PICTURE, Temporal};
 use super::{Scene, Time};
+use crate::Size;
+use crate::camera::Camera;
 use crate::error::Result;
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span, vk};
-use crate::scene::Size;
-use crate::scene::camera::Camera;
 
 /// Spans a scene may open in one frame.
 const SPANS_PER_FRAME: u32 = 8;

@@ -4,8 +4,8 @@
 //! only; four of them resolve an edge in 5 steps where a 4x4 supersampled frame has 17
 //! (`tests/anti_aliasing.rs` measures both).
 
+use crate::Size;
 use crate::gpu::Context;
-use crate::scene::Size;
 
 /// The largest factor up to `wanted` whose frame the device can draw
 /// (`maxImageDimension2D`) within the host memory budget; at least 1.

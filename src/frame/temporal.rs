@@ -10,6 +10,8 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec4};
 
+use crate::Size;
+use crate::camera::Jitter;
 use crate::error::Result;
 use crate::gpu::{
     Commands, Context, DescriptorSet, Image, ImageDesc, ImageTransition, OffscreenTarget, vk,
@@ -17,8 +19,6 @@ use crate::gpu::{
 use crate::render::temporal::{
     HISTORY_DEPTH_FORMAT, HISTORY_FORMAT, ResolveImages, ResolveMode, ResolvePush, TemporalPass,
 };
-use crate::scene::Size;
-use crate::scene::camera::Jitter;
 
 /// The 16 sample positions, cells of a 4x4 grid over the pixel, in the order of a 4x4
 /// Bayer matrix: every run of 4 consecutive frames covers the pixel evenly.

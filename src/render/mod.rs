@@ -8,6 +8,7 @@ pub mod dune_surface;
 pub mod dust;
 pub mod environment;
 pub mod growth;
+pub mod lighting;
 pub mod lit_mesh;
 pub mod ring_growth;
 pub mod ring_growth_append;

@@ -12,11 +12,11 @@
 
 use std::sync::Arc;
 
+use crate::camera::Camera;
 use crate::error::Result;
 use crate::gpu::{Buffer, BufferDesc, Commands, Context, XfbStream, vk};
 use crate::model::speleothem::lod::{CaptureIndex, Part, segment_step};
 use crate::model::speleothem::{RingVertex, VERTEX_STRIDE};
-use crate::scene::camera::Camera;
 
 /// The viewer's default error bound: half a pixel, below what temporal anti-aliasing's
 /// 4x4 samples resolve along a silhouette.

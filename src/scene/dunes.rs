@@ -10,7 +10,9 @@ pub mod frame;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, CameraOptions, Jitter};
+use crate::camera::{Camera, Jitter};
+
+use super::camera::CameraOptions;
 use super::params::{SceneParams, Way, on_off};
 use crate::error::{Error, Result};
 use crate::model::atmosphere::Atmosphere;

@@ -3,22 +3,30 @@
 //! lamp. Its frame — the speleothems grown and shaded in their chamber — is `frame`.
 
 pub mod bench;
+mod chamber;
+pub mod export;
 pub mod frame;
+pub mod headless;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, CameraOptions, Jitter, Lighting, ToneMap};
+use crate::camera::{Camera, Jitter};
+
+use super::camera::CameraOptions;
+
+use crate::render::lighting::Lighting;
+
 use super::params::{SceneParams, Way};
 use crate::error::{Error, Result};
 use crate::model::speleothem::climate;
 pub use crate::model::speleothem::plan::GrowthScene;
 use crate::model::speleothem::plan::{GrowthParams, ParamChange, StepMode};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
-pub use frame::{
-    GrowOutputs, Grown, GrowthFrame, cut_away_render, export_asset, export_parts, grow,
-    grow_streaming, write_rings_csv,
-};
+use crate::render::tone_map::ToneMap;
+pub use export::{cut_away_render, export_asset, export_parts, write_rings_csv};
+pub use frame::GrowthFrame;
+pub use headless::{GrowOutputs, Grown, grow, grow_streaming};
 
 /// Names of the Figure 9 presets, with what each shows.
 pub const PRESETS: &[(&str, &str)] = &[

@@ -9,7 +9,9 @@ use std::path::PathBuf;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, CameraOptions, Jitter};
+use crate::camera::{Camera, Jitter};
+
+use super::camera::CameraOptions;
 use super::params::{SceneParams, Way};
 use crate::error::{Error, Result};
 pub use crate::model::layers::cut_away::{CutAway, WEDGE, cut_away};

@@ -5,15 +5,12 @@
 
 pub mod camera;
 pub mod params;
-pub mod size;
 
 pub mod cave;
 pub mod dunes;
 pub mod grow;
 pub mod layers;
 pub mod rock;
-
-pub use size::Size;
 
 use crate::frame::SceneKind;
 

@@ -5,8 +5,10 @@ pub mod frame;
 
 use glam::Vec3;
 
-use super::camera::{Camera, Jitter, Lighting};
+use crate::camera::{Camera, Jitter};
+
 use crate::model::rock::RockParams;
+use crate::render::lighting::Lighting;
 pub use frame::{RockFrame, render};
 
 /// Everything that fixes the rock frame.

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::scene::camera::{Camera, Jitter};
+use crate::camera::{Camera, Jitter};
 
 /// Orbit around the focus or fly freely.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -8,7 +8,6 @@
 //! the tests drive it under Xvfb.
 
 mod camera_control;
-pub mod input;
 mod overlay;
 
 use std::collections::HashSet;
@@ -25,14 +24,15 @@ use winit::keyboard::{Key as WinitKey, NamedKey};
 use winit::platform::x11::EventLoopBuilderExtX11;
 use winit::window::{Window, WindowId};
 
+use crate::Size;
+use crate::camera::Camera;
 use crate::error::{Error, Result};
+use crate::export::asset::Asset;
 use crate::frame::{FrameRunner, Scene, Time};
+use crate::gpu::Span;
 use crate::gpu::{Buffer, BufferDesc, Context, ContextOptions, Presented, Surface, Swapchain, vk};
-use crate::model::speleothem::{GrowthPlan, RingVertex};
-use crate::scene::Size;
-use crate::scene::camera::Camera;
+use crate::input::{Key, Scripted, ScriptedKey};
 use camera_control::CameraControl;
-use input::{Key, Scripted, ScriptedKey};
 
 /// Builds the scene to show once the window's device exists.
 pub type SceneBuilder = Box<dyn FnOnce(&Arc<Context>) -> Result<Box<dyn Scene>>>;
@@ -54,6 +54,8 @@ pub struct ViewOptions {
     pub script: Vec<ScriptedKey>,
     /// Show the text panel (the scene's state and the keys) over the frame.
     pub overlay: bool,
+    /// Read the scene's asset at exit under this title (`--mesh`); none: not read.
+    pub asset_title: Option<String>,
 }
 
 /// What a viewing session did.
@@ -62,14 +64,13 @@ pub struct ViewReport {
     pub frames: u32,
     /// Per frame: wall-clock milliseconds from the start of one frame to the next.
     pub frame_ms: Vec<f64>,
-    /// Per frame: GPU milliseconds of the growth pass(es) and of everything else.
-    pub growth_gpu_ms: Vec<f64>,
-    /// Per frame: GPU milliseconds of everything but the growth (the shading).
-    pub shading_gpu_ms: Vec<f64>,
+    /// Per frame: the GPU time of each named pass (the scene's spans).
+    pub gpu_spans: Vec<Vec<Span>>,
     /// Final size of the window's image.
     pub size: Size,
-    /// The plan and the mesh of grown speleothems at the end (grow, cave).
-    pub grown: Option<(GrowthPlan, Vec<RingVertex>)>,
+    /// The scene's asset at the end, for `--mesh` (scenes with something to export,
+    /// `Scene::asset`), named `ViewOptions::title`.
+    pub asset: Option<Asset>,
     /// What the validation layer reported as errors (empty without validation).
     pub validation_errors: Vec<String>,
 }
@@ -107,10 +108,9 @@ pub fn run(
         report: ViewReport {
             frames: 0,
             frame_ms: Vec::new(),
-            growth_gpu_ms: Vec::new(),
-            shading_gpu_ms: Vec::new(),
+            gpu_spans: Vec::new(),
             size: Size::new(0, 0),
-            grown: None,
+            asset: None,
             validation_errors: Vec::new(),
         },
     };
@@ -121,7 +121,7 @@ pub fn run(
         return Err(e);
     }
     if let Some(state) = app.state.take() {
-        state.finish(&mut app.report)?;
+        state.finish(&mut app.report, app.options.asset_title.as_deref())?;
     }
     Ok(app.report)
 }
@@ -159,7 +159,7 @@ struct State {
     overlay: bool,
     vsync: bool,
     fps: f64,
-    last_gpu: (f64, f64),
+    last_gpu: Vec<Span>,
     /// A screenshot to write after the next frame.
     pending: Option<PathBuf>,
 }
@@ -242,7 +242,7 @@ impl App<'_> {
             overlay: self.options.overlay,
             vsync: self.options.vsync,
             fps: 0.0,
-            last_gpu: (0.0, 0.0),
+            last_gpu: Vec::new(),
             pending: None,
         })
     }
@@ -469,16 +469,12 @@ impl State {
         runner.set_frame(self.scene.as_mut(), &self.camera.camera(), Time::Tick)?;
         let panel = if self.overlay {
             let mut lines = vec![format!(
-                "sediment view {}  {:.1} fps  cpu {:.1} ms  gpu: {}{:.2} ms  {}",
+                "sediment view {}  {:.1} fps  cpu {:.1} ms  gpu {:.2} ms ({})  {}",
                 self.scene.name(),
                 self.fps,
                 1e3 / self.fps.max(1e-3),
-                if self.last_gpu.0 > 0.0 {
-                    format!("growth {:.2} ms, shading ", self.last_gpu.0)
-                } else {
-                    String::new()
-                },
-                self.last_gpu.1,
+                self.last_gpu.iter().map(|s| s.milliseconds).sum::<f64>(),
+                crate::frame::spans_line(&self.last_gpu),
                 match self.camera.mode {
                     camera_control::CameraMode::Orbit => "orbit",
                     camera_control::CameraMode::Fly => "fly",
@@ -515,28 +511,23 @@ impl State {
         if let Some(path) = self.pending.take() {
             self.screenshot(&path)?;
         }
-        let growth: f64 = spans
-            .iter()
-            .filter(|s| s.name == "ring growth")
-            .map(|s| s.milliseconds)
-            .sum();
-        let total: f64 = spans.iter().map(|s| s.milliseconds).sum();
-        self.last_gpu = (growth, total - growth);
+        self.last_gpu = spans;
         let frame_ms = now.elapsed().as_secs_f64() * 1e3;
         self.fps = 0.9 * self.fps + 0.1 * (1e3 / frame_ms.max(1e-3));
         report.frames += 1;
         report.frame_ms.push(frame_ms);
-        report.growth_gpu_ms.push(self.last_gpu.0);
-        report.shading_gpu_ms.push(self.last_gpu.1);
+        report.gpu_spans.push(self.last_gpu.clone());
         report.size = Size::new(w, h);
         self.frame += 1;
         Ok(())
     }
 
-    /// At exit: the grown mesh and the validation errors.
-    fn finish(self, report: &mut ViewReport) -> Result<()> {
+    /// At exit: the scene's asset (when asked for) and the validation errors.
+    fn finish(self, report: &mut ViewReport, title: Option<&str>) -> Result<()> {
         self.ctx.wait_idle()?;
-        report.grown = self.scene.grown(&self.ctx)?;
+        if let Some(title) = title {
+            report.asset = self.scene.asset(&self.ctx, title)?;
+        }
         report.validation_errors = self.ctx.take_validation_errors();
         Ok(())
     }

@@ -6,8 +6,8 @@ use std::process::ExitCode;
 
 use anyhow::{Context as _, bail};
 use clap::{Parser, Subcommand};
+use sediment::Size;
 use sediment::gpu::{Context, ContextOptions};
-use sediment::scene::Size;
 use sediment::scene::params::{Resolved, SceneFileArgs, SceneParams, resolve, to_toml};
 
 /// `println!` that ignores a closed stdout (`sediment ... | head`): the files the

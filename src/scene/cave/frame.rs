@@ -11,21 +11,23 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::build::{CaveModel, build, shown_wall};
 use super::{CaveScene, PRESETS, Speleothems, default_camera, flythrough, preset};
+use crate::Size;
+use crate::camera::{Camera, Jitter};
 use crate::error::{Error, Result};
 use crate::export::asset::{Asset, Material, PartMesh, floor_centre};
 use crate::frame::{BenchScene, FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
+use crate::input::Key;
 use crate::model::cave::placement::site_meshes;
 use crate::model::mesh::Mesh;
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::cave_wall::{CaveFrame as WallUniforms, CaveWallPass, Style};
 use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
+use crate::render::lighting::Lighting;
 use crate::render::lit_mesh::{GpuMesh, ObjectPush};
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
-use crate::scene::Size;
-use crate::scene::camera::{Camera, Jitter, Lighting, ToneMap};
-use crate::view::input::Key;
+use crate::render::tone_map::ToneMap;
 
 const ROCK: Vec3 = Vec3::new(0.34, 0.29, 0.24);
 const CALCITE: Vec3 = Vec3::new(0.78, 0.7, 0.58);
@@ -343,9 +345,11 @@ impl Scene for CaveFrame {
     fn message(&self) -> &str {
         &self.message
     }
+}
 
+impl CaveFrame {
     /// The grown speleothems' plan and vertices (after the growth's submission).
-    fn grown(&self, ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
+    pub fn grown(&self, ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
         match &self.grown {
             Some(g) if g.done => {
                 g.growth.counts()?;

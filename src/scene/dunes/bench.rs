@@ -10,15 +10,14 @@ use std::time::Instant;
 
 use super::frame::{DunesFrame, Terrain, desert_light, simulate};
 use super::{DunesScene, Shadows, default_camera, preset};
-use crate::bench::report::{PaperRatio, Report};
+use crate::Size;
+use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::frame::{BenchScene, Scene};
+use crate::frame::{BenchAdditions, BenchScene, PaperRatio, Scene, SeriesOutcome};
 use crate::gpu::Context;
 use crate::model::dust::DustParams;
 use crate::model::footprints::fig18_walk;
 use crate::model::sand::{Heightfield, SandParams, SandSim};
-use crate::scene::Size;
-use crate::scene::camera::Camera;
 
 /// One timed set-up of the figure-17 scene.
 struct Variant {
@@ -146,36 +145,32 @@ impl BenchScene for DunesBench {
     fn finish(
         &mut self,
         ctx: &Arc<Context>,
-        report: &mut Report,
+        series: &[SeriesOutcome],
+        frames: u32,
         progress: &mut dyn FnMut(&str),
-    ) -> Result<()> {
-        let medians: BTreeMap<String, f64> = report
-            .series
+    ) -> Result<BenchAdditions> {
+        let mut added = BenchAdditions::default();
+        let medians: BTreeMap<String, f64> = series
             .iter()
-            .filter(|s| s.scene == "dunes")
-            .map(|s| (s.variant.clone(), s.frame_gpu_ms.median))
+            .map(|s| (s.variant.clone(), s.median_gpu_ms))
             .collect();
         if medians.contains_key("dune-ripple-shadows") {
             progress("dunes precompute and simulation");
             let mut metrics = self.cpu_metrics()?;
             metrics.extend(self.sky_metrics(ctx)?);
-            metrics.extend(self.horizon_metrics(ctx, report.meta.frames)?);
-            if let Some(s) = report
-                .series
-                .iter_mut()
-                .find(|s| s.scene == "dunes" && s.variant == "dune-ripple-shadows")
-            {
-                s.metrics.extend(metrics);
-            }
+            metrics.extend(self.horizon_metrics(ctx, frames)?);
+            added.metrics.extend(
+                metrics
+                    .into_iter()
+                    .map(|(k, v)| ("dune-ripple-shadows".to_owned(), k, v)),
+            );
         }
         // Between variants, each as a multiple of its own floor (the floor frames drawn
         // between its frames): two series run a minute apart on a shared machine can
         // differ by more than the effect they compare.
-        let relative: BTreeMap<String, f64> = report
-            .series
+        let relative: BTreeMap<String, f64> = series
             .iter()
-            .filter(|s| s.scene == "dunes")
-            .filter_map(|s| report.times_floor(s).map(|x| (s.variant.clone(), x)))
+            .filter_map(|s| s.times_floor.map(|x| (s.variant.clone(), x)))
             .collect();
         let ratio = |a: &str, b: &str| match (relative.get(a), relative.get(b)) {
             (Some(x), Some(y)) if *y > 0.0 => Some(x / y),
@@ -183,7 +178,7 @@ impl BenchScene for DunesBench {
         };
         let mut push = |what: &str, paper: &str, paper_ratio: f64, ours: Option<f64>| {
             if let Some(ours) = ours {
-                report.paper_ratios.push(PaperRatio {
+                added.paper_ratios.push(PaperRatio {
                     what: what.to_owned(),
                     paper: paper.to_owned(),
                     paper_ratio,
@@ -229,7 +224,7 @@ impl BenchScene for DunesBench {
                 Some(10_200.0 / full.max(1e-9)),
             );
         }
-        Ok(())
+        Ok(added)
     }
 }
 
@@ -296,7 +291,7 @@ impl DunesBench {
                         .map(|s| s.milliseconds),
                 );
             }
-            Ok(crate::bench::report::Stats::of(&ms).median)
+            Ok(crate::stats::Stats::of(&ms).median)
         };
         let steps = (field.width - 1) as u32;
         let brute = time(field, HorizonWalk::Brute { steps })?;
@@ -326,7 +321,7 @@ impl DunesBench {
         }
         m.insert(
             "horizon_map_linear_1024x16_gpu_ms".to_owned(),
-            crate::bench::report::Stats::of(&ms).median,
+            crate::stats::Stats::of(&ms).median,
         );
         Ok(m)
     }
@@ -362,7 +357,7 @@ impl DunesBench {
                 let cell_steps = (size * size) as f64 * f64::from(steps);
                 rates.push(cell_steps / t.elapsed().as_secs_f64().max(1e-9));
             }
-            Ok(crate::bench::report::Stats::of(&rates).median)
+            Ok(crate::stats::Stats::of(&rates).median)
         };
         let mut m = BTreeMap::new();
         m.insert("horizon_map_cpu_ms".to_owned(), cpu_horizon);

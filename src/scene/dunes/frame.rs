@@ -9,9 +9,12 @@ use std::time::Instant;
 use glam::Vec3;
 
 use super::{DunesScene, PRESETS, SAND_ALBEDO, Shadows, default_camera, preset};
+use crate::Size;
+use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
+use crate::input::Key;
 use crate::model::atmosphere::Atmosphere;
 use crate::model::dune_mesh::{
     DuneLod, dune_mesh_tiled, normal_texels, quad_levels, visible_quads,
@@ -30,10 +33,9 @@ use crate::render::dune_surface::{
     DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSurfacePass, DuneSwitches, DuneTextures,
 };
 use crate::render::dust::{DustLight, DustPass};
+use crate::render::lighting::Lighting;
 use crate::render::ripple_maps::{HorizonWalk, RippleMaps};
-use crate::scene::Size;
-use crate::scene::camera::{Camera, Lighting, ToneMap};
-use crate::view::input::Key;
+use crate::render::tone_map::ToneMap;
 
 /// The simulated terrain: dune heights (world metres) and the ripple tile.
 pub struct Terrain {

@@ -8,15 +8,16 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::frame::GrowthFrame;
-use crate::bench::report::{Report, interquartile_mean};
+use crate::Size;
+use crate::camera::{Camera, Jitter};
 use crate::error::{Error, Result};
-use crate::frame::{BenchScene, Scene};
+use crate::frame::{BenchAdditions, BenchScene, Scene, SeriesOutcome};
 use crate::gpu::Context;
 use crate::model::speleothem::plan::{GrowthParams, GrowthScene, GrowthUnits};
 use crate::model::speleothem::table2::Pil;
 use crate::render::growth::GrowthPath;
-use crate::scene::Size;
-use crate::scene::camera::{Camera, Jitter, Lighting};
+use crate::render::lighting::Lighting;
+use crate::stats::interquartile_mean;
 
 /// The growth bench scene: 24 stalactites, 32 segments, that never stop within 130
 /// passes (no radius change, a roof far above), so ring k exists at pass k.
@@ -85,23 +86,24 @@ impl BenchScene for GrowBench {
     fn finish(
         &mut self,
         ctx: &Arc<Context>,
-        report: &mut Report,
+        series: &[SeriesOutcome],
+        _frames: u32,
         progress: &mut dyn FnMut(&str),
-    ) -> Result<()> {
+    ) -> Result<BenchAdditions> {
         let path = GrowthPath::XfbAppend;
-        let Some(series) = report
-            .series
-            .iter_mut()
-            .find(|s| s.scene == "grow" && s.variant == path.name())
-        else {
-            return Ok(());
-        };
+        if !series.iter().any(|s| s.variant == path.name()) {
+            return Ok(BenchAdditions::default());
+        }
         progress("grow: append-only passes at rings 8 and 128, interleaved");
         let ratio = interleaved_ratio(ctx, path)?;
-        series
-            .metrics
-            .insert("pass_ratio_ring_128_to_8_interleaved".to_owned(), ratio);
-        Ok(())
+        Ok(BenchAdditions {
+            metrics: vec![(
+                path.name().to_owned(),
+                "pass_ratio_ring_128_to_8_interleaved".to_owned(),
+                ratio,
+            )],
+            paper_ratios: Vec::new(),
+        })
     }
 }
 

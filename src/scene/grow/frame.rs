@@ -14,229 +14,25 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::{Mat4, Vec3, Vec4};
-
-use super::{
-    ColorBy, GrowthScene, Lamp, Look, PRESETS, SpeleothemScene, default_camera, lamp_lighting,
-};
+use super::chamber::{CLEAR, Chamber, ENVIRONMENT_SIZE};
+use super::export::export_asset;
+use super::headless::{GrowOutputs, grow};
+use super::{ColorBy, GrowthScene, Lamp, Look, PRESETS, SpeleothemScene, lamp_lighting};
+use crate::camera::{Camera, Jitter};
 use crate::error::Result;
-use crate::export::asset::{Asset, Material, PartMesh};
-use crate::frame::layer_cache::{self, LayerCache};
-use crate::frame::temporal;
-use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
+use crate::export::asset::Asset;
+use crate::frame::{GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
-use crate::model::mesh::Mesh;
-use crate::model::noise::fbm;
-use crate::model::speleothem::plan::{
-    GrowthParams, Kind as SpeleothemKind, ParamChange, StopReason,
-};
+use crate::input::Key;
+use crate::model::speleothem::plan::{GrowthParams, ParamChange};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
-use crate::render::lit_mesh::{FrameSlot, FrameUniforms, GpuMesh, LitMeshPass, ObjectPush};
+use crate::render::lighting::Lighting;
 use crate::render::speleothem_lod::CaptureLod;
-use crate::render::speleothem_surface::{SpeleothemSurfacePass, speleothem_info};
-use crate::scene::Size;
-use crate::scene::camera::{Camera, Jitter, Lighting, ToneMap};
-use crate::view::input::Key;
-
-const ROCK: ObjectPush = ObjectPush {
-    model: Mat4::IDENTITY,
-    // Grey limestone: a warm rock would tint the reflections and outshine the minerals.
-    albedo: Vec4::new(0.13, 0.122, 0.112, 1.0),
-    material: Vec4::new(12.0, 0.05, 0.0, 0.0),
-};
-const CLEAR: [f32; 4] = [0.004, 0.0035, 0.003, 1.0];
-/// Camera samples of a still camera's rock kept per frame beside the frame's own
-/// (`Chamber::begin_frame`): all 16 within five frames, each such frame drawing the
-/// rock up to four times.
-const KEPT_PER_FRAME: u32 = 3;
-
-/// Rock surfaces of the chamber: the floor rises and the ceiling hangs a little, so the
-/// speleothem bases sink into them.
-fn chamber_meshes(scene: &GrowthScene) -> (Mesh, Mesh) {
-    // Wide enough that the planes' far edges sink into the lamp's falloff.
-    let half = scene.extent * 12.0;
-    let amp = 0.04 * (scene.ceiling_y - scene.floor_y);
-    let seed = scene.seed;
-    let relief =
-        move |x: f32, z: f32| amp * fbm(seed ^ 0xCA7E, Vec3::new(x, 0.0, z) * 1.3, 4, 0.5).abs();
-    // Graded: the cells under the speleothems as fine as a uniform 128-cell grid's
-    // (0.6 of a uniform 80-cell one's), three times coarser at the edges, where the
-    // planes recede into the dark: 2.6 times fewer triangles, most of those dropped
-    // smaller than a pixel.
-    let (cells, centre) = (80, 0.6);
-    let floor = Mesh::graded_height_grid(half, scene.floor_y, cells, centre, true, relief);
-    let ceiling =
-        Mesh::graded_height_grid(half, scene.ceiling_y, cells, centre, false, move |x, z| {
-            -relief(x + 17.0, z)
-        });
-    (floor, ceiling)
-}
-
-/// The chamber's rock, its pass and the lamp (an emissive sphere, drawn only into
-/// the environment map).
-struct Chamber {
-    rock: LitMeshPass,
-    /// The rock drawn once per camera sample while the camera stands still, and
-    /// copied into the frames.
-    kept: LayerCache,
-    /// The kept rock's camera and lights, one per `LayerCache` slot.
-    kept_frames: Vec<FrameSlot>,
-    /// The frame being drawn: its lighting, the target's aspect.
-    lighting: Lighting,
-    aspect: f32,
-    /// The camera stood still since the last frame (its sample aside).
-    still: bool,
-    /// The last frame's camera without its sample's jitter.
-    last_camera: Option<Camera>,
-    /// Times the rock was drawn (into a frame or a kept target).
-    rock_draws: u64,
-    floor: GpuMesh,
-    ceiling: GpuMesh,
-    lamp: GpuMesh,
-    /// The lamp sphere's radius.
-    lamp_radius: f32,
-}
-
-impl Chamber {
-    /// The rock drawn through the operator `tone`.
-    fn new(ctx: &Arc<Context>, scene: &GrowthScene, tone: ToneMap) -> Result<Self> {
-        let (floor, ceiling) = chamber_meshes(scene);
-        let lamp_radius = 0.04 * (scene.ceiling_y - scene.floor_y);
-        let lighting = lamp_lighting(scene, &Look::default());
-        let at = lighting.sun_direction;
-        let rock = LitMeshPass::new(ctx, ctx.frame_format(), tone)?;
-        Ok(Self {
-            kept: LayerCache::new(ctx),
-            kept_frames: (0..layer_cache::SLOTS)
-                .map(|i| rock.frame_slot(&format!("kept rock frame {i}")))
-                .collect::<Result<_>>()?,
-            lighting,
-            aspect: 1.0,
-            still: false,
-            last_camera: None,
-            rock_draws: 0,
-            rock,
-            floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
-            ceiling: GpuMesh::upload(ctx, "cave ceiling", &ceiling)?,
-            lamp: GpuMesh::upload(ctx, "lamp", &Mesh::sphere(at, lamp_radius, 8))?,
-            lamp_radius,
-        })
-    }
-
-    /// Opens the frame's rendering scope in `target` with the rock in it: copied from
-    /// the rock kept for this camera sample where the camera stands still under
-    /// temporal anti-aliasing (drawing it, and up to `KEPT_PER_FRAME` of the samples
-    /// still missing, into kept targets first), else drawn.
-    fn begin_frame(
-        &mut self,
-        cmd: &Commands<'_>,
-        target: &OffscreenTarget,
-        camera: Option<&Camera>,
-    ) -> Result<()> {
-        let camera = camera
-            .filter(|c| self.still && c.jitter != Jitter::default() && LayerCache::serves(target));
-        if let Some(camera) = camera {
-            let lighting = &self.lighting;
-            let key = |frame: &FrameUniforms| {
-                let mut key = crate::gpu::as_bytes(std::slice::from_ref(frame)).to_vec();
-                key.extend_from_slice(lighting.tonemap.to_string().as_bytes());
-                key
-            };
-            let size = Size::new(target.width(), target.height());
-            let samples = (0..temporal::SAMPLES).map(|k| {
-                let sample = Camera {
-                    jitter: temporal::sample_jitter(k, size),
-                    ..camera.clone()
-                };
-                lighting.frame_uniforms(&sample, self.aspect)
-            });
-            let current = lighting.frame_uniforms(camera, self.aspect);
-            let now = key(&current);
-            let mut budget = 1 + KEPT_PER_FRAME;
-            for frame in std::iter::once(current).chain(samples) {
-                let k = key(&frame);
-                if budget == 0 || self.kept.holds(target, &k) {
-                    continue;
-                }
-                let Self {
-                    rock,
-                    kept_frames,
-                    floor,
-                    ceiling,
-                    ..
-                } = self;
-                self.kept.keep(cmd, target, &k, CLEAR, |cmd, slot| {
-                    let slot = &mut kept_frames[slot];
-                    slot.set_frame(&frame)?;
-                    rock.draw_from(cmd, slot, floor, &ROCK)?;
-                    rock.draw_from(cmd, slot, ceiling, &ROCK)
-                })?;
-                self.rock_draws += 1;
-                budget -= 1;
-            }
-            if self.kept.begin_from(cmd, target, &now) {
-                return Ok(());
-            }
-        }
-        target.begin(cmd, CLEAR);
-        self.rock.draw(cmd, &self.floor, &ROCK)?;
-        self.rock.draw(cmd, &self.ceiling, &ROCK)?;
-        self.rock_draws += 1;
-        Ok(())
-    }
-
-    /// Renders the chamber — floor, ceiling, the lamp — into `env` from the middle of
-    /// the chamber, lit as the frame is but without tone mapping.
-    fn render_environment(
-        &self,
-        ctx: &Arc<Context>,
-        env: &mut EnvironmentMap,
-        scene: &GrowthScene,
-        lighting: &Lighting,
-    ) -> Result<()> {
-        let centre = Vec3::new(0.0, 0.5 * (scene.floor_y + scene.ceiling_y), 0.0);
-        let linear = Lighting {
-            tonemap: ToneMap::Linear,
-            exposure: 1.0,
-            ..lighting.clone()
-        };
-        // The sphere's radiance gives the irradiance of the point light it stands for:
-        // I / d^2 = L pi r^2 / d^2.
-        let emission = 1.0 / (std::f32::consts::PI * self.lamp_radius * self.lamp_radius);
-        let lamp = ObjectPush {
-            model: Mat4::IDENTITY,
-            albedo: lighting.sun_color.extend(1.0),
-            material: Vec4::new(1.0, 0.0, emission, 0.0),
-        };
-        env.render(
-            ctx,
-            centre,
-            &linear.frame_uniforms(
-                &Camera {
-                    eye: centre,
-                    target: centre + Vec3::Z,
-                    up: Vec3::Y,
-                    fov_y_degrees: 90.0,
-                    near: 0.01,
-                    far: 10.0,
-                    jitter: Jitter::NONE,
-                },
-                1.0,
-            ),
-            &[
-                (&self.floor, ROCK),
-                (&self.ceiling, ROCK),
-                (&self.lamp, lamp),
-            ],
-        )
-    }
-}
-
-/// Faces of the chamber's environment cube.
-const ENVIRONMENT_SIZE: u32 = 128;
+use crate::render::speleothem_surface::SpeleothemSurfacePass;
+use crate::render::tone_map::ToneMap;
 
 /// The viewer's clock and steering state.
 #[derive(Debug, Default)]
@@ -718,7 +514,7 @@ impl Scene for GrowthFrame {
     /// every pass (O(mesh) or O(one ring) per pass), vertices emitted per second of
     /// growth, and the final vertex count.
     fn metrics(&self) -> Result<BTreeMap<String, f64>> {
-        let stats = |s: &[f64]| crate::bench::report::Stats::of(s).median;
+        let stats = |s: &[f64]| crate::stats::Stats::of(s).median;
         let mut m = BTreeMap::new();
         for k in RING_MARKS {
             m.insert(
@@ -734,7 +530,7 @@ impl Scene for GrowthFrame {
         // append-only target is judged on passes grown side by side instead
         // (`pass_ratio_ring_128_to_8_interleaved`, grow/bench.rs).
         // Only where ring 128 was reached: the line is not extrapolated.
-        if let Some((a, b)) = crate::bench::report::theil_sen(&self.pass_ms) {
+        if let Some((a, b)) = crate::stats::theil_sen(&self.pass_ms) {
             let at = |k: u32| a + b * f64::from(k);
             if self.pass_ms.len() > 128 {
                 m.insert("pass_ratio_ring_128_to_8".into(), at(128) / at(8).max(1e-9));
@@ -884,300 +680,18 @@ impl Scene for GrowthFrame {
         &self.live.message
     }
 
-    /// The grown mesh as the re-streaming pass holds it.
-    fn grown(&self, ctx: &Arc<Context>) -> Result<Option<(GrowthPlan, Vec<RingVertex>)>> {
-        Ok(Some((self.plan.clone(), self.read_back(ctx)?)))
+    /// The grown speleothems in metres, a scene unit a metre, the chamber's floor
+    /// centre at the origin.
+    fn asset(&self, ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>> {
+        let mesh = self.read_back(ctx)?;
+        Ok(Some(export_asset(
+            &self.plan,
+            &mesh,
+            title,
+            1.0,
+            self.scene.floor_y,
+        )))
     }
-}
-
-/// What to produce besides the final frame, and how to grow.
-#[derive(Clone, Debug, Default)]
-pub struct GrowOutputs {
-    /// Which of the four growth paths grows the rings (`--growth`; default the paper's
-    /// re-streaming transform feedback).
-    pub path: GrowthPath,
-    /// How the speleothems are shaded.
-    pub look: Look,
-    /// The camera (default: `default_camera`).
-    pub camera: Option<Camera>,
-    /// Also render a frame before the first pass and every `k` passes (for a GIF).
-    pub frame_every: Option<u32>,
-    /// Read the grown mesh back.
-    pub mesh: bool,
-}
-
-/// The result of a growth.
-pub struct Grown {
-    /// The plan that was grown (for the rings CSV and mesh export).
-    pub plan: GrowthPlan,
-    /// The final frame.
-    pub image: image::RgbaImage,
-    /// GPU time of each pass of the final frame's submission.
-    pub gpu_spans: Vec<Span>,
-    /// Wall-clock milliseconds of the whole growth and render.
-    pub wall_ms: f64,
-    /// Frames of the growth (when requested), the last one equal to `image`.
-    pub frames: Vec<image::RgbaImage>,
-    /// The grown mesh's vertices, read back when `GrowOutputs::mesh` asked for them.
-    pub mesh: Option<Vec<RingVertex>>,
-}
-
-/// Plans, grows and renders `scene` at `size`. `progress(done, total)` is called after
-/// every submitted batch of passes.
-pub fn grow(
-    ctx: &Arc<Context>,
-    scene: &GrowthScene,
-    size: Size,
-    outputs: &GrowOutputs,
-    progress: &mut dyn FnMut(u32, u32),
-) -> Result<Grown> {
-    let mut frames = Vec::new();
-    let mut grown = grow_streaming(ctx, scene, size, outputs, progress, &mut |f| {
-        frames.push(f.clone());
-        Ok(())
-    })?;
-    grown.frames = frames;
-    Ok(grown)
-}
-
-/// `grow`, handing each animation frame to `on_frame` as it is made instead of keeping
-/// them (`Grown::frames` stays empty): an animation of any length holds one frame.
-pub fn grow_streaming(
-    ctx: &Arc<Context>,
-    scene: &GrowthScene,
-    size: Size,
-    outputs: &GrowOutputs,
-    progress: &mut dyn FnMut(u32, u32),
-    on_frame: &mut dyn FnMut(&image::RgbaImage) -> Result<()>,
-) -> Result<Grown> {
-    let start = Instant::now();
-    let camera = outputs
-        .camera
-        .clone()
-        .unwrap_or_else(|| default_camera(scene));
-    let mut runner = FrameRunner::new(ctx, size)?;
-    let mut frame = GrowthFrame::with_look(
-        ctx,
-        SpeleothemScene {
-            growth: scene.clone(),
-            look: outputs.look.clone(),
-        },
-        outputs.path,
-    )?;
-    let passes = frame.plan.passes;
-    let step = outputs.frame_every.unwrap_or(passes).max(1);
-    // With frames requested, the first renders the base rings before any pass.
-    let mut time = if outputs.frame_every.is_some() {
-        0
-    } else {
-        step
-    };
-    // Only the final frame is drawn: grow in bounded submissions first, and count
-    // their time as the frame's growth.
-    let grown_ms = match outputs.frame_every {
-        None => frame.advance(ctx, passes, progress)?,
-        Some(_) => 0.0,
-    };
-    loop {
-        let (image, f) = runner.render(&mut frame, &camera, Time::At(time))?;
-        progress(frame.passes_done(), passes);
-        let done = frame.passes_done() >= passes;
-        if outputs.frame_every.is_some() {
-            let mut shown = image.clone();
-            if let Some((first, years)) = frame.plan.dates {
-                // The calendar year the growth has reached, top left, over a shadow.
-                let year = first + f64::from(frame.passes_done()) * years;
-                let label = crate::model::speleothem::climate::calendar_year(year);
-                use crate::export::font::{text, text_width};
-                let size = (shown.height() as f32 / 18.0).clamp(12.0, 48.0);
-                let x = 10.0 + 0.5 * f64::from(text_width(&label, size));
-                text(&mut shown, &label, x + 1.0, 9.0, size, [0, 0, 0]);
-                text(&mut shown, &label, x, 8.0, size, [255, 255, 255]);
-            }
-            on_frame(&shown)?;
-        }
-        if done {
-            frame.counts()?;
-            let mesh = if outputs.mesh {
-                Some(frame.read_back(ctx)?)
-            } else {
-                None
-            };
-            return Ok(Grown {
-                plan: frame.plan.clone(),
-                image,
-                gpu_spans: with_growth_time(f.spans, grown_ms),
-                wall_ms: start.elapsed().as_secs_f64() * 1e3,
-                frames: Vec::new(),
-                mesh,
-            });
-        }
-        time += step;
-    }
-}
-
-/// The parts a grown scene exports: stalactites, stalagmites and columns (both halves
-/// of a site that joined), each welded from the transform-feedback triangles and the
-/// caps of open fronts, with the mineral colours the surface shader uses as COLOR_0.
-/// Positions stay in the plan's scene units; the caller places them
-/// ([`Asset::to_metres`]).
-pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asset) {
-    let info = speleothem_info(plan, plan.passes);
-    // surface.vert's colour: the mineral's share over white calcite rising from 35 % at
-    // the base to all of it at the tip, times the intensity.
-    let color_of = |v: &RingVertex| {
-        const CALCITE: Vec3 = Vec3::splat(0.8);
-        let sp = v.speleothem().min(plan.speleothems.len().saturating_sub(1));
-        let (mineral, misc) = (info[3 * sp], info[3 * sp + 1]);
-        let t = if mineral.w > 0.0 {
-            (v.extra[3] / mineral.w).clamp(0.0, 1.0)
-        } else {
-            1.0
-        };
-        (
-            CALCITE.lerp(mineral.truncate(), misc.y * (0.35 + 0.65 * t)),
-            Vec3::new(0.0, misc.x, 0.0),
-        )
-    };
-    // 0 stalactites, 1 stalagmites, 2 columns.
-    let joined: std::collections::HashSet<u32> = plan
-        .speleothems
-        .iter()
-        .filter(|s| matches!(s.stop, Some((_, StopReason::Column))))
-        .map(|s| s.site)
-        .collect();
-    let part_of = |sp: usize| {
-        plan.speleothems.get(sp).map_or(0, |s| {
-            if joined.contains(&s.site) {
-                2
-            } else if s.kind == SpeleothemKind::Stalagmite {
-                1
-            } else {
-                0
-            }
-        })
-    };
-    let mut soups: [(Vec<Vec3>, Vec<Vec3>, Vec<Vec3>); 3] = Default::default();
-    for tri in vertices.chunks_exact(3) {
-        let soup = &mut soups[part_of(tri[0].speleothem())];
-        for v in tri {
-            let (color, g) = color_of(v);
-            soup.0.push(v.position());
-            soup.1.push((v.normal() - g * v.extra[2]).normalize_or(g));
-            soup.2.push(color);
-        }
-    }
-    for cap in crate::model::speleothem::caps(vertices, plan, plan.passes) {
-        let (color, _) = color_of(&cap.from);
-        let soup = &mut soups[part_of(cap.from.speleothem())];
-        for p in cap.corners {
-            soup.0.push(p);
-            soup.1.push(cap.normal);
-            soup.2.push(color);
-        }
-    }
-    for ((positions, normals, colors), name) in
-        soups.iter().zip(["stalactites", "stalagmites", "columns"])
-    {
-        asset.push(
-            name,
-            PartMesh::weld(positions, normals, Some(colors)),
-            // Wet calcite: a smooth dielectric; the colour is the vertices'.
-            Material::plain("calcite", Vec3::ONE, 0.35),
-        );
-    }
-}
-
-/// The grown speleothems as a file's asset: in metres (`metres_per_unit` per scene
-/// unit) with the chamber's floor centre at the origin.
-pub fn export_asset(
-    plan: &GrowthPlan,
-    vertices: &[RingVertex],
-    title: &str,
-    metres_per_unit: f32,
-    floor_y: f32,
-) -> Asset {
-    let mut asset = Asset::new(title);
-    export_parts(plan, vertices, &mut asset);
-    asset.to_metres(metres_per_unit, Vec3::new(0.0, floor_y, 0.0));
-    asset
-}
-
-/// `spans` with `grown_ms` added to their ring growth (grown before the frame).
-fn with_growth_time(mut spans: Vec<Span>, grown_ms: f64) -> Vec<Span> {
-    if grown_ms > 0.0 {
-        match spans.iter_mut().find(|s| s.name == "ring growth") {
-            Some(s) => s.milliseconds += grown_ms,
-            None => spans.insert(
-                0,
-                Span {
-                    name: "ring growth".to_owned(),
-                    milliseconds: grown_ms,
-                },
-            ),
-        }
-    }
-    spans
-}
-
-/// Every ring of every speleothem as CSV (`sediment grow --csv`): with a climate record
-/// the year each ring was complete, else the pass that made it; heights and radii in
-/// scene units (metres: the chamber is 2.4 m high, a climate growth is in metres).
-pub fn write_rings_csv(path: &std::path::Path, plan: &GrowthPlan) -> Result<()> {
-    use crate::tables::Cell;
-    let when_column = if plan.dates.is_some() { "year" } else { "pass" };
-    let header = [
-        "speleothem",
-        "kind",
-        "ring",
-        when_column,
-        "height_m",
-        "radius_m",
-    ];
-    crate::tables::write_file(path, "--csv", &header, |table| {
-        for (i, s) in plan.speleothems.iter().enumerate() {
-            let kind = match s.kind {
-                SpeleothemKind::Stalactite => "stalactite",
-                SpeleothemKind::Stalagmite => "stalagmite",
-            };
-            for r in plan.rings(i) {
-                let when = r.pass.map_or(0, |p| p + 1);
-                let when = match plan.dates {
-                    Some((first, years)) => Cell::Num(first + f64::from(when) * years),
-                    None => Cell::Int(u64::from(when)),
-                };
-                table.row(&[
-                    Cell::Int(i as u64),
-                    Cell::Text(kind),
-                    Cell::Int(u64::from(r.ring)),
-                    when,
-                    Cell::Fixed(f64::from(r.height), 6),
-                    Cell::Fixed(f64::from(r.radius), 6),
-                ])?;
-            }
-        }
-        Ok(())
-    })
-}
-
-/// The plan's first stalagmite cut open, its rings as growth layers in bands of 10
-/// rings, rendered as `sediment layers --render` draws Franke's layers.
-pub fn cut_away_render(
-    ctx: &Arc<Context>,
-    plan: &GrowthPlan,
-    size: crate::scene::Size,
-) -> Result<image::RgbaImage> {
-    let index = plan
-        .speleothems
-        .iter()
-        .position(|s| s.kind == SpeleothemKind::Stalagmite)
-        .ok_or_else(|| {
-            crate::error::Error::invalid("--cut-away", "the growth has no stalagmite")
-        })?;
-    let layers = crate::model::speleothem::climate::dated_layers(plan, index)
-        .ok_or_else(|| crate::error::Error::internal("cut-away", "no rings"))?;
-    let cut = crate::scene::layers::cut_away(&layers, 10);
-    Ok(crate::scene::layers::render(ctx, &cut, size, None)?.image)
 }
 
 /// The speleothem scene in the registry.

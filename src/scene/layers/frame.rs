@@ -7,14 +7,15 @@ use std::time::Instant;
 use glam::{Mat4, Vec3, Vec4};
 
 use super::{CutAway, PRESETS, cut_away, default_camera, preset};
+use crate::Size;
+use crate::camera::Camera;
 use crate::error::Result;
 use crate::export::asset::{Asset, Material, PartMesh, floor_centre};
 use crate::export::section::{self, Colouring, SectionStyle};
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
+use crate::render::lighting::Lighting;
 use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
-use crate::scene::Size;
-use crate::scene::camera::{Camera, Lighting};
 
 const CALCITE: Vec3 = Vec3::new(0.78, 0.72, 0.62);
 const BAND_LIGHT: Vec3 = Vec3::new(0.86, 0.8, 0.68);

@@ -7,14 +7,15 @@ use std::time::Instant;
 use glam::{Mat4, Vec3, Vec4};
 
 use super::RockScene;
+use crate::Size;
+use crate::camera::Camera;
 use crate::error::Result;
 use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
 use crate::model::mesh::Mesh;
 use crate::model::rock::rock_mesh;
+use crate::render::lighting::Lighting;
 use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
-use crate::scene::Size;
-use crate::scene::camera::{Camera, Lighting};
 
 /// A square of ground in the xz plane at height `y`, facing up.
 fn ground(half: f32, y: f32) -> Mesh {

@@ -189,7 +189,7 @@ pub fn run(cli: &Cli, a: &DunesArgs) -> anyhow::Result<()> {
         out.wall_ms
     );
     if !out.timed_ms.is_empty() {
-        let ms = sediment::bench::report::Stats::of(&out.timed_ms);
+        let ms = sediment::stats::Stats::of(&out.timed_ms);
         log::info!(
             "GPU frame over {} timing frames: median {:.2} ms, min {:.2} ms, p95 {:.2} ms",
             ms.samples,

@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
+use sediment::Size;
 use sediment::export::check_extension;
-use sediment::scene::Size;
 use sediment::scene::layers;
 use sediment::scene::params::SceneFileArgs;
 

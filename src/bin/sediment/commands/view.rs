@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::bail;
-use sediment::bench::report::Stats;
 use sediment::export::check_extension;
 use sediment::frame::Scene;
+use sediment::input::parse_script;
 use sediment::render::growth::GrowthPath;
 use sediment::scene::cave::CaveFrame;
 use sediment::scene::dunes::DunesFrame;
@@ -16,7 +16,7 @@ use sediment::scene::grow::{self, GrowthFrame};
 use sediment::scene::layers::CutAwayFrame;
 use sediment::scene::params::{SceneFileArgs, resolve};
 use sediment::scene::{cave, dunes, layers};
-use sediment::view::input::parse_script;
+use sediment::stats::Stats;
 use sediment::view::{self, SceneBuilder, ViewOptions};
 
 use crate::{Cli, progress, realtime_context_options};
@@ -182,6 +182,7 @@ fn view_options(cli: &Cli, f: &ViewFlags) -> anyhow::Result<ViewOptions> {
         screenshot: f.screenshot.clone(),
         script: script.unwrap_or_default(),
         overlay: !f.no_overlay,
+        asset_title: None,
     })
 }
 
@@ -198,7 +199,7 @@ fn no_print(file: &SceneFileArgs) -> anyhow::Result<()> {
 
 pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
     // Everything the user gave is checked before anything is built or a window opens.
-    let mut grow_floor_y = 0.0;
+    let mut mesh = None;
     let (options, camera, scene, growing): (_, _, SceneBuilder, usize) = match &a.scene {
         ViewSceneArgs::Grow(g) => {
             no_print(&g.file)?;
@@ -218,9 +219,15 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
             if let Some(mesh) = &g.mesh {
                 sediment::export::mesh::check_mesh_path(mesh, "--mesh")?;
             }
-            let options = view_options(cli, &g.view)?;
+            let mut options = view_options(cli, &g.view)?;
+            if g.mesh.is_some() {
+                mesh = g.mesh.as_ref();
+                options.asset_title = Some(format!(
+                    "grow {}",
+                    g.scene.preset.as_deref().unwrap_or("scene")
+                ));
+            }
             let growing = resolved.scene.growth.passes as usize * g.every as usize;
-            grow_floor_y = resolved.scene.growth.floor_y;
             let (scene, path, every, lod) = (resolved.scene, g.growth, g.every, g.speleothem_lod);
             let build: SceneBuilder = Box::new(move |ctx| {
                 let mut frame = GrowthFrame::with_look(ctx, scene, path)?;
@@ -313,22 +320,47 @@ pub fn run(cli: &Cli, a: &ViewArgs) -> anyhow::Result<()> {
         report.frame_ms.get(1..growing).unwrap_or(&[]),
     );
     line("all frames", report.frame_ms.get(1..).unwrap_or(&[]));
-    if growing > 1 {
-        let g = Stats::of(&report.growth_gpu_ms[1..growing]).median;
-        let s = Stats::of(&report.shading_gpu_ms[1..growing]).median;
-        say!("GPU while growing: growth {g:.2} ms, shading {s:.2} ms (medians)");
-    } else if report.frames > 1 {
-        let s = Stats::of(&report.shading_gpu_ms[1..]).median;
-        say!("GPU: {s:.2} ms per frame (median)");
+    // GPU time per named pass, medians over the same frames.
+    let frames = if growing > 1 {
+        1..growing
+    } else {
+        1..report.frames as usize
+    };
+    if let Some(spans) = report.gpu_spans.get(frames) {
+        let mut names: Vec<&str> = Vec::new();
+        for s in spans.iter().flatten() {
+            if !names.contains(&s.name.as_str()) {
+                names.push(&s.name);
+            }
+        }
+        let medians: Vec<String> = names
+            .iter()
+            .map(|name| {
+                let ms: Vec<f64> = spans
+                    .iter()
+                    .map(|f| {
+                        f.iter()
+                            .filter(|s| s.name == *name)
+                            .map(|s| s.milliseconds)
+                            .sum()
+                    })
+                    .collect();
+                format!("{name} {:.2} ms", Stats::of(&ms).median)
+            })
+            .collect();
+        if !medians.is_empty() {
+            let when = if growing > 1 {
+                "while growing"
+            } else {
+                "per frame"
+            };
+            say!("GPU {when}: {} (medians)", medians.join(", "));
+        }
     }
-    if let (ViewSceneArgs::Grow(g), Some((plan, mesh))) = (&a.scene, &report.grown)
-        && let Some(path) = &g.mesh
-    {
-        let title = format!("grow {}", g.scene.preset.as_deref().unwrap_or("scene"));
-        let asset = grow::export_asset(plan, mesh, &title, 1.0, grow_floor_y);
+    if let (Some(path), Some(asset)) = (mesh, &report.asset) {
         log::info!(
             "{}",
-            sediment::export::mesh::write_mesh(path, &asset)?.line()
+            sediment::export::mesh::write_mesh(path, asset)?.line()
         );
     }
     Ok(())

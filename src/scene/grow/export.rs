@@ -1,0 +1,161 @@
+//! What a growth leaves besides its picture: the grown speleothems as a file's asset
+//! (named parts, the mineral colours, metres), every ring as CSV, and the first
+//! stalagmite cut open.
+
+use std::sync::Arc;
+
+use glam::Vec3;
+
+use crate::error::Result;
+use crate::export::asset::{Asset, Material, PartMesh};
+use crate::gpu::Context;
+use crate::model::speleothem::plan::{Kind as SpeleothemKind, StopReason};
+use crate::model::speleothem::{GrowthPlan, RingVertex};
+use crate::render::speleothem_surface::speleothem_info;
+
+/// The parts a grown scene exports: stalactites, stalagmites and columns (both halves
+/// of a site that joined), each welded from the transform-feedback triangles and the
+/// caps of open fronts, with the mineral colours the surface shader uses as COLOR_0.
+/// Positions stay in the plan's scene units; the caller places them
+/// ([`Asset::to_metres`]).
+pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asset) {
+    let info = speleothem_info(plan, plan.passes);
+    // surface.vert's colour: the mineral's share over white calcite rising from 35 % at
+    // the base to all of it at the tip, times the intensity.
+    let color_of = |v: &RingVertex| {
+        const CALCITE: Vec3 = Vec3::splat(0.8);
+        let sp = v.speleothem().min(plan.speleothems.len().saturating_sub(1));
+        let (mineral, misc) = (info[3 * sp], info[3 * sp + 1]);
+        let t = if mineral.w > 0.0 {
+            (v.extra[3] / mineral.w).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        (
+            CALCITE.lerp(mineral.truncate(), misc.y * (0.35 + 0.65 * t)),
+            Vec3::new(0.0, misc.x, 0.0),
+        )
+    };
+    // 0 stalactites, 1 stalagmites, 2 columns.
+    let joined: std::collections::HashSet<u32> = plan
+        .speleothems
+        .iter()
+        .filter(|s| matches!(s.stop, Some((_, StopReason::Column))))
+        .map(|s| s.site)
+        .collect();
+    let part_of = |sp: usize| {
+        plan.speleothems.get(sp).map_or(0, |s| {
+            if joined.contains(&s.site) {
+                2
+            } else if s.kind == SpeleothemKind::Stalagmite {
+                1
+            } else {
+                0
+            }
+        })
+    };
+    let mut soups: [(Vec<Vec3>, Vec<Vec3>, Vec<Vec3>); 3] = Default::default();
+    for tri in vertices.chunks_exact(3) {
+        let soup = &mut soups[part_of(tri[0].speleothem())];
+        for v in tri {
+            let (color, g) = color_of(v);
+            soup.0.push(v.position());
+            soup.1.push((v.normal() - g * v.extra[2]).normalize_or(g));
+            soup.2.push(color);
+        }
+    }
+    for cap in crate::model::speleothem::caps(vertices, plan, plan.passes) {
+        let (color, _) = color_of(&cap.from);
+        let soup = &mut soups[part_of(cap.from.speleothem())];
+        for p in cap.corners {
+            soup.0.push(p);
+            soup.1.push(cap.normal);
+            soup.2.push(color);
+        }
+    }
+    for ((positions, normals, colors), name) in
+        soups.iter().zip(["stalactites", "stalagmites", "columns"])
+    {
+        asset.push(
+            name,
+            PartMesh::weld(positions, normals, Some(colors)),
+            // Wet calcite: a smooth dielectric; the colour is the vertices'.
+            Material::plain("calcite", Vec3::ONE, 0.35),
+        );
+    }
+}
+
+/// The grown speleothems as a file's asset: in metres (`metres_per_unit` per scene
+/// unit) with the chamber's floor centre at the origin.
+pub fn export_asset(
+    plan: &GrowthPlan,
+    vertices: &[RingVertex],
+    title: &str,
+    metres_per_unit: f32,
+    floor_y: f32,
+) -> Asset {
+    let mut asset = Asset::new(title);
+    export_parts(plan, vertices, &mut asset);
+    asset.to_metres(metres_per_unit, Vec3::new(0.0, floor_y, 0.0));
+    asset
+}
+
+/// Every ring of every speleothem as CSV (`sediment grow --csv`): with a climate record
+/// the year each ring was complete, else the pass that made it; heights and radii in
+/// scene units (metres: the chamber is 2.4 m high, a climate growth is in metres).
+pub fn write_rings_csv(path: &std::path::Path, plan: &GrowthPlan) -> Result<()> {
+    use crate::tables::Cell;
+    let when_column = if plan.dates.is_some() { "year" } else { "pass" };
+    let header = [
+        "speleothem",
+        "kind",
+        "ring",
+        when_column,
+        "height_m",
+        "radius_m",
+    ];
+    crate::tables::write_file(path, "--csv", &header, |table| {
+        for (i, s) in plan.speleothems.iter().enumerate() {
+            let kind = match s.kind {
+                SpeleothemKind::Stalactite => "stalactite",
+                SpeleothemKind::Stalagmite => "stalagmite",
+            };
+            for r in plan.rings(i) {
+                let when = r.pass.map_or(0, |p| p + 1);
+                let when = match plan.dates {
+                    Some((first, years)) => Cell::Num(first + f64::from(when) * years),
+                    None => Cell::Int(u64::from(when)),
+                };
+                table.row(&[
+                    Cell::Int(i as u64),
+                    Cell::Text(kind),
+                    Cell::Int(u64::from(r.ring)),
+                    when,
+                    Cell::Fixed(f64::from(r.height), 6),
+                    Cell::Fixed(f64::from(r.radius), 6),
+                ])?;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// The plan's first stalagmite cut open, its rings as growth layers in bands of 10
+/// rings, rendered as `sediment layers --render` draws Franke's layers.
+pub fn cut_away_render(
+    ctx: &Arc<Context>,
+    plan: &GrowthPlan,
+    size: crate::Size,
+) -> Result<image::RgbaImage> {
+    let index = plan
+        .speleothems
+        .iter()
+        .position(|s| s.kind == SpeleothemKind::Stalagmite)
+        .ok_or_else(|| {
+            crate::error::Error::invalid("--cut-away", "the growth has no stalagmite")
+        })?;
+    let layers = crate::model::speleothem::climate::dated_layers(plan, index)
+        .ok_or_else(|| crate::error::Error::internal("cut-away", "no rings"))?;
+    let cut = crate::scene::layers::cut_away(&layers, 10);
+    Ok(crate::scene::layers::render(ctx, &cut, size, None)?.image)
+}
