@@ -9,6 +9,7 @@
 use std::path::PathBuf;
 
 use sediment::Size;
+use sediment::frame::{FrameRunner, Scene, Time};
 use sediment::gpu::{Context, ContextOptions};
 use sediment::render::growth::GrowthPath;
 use sediment::scene::grow;
@@ -22,32 +23,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // Lavapipe where there is no GPU; `SEDIMENT_DEVICE` picks another device by name.
     let ctx = Context::new(&ContextOptions::default().with_env())?;
-    let scene = grow::preset(&preset)?;
-    let outputs = grow::GrowOutputs {
-        path: GrowthPath::XfbRestream,
-        look: grow::preset_look(&preset),
-        camera: None,
-        frame_every: None,
-        mesh: true,
-    };
-    let grown = grow::grow(
-        &ctx,
-        &scene,
-        Size::new(720, 480),
-        &outputs,
-        &mut |done, total| {
-            eprint!("\rpass {done}/{total}");
-        },
-    )?;
+    let params = grow::preset(&preset)?;
+    let scene = params.speleothems()?;
+    let camera = grow::default_camera(&scene.growth);
+    let floor_y = scene.growth.floor_y;
+    // The paper's pass: the whole mesh re-streamed through the geometry shader.
+    let mut frame = grow::GrowthFrame::with_look(&ctx, scene, GrowthPath::XfbRestream)?;
+    let end = Time::At(u32::MAX);
+    frame.advance_to(&ctx, end, &|_, done, total| {
+        eprint!("\rpass {done}/{total}")
+    })?;
     eprintln!();
+    let mut runner = FrameRunner::new(&ctx, Size::new(720, 480))?;
+    let (image, _) = runner.render(&mut frame, &camera, end)?;
 
     let png = out.join(format!("{preset}.png"));
-    sediment::export::png::write_png(&png, &grown.image)?;
+    sediment::export::png::write_png(&png, &image)?;
     println!("wrote {}", png.display());
 
-    let mesh = grown.mesh.as_ref().ok_or("the growth kept no mesh")?;
     // One scene unit is one metre; the floor at y = floor_y becomes y = 0.
-    let asset = grow::export_asset(&grown.plan, mesh, &preset, 1.0, scene.floor_y);
+    let mesh = frame.read_back(&ctx)?;
+    let asset = grow::export_asset(frame.plan(), &mesh, &preset, 1.0, floor_y);
     let glb = out.join(format!("{preset}.glb"));
     println!(
         "{}",

@@ -19,7 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ctx = Context::new(&ContextOptions::default().with_env())?;
     println!("device: {}", ctx.info().name);
     for path in GrowthPath::ALL {
-        let mut scene = grow::preset(&preset)?;
+        let mut scene = grow::preset(&preset)?.growth_scene()?;
         scene.passes = scene.passes.max(pass);
         let mut frame = GrowthFrame::new(&ctx, scene, path)?;
         // The passes before (the first also compiles the shaders on lavapipe).

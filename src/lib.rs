@@ -33,6 +33,8 @@
 pub mod bench;
 pub mod budget;
 pub mod camera;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod demo;
 pub mod error;
 pub mod export;
@@ -40,6 +42,7 @@ pub mod frame;
 pub mod gpu;
 pub mod input;
 pub mod model;
+pub mod params;
 pub mod pod;
 pub mod render;
 pub mod scene;

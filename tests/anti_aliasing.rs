@@ -109,15 +109,9 @@ const CAVE_MULTISAMPLED: f64 = 0.6;
 
 fn fig9g(ctx: &Arc<Context>, size: Size) -> image::RgbaImage {
     let scene = grow::preset("fig9g").expect("preset");
-    grow::grow(
-        ctx,
-        &scene,
-        size,
-        &grow::GrowOutputs::default(),
-        &mut |_, _| {},
-    )
-    .expect("grow")
-    .image
+    sediment::frame::headless::picture(ctx, &grow::GrowDef, scene, size)
+        .expect("grow")
+        .image
 }
 
 #[test]
@@ -152,11 +146,8 @@ fn the_cave_picture_is_half_as_far_from_the_supersampled_frame() {
     let model = Arc::new(cave::build(&scene, &|_, _, _| {}).expect("cave"));
     let camera = cave::default_camera(&scene, &model);
     let (d, _) = measure("cave fig8", Size::new(720, 480), |ctx, size| {
-        cave::render(ctx, &scene, &model, size, std::slice::from_ref(&camera))
-            .expect("render")
-            .frames
-            .remove(0)
-            .0
+        let mut frame = cave::CaveFrame::new(ctx, &scene, model.clone()).expect("frame");
+        common::draw(ctx, &mut frame, &camera, size)
     });
     d.assert_within("cave fig8", 0.1, CAVE_MULTISAMPLED, HALF);
 }
@@ -170,9 +161,13 @@ fn the_desert_picture_is_half_as_far_from_the_supersampled_frame() {
     let scene = full_mesh(dunes::preset("fig17").expect("preset"));
     let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
     let (d, _) = measure("dunes fig17", Size::new(720, 480), |ctx, size| {
-        dunes::render(ctx, &scene, &terrain, size, None, 0)
-            .expect("render")
-            .image
+        let mut frame = dunes::DunesFrame::new(ctx, scene.clone(), &terrain).expect("frame");
+        common::draw(
+            ctx,
+            &mut frame,
+            &dunes::default_camera(&scene, &terrain),
+            size,
+        )
     });
     // Multisampling alone barely helps here (0.93x): any gain will do.
     d.assert_within("fig17", 1.0, 1.0, HALF);
@@ -184,7 +179,7 @@ fn the_desert_picture_is_half_as_far_from_the_supersampled_frame() {
 /// difference of geometry, not of anti-aliasing (measured in tests/dunes.rs).
 fn full_mesh(scene: sediment::scene::dunes::DunesScene) -> sediment::scene::dunes::DunesScene {
     sediment::scene::dunes::DunesScene {
-        mesh_lod_pixels: 0.0,
+        mesh_lod: 0.0,
         ..scene
     }
 }
@@ -233,9 +228,8 @@ fn the_desert_viewer_converges_when_still_and_follows_a_turning_camera() {
         c
     };
     let render = |ctx: &Arc<Context>, camera, size| {
-        dunes::render(ctx, &scene, &terrain, size, Some(camera), 0)
-            .expect("render")
-            .image
+        let mut frame = dunes::DunesFrame::new(ctx, scene.clone(), &terrain).expect("frame");
+        common::draw(ctx, &mut frame, camera, size)
     };
     let large = Size::new(size.width * 4, size.height * 4);
     let mut frame =
@@ -283,7 +277,10 @@ const MOVING: f64 = 1.6;
 // later (two rounds of the sample positions) it has converged (measured 0.53).
 #[test]
 fn a_growth_under_a_still_camera_leaves_no_trail() {
-    let scene = grow::preset("fig9g").expect("preset");
+    let scene = grow::preset("fig9g")
+        .expect("preset")
+        .growth_scene()
+        .expect("growth");
     let size = Size::new(720, 480);
     let temporal = common::gpu_temporal();
     let single = common::gpu_with_samples(Some(1));

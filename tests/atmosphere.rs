@@ -96,7 +96,7 @@ fn a_day_from_noon_to_twilight_looks_like_one() {
             ripple_steps: 0,
             dune_size: 16,
             dune_steps: 0,
-            sun_azimuth_degrees: 200.0,
+            sun_azimuth: 200.0,
             ..DunesScene::default()
         };
         let terrain = dunes::simulate(&base, &mut |_, _| {}).expect("simulate");
@@ -113,12 +113,11 @@ fn a_day_from_noon_to_twilight_looks_like_one() {
         };
         let render = |sun_elevation: f32, camera: &Camera| {
             let scene = DunesScene {
-                sun_elevation_degrees: sun_elevation,
+                sun_elevation,
                 ..base.clone()
             };
-            dunes::render(ctx, &scene, &terrain, size, Some(camera), 0)
-                .expect("render")
-                .image
+            let mut frame = dunes::DunesFrame::new(ctx, scene, &terrain).expect("frame");
+            common::draw(ctx, &mut frame, camera, size)
         };
 
         // Noon: the sky near the zenith (80 degrees up, away from a 60-degree sun's

@@ -9,6 +9,7 @@ use std::sync::Arc;
 use common::Tolerance;
 use common::growth::{assert_matches, sorted_triangles};
 use sediment::Size;
+use sediment::frame::{FrameRunner, Time};
 use sediment::model::speleothem::grow_reference;
 use sediment::scene::cave::{self, CaveScene, Speleothems};
 
@@ -19,17 +20,16 @@ const CAVE_TOLERANCE: Tolerance = Tolerance { mean: 1.5, p99: 24 };
 /// A preset at octree depth 6, so the suite stays quick.
 fn small(name: &str) -> CaveScene {
     let mut s = cave::preset(name).expect("preset");
-    s.cave.depth = 6;
+    s.depth = 6;
     s.speleothem_count = 16;
     s.grown_passes = 12;
     s
 }
 
 fn frame(ctx: &std::sync::Arc<sediment::gpu::Context>, scene: &CaveScene) -> image::RgbaImage {
-    let model = Arc::new(cave::build(scene, &|_, _, _| {}).expect("cave"));
-    let camera = cave::default_camera(scene, &model);
-    let mut out = cave::render(ctx, scene, &model, Size::new(240, 160), &[camera]).expect("render");
-    out.frames.remove(0).0
+    sediment::frame::headless::picture(ctx, &cave::CaveDef, scene.clone(), Size::new(240, 160))
+        .expect("render")
+        .image
 }
 
 #[test]
@@ -66,13 +66,20 @@ fn grown_speleothems_in_the_cave_equal_the_cpu_reference() {
         assert_eq!(growth.sites.len(), model.sites.len());
         assert!(!model.sites.is_empty());
         let camera = cave::default_camera(&scene, &model);
-        let out = cave::render(ctx, &scene, &model, Size::new(64, 48), &[camera]).expect("render");
-        let (plan, gpu) = out.grown.expect("grown vertices");
+        let mut frame = cave::CaveFrame::new(ctx, &scene, model.clone()).expect("frame");
+        let mut runner = FrameRunner::new(ctx, Size::new(64, 48)).expect("runner");
+        runner
+            .render(&mut frame, &camera, Time::At(0))
+            .expect("render");
+        let (plan, gpu) = frame
+            .grown(ctx)
+            .expect("read back")
+            .expect("grown vertices");
         let cpu = grow_reference(&plan, plan.passes);
         // The cave grows append-only, whose triangles come in another order; the
         // growth's units are the default chamber's scaled by size / 16, so its scale
         // is the chamber's height scaled alike.
-        let scale = 2.4 * scene.cave.size_m / 16.0;
+        let scale = 2.4 * scene.cave_size / 16.0;
         assert_matches(
             "the cave's grown speleothems",
             &sorted_triangles(&gpu),

@@ -72,34 +72,43 @@ fn the_workflow_runs_the_readme_test_command_on_lavapipe() {
 #[test]
 fn the_gpu_check_renders_every_preset_of_every_scene() {
     let script = read(".ci/gpu-check");
-    let listed = |var: &str| -> Vec<String> {
-        let line = script
-            .lines()
-            .find(|l| l.starts_with(&format!("{var}=\"")))
-            .unwrap_or_else(|| panic!("{var} in .ci/gpu-check"));
-        line.split('"')
-            .nth(1)
-            .unwrap_or("")
-            .split_whitespace()
-            .map(str::to_owned)
-            .collect()
-    };
-    let names = |presets: &[(&str, &str)]| -> Vec<String> {
-        presets.iter().map(|(n, _)| (*n).to_owned()).collect()
-    };
-    use sediment::scene::{cave, dunes, grow, layers};
-    for (var, presets) in [
-        ("GROW_PRESETS", grow::PRESETS),
-        ("DUNES_PRESETS", dunes::PRESETS),
-        ("CAVE_PRESETS", cave::PRESETS),
-        ("LAYERS_PRESETS", layers::PRESETS),
-    ] {
-        assert_eq!(listed(var), names(presets), "{var}");
-    }
+    // It renders what `sediment presets` lists, so a new scene or preset is checked
+    // without touching it; and that list is every preset of every registered scene.
+    assert!(
+        script.contains("\"$bin\" presets >"),
+        "the script iterates `sediment presets`"
+    );
+    assert!(
+        script.contains("\"$scene\" --preset \"$p\" -o"),
+        "one picture per listed preset"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .arg("presets")
+        .output()
+        .expect("run sediment presets");
+    assert!(out.status.success());
+    let listed: Vec<(String, String)> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| {
+            let mut cols = l.split('\t');
+            let scene = cols.next().unwrap_or("").to_owned();
+            let preset = cols.next().unwrap_or("").to_owned();
+            (scene, preset)
+        })
+        .collect();
+    let expected: Vec<(String, String)> = sediment::scene::registry()
+        .iter()
+        .flat_map(|s| {
+            s.presets()
+                .iter()
+                .map(|(p, _)| (s.name().to_owned(), (*p).to_owned()))
+        })
+        .collect();
+    assert_eq!(listed, expected);
     for scene in ["grow", "dunes", "cave", "layers"] {
         assert!(
-            script.contains(&format!("in ${}_PRESETS", scene.to_uppercase())),
-            "{scene}"
+            expected.iter().any(|(s, _)| s == scene),
+            "{scene} has presets"
         );
     }
     assert!(

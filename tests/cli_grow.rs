@@ -35,8 +35,8 @@ fn fig9f_writes_png_gif_and_a_valid_glb() {
         &s(&glb),
         "--size",
         "160x120",
-        "--gif-every",
-        "4",
+        "--gif-frames",
+        "7",
         "--validate",
     ]);
     common::cli::assert_success(&out, "sediment");

@@ -157,7 +157,11 @@ fn the_version_names_the_commit() {
 fn every_option_with_a_value_states_its_default() {
     // Many options' --help gave no default (grow: --count --passes ...; dunes:
     // --ripple-steps --sun-elevation ...; output files said nothing).
-    for command in ["grow", "dunes", "cave", "layers", "bench", "view", "demo"] {
+    let scenes: Vec<&str> = sediment::scene::registry()
+        .iter()
+        .map(|s| s.name())
+        .collect();
+    for command in scenes.iter().copied().chain(["bench", "view", "demo"]) {
         let out = sediment(&[command, "--help"], &[]);
         let help = assert_success(&out, command);
         let mut option: Option<(String, String)> = None;
@@ -203,6 +207,68 @@ fn every_option_with_a_value_states_its_default() {
             missing.is_empty(),
             "{command}: no default stated for {missing:?}"
         );
+    }
+}
+
+/// Each option's help text in `help`, by its long flag, wrapped lines joined.
+fn option_texts(help: &str) -> Vec<(String, String)> {
+    let mut options: Vec<(String, String)> = Vec::new();
+    for line in help.lines() {
+        let trimmed = line.trim_start();
+        let indent = line.len() - trimmed.len();
+        if (2..=6).contains(&indent) && trimmed.starts_with('-') {
+            let name = trimmed
+                .split([' ', ','])
+                .find(|w| w.starts_with("--"))
+                .unwrap_or(trimmed)
+                .to_owned();
+            options.push((name, trimmed.to_owned()));
+        } else if let Some((_, text)) = options.last_mut() {
+            text.push(' ');
+            text.push_str(trimmed);
+        }
+    }
+    options
+}
+
+#[test]
+fn every_parameter_default_in_help_is_the_one_the_scene_runs_with() {
+    // The help's "default: X" of every parameter of every scene against the scene the
+    // program actually builds without options (`--print-scene`), through the binary:
+    // a default stated in help cannot drift from the code.
+    for def in sediment::scene::registry() {
+        let name = def.name();
+        let help = assert_success(&sediment(&[name, "--help"], &[]), name);
+        let options = option_texts(&help);
+        let printed = assert_success(&sediment(&[name, "--print-scene"], &[]), name);
+        let scene: toml::Table = printed.parse().expect("--print-scene is TOML");
+        let mut checked = 0;
+        for p in def.params().iter().filter(|p| p.on_command_line()) {
+            let flag = format!("--{}", p.flag());
+            let (_, text) = options
+                .iter()
+                .find(|(f, _)| *f == flag)
+                .unwrap_or_else(|| panic!("{name}: no {flag} in --help:\n{help}"));
+            let stated = text
+                .rsplit_once("default: ")
+                .and_then(|(_, rest)| rest.split_once(']'))
+                .map(|(value, _)| value.trim())
+                .unwrap_or_else(|| panic!("{name} {flag}: no default in {text:?}"));
+            let table = if p.table.is_empty() {
+                Some(&scene)
+            } else {
+                scene.get(p.table).and_then(toml::Value::as_table)
+            };
+            let runs_with = table
+                .and_then(|t| t.get(p.key))
+                .map_or_else(|| "none".to_owned(), sediment::params::value_text);
+            assert_eq!(
+                stated, runs_with,
+                "{name} {flag}: --help says one default, the scene runs with another"
+            );
+            checked += 1;
+        }
+        assert!(checked >= 5, "{name}: only {checked} parameters checked");
     }
 }
 

@@ -274,7 +274,7 @@ fn view_matches_headless(
     h.extend(args);
     h.extend(headless_extra);
     h.extend([output_flag, &png]);
-    // In the scratch folder: `sediment layers` also writes its default section.svg.
+    // In the scratch folder, where any default output would land.
     let out = Command::new(env!("CARGO_BIN_EXE_sediment"))
         .args(&h)
         .current_dir(dir)
@@ -359,7 +359,7 @@ fn cave_dunes_and_layers_views_match_their_headless_renders_and_toggles() {
     );
     // The stalagmite cut-away.
     let layers = ["--preset", "candlestick"];
-    view_matches_headless(&x, &dir, "layers", &layers, "0:space", &[], "--render");
+    view_matches_headless(&x, &dir, "layers", &layers, "0:space", &[], "-o");
 }
 
 #[test]

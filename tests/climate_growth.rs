@@ -242,8 +242,8 @@ fn the_holocene_command_writes_its_picture_animation_mesh_and_rings() {
         "2",
         "--gif",
         &s("g.gif"),
-        "--gif-every",
-        "8",
+        "--gif-frames",
+        "4",
         "--mesh",
         &s("g.glb"),
         "-o",
@@ -279,7 +279,7 @@ fn the_holocene_command_writes_its_picture_animation_mesh_and_rings() {
             vec!["--climate", "holocene", "--years-per-pass", "1"],
             "512",
         ),
-        (vec!["--years-per-pass", "50"], "only with --climate"),
+        (vec!["--years-per-pass", "50"], "only with a climate record"),
         (vec!["--color", "rainbow"], "--color"),
     ] {
         let mut all = vec!["grow", "-o", "x.png"];

@@ -39,7 +39,7 @@ fn layers_grown(dir: &std::path::Path, name: &str, text: &str) -> usize {
         &supply,
         "--csv",
         &csv.to_string_lossy(),
-        "-o",
+        "--section",
         &svg.to_string_lossy(),
     ]);
     assert_success(&out, name);
@@ -103,7 +103,13 @@ fn a_semicolon_separated_file_is_refused_saying_why() {
     std::fs::write(&input, "0;10;100;1\n4000;12;80;1,2\n8000;12;80;1,2\n").expect("csv");
     let supply = format!("timeline:{}", input.display());
     let svg = dir.join("l.svg");
-    let out = sediment(&["layers", "--supply", &supply, "-o", &svg.to_string_lossy()]);
+    let out = sediment(&[
+        "layers",
+        "--supply",
+        &supply,
+        "--section",
+        &svg.to_string_lossy(),
+    ]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(
@@ -118,7 +124,7 @@ fn a_semicolon_separated_file_is_refused_saying_why() {
         "layers",
         "--base",
         &base.to_string_lossy(),
-        "-o",
+        "--section",
         &svg.to_string_lossy(),
     ]);
     let stderr = String::from_utf8_lossy(&out.stderr);

@@ -26,11 +26,45 @@ fn small(name: &str) -> DunesScene {
     // Fig. 18's walk is set in fractions of the field's period: on the smaller field
     // too, not where the full field's walk would land on its tiled copies.
     DunesScene {
-        footprints: scene
-            .footprints
-            .as_ref()
-            .map(|_| sediment::model::footprints::fig18_walk(scene.field_size())),
+        footprints: sediment::model::footprints::Walk(
+            scene
+                .footprints
+                .0
+                .as_ref()
+                .map(|_| sediment::model::footprints::fig18_walk(scene.field_size())),
+        ),
         ..scene
+    }
+}
+
+/// A desert frame drawn from simulated `terrain` (the simulation is the slow part, so
+/// tests share one) as `sediment dunes` draws it, with the triangles it drew.
+struct Rendered {
+    image: image::RgbaImage,
+    visible_triangles: u32,
+    total_triangles: u32,
+}
+
+fn render_desert(
+    ctx: &std::sync::Arc<sediment::gpu::Context>,
+    scene: &DunesScene,
+    terrain: &Terrain,
+    size: Size,
+    camera: Option<&sediment::camera::Camera>,
+) -> Rendered {
+    let camera = camera
+        .cloned()
+        .unwrap_or_else(|| dunes::default_camera(scene, terrain));
+    let mut frame = dunes::DunesFrame::new(ctx, scene.clone(), terrain).expect("frame");
+    let mut runner = sediment::frame::FrameRunner::new(ctx, size).expect("runner");
+    let (image, _) = runner
+        .render(&mut frame, &camera, sediment::frame::Time::At(0))
+        .expect("render");
+    let (visible_triangles, total_triangles) = frame.triangles();
+    Rendered {
+        image,
+        visible_triangles,
+        total_triangles,
     }
 }
 
@@ -44,8 +78,7 @@ fn figures_12_to_18_match_their_goldens() {
         let terrain: Terrain = dunes::simulate(&small("fig12"), &mut |_, _| {}).expect("simulate");
         for (name, _) in dunes::PRESETS {
             let scene = small(name);
-            let out =
-                dunes::render(ctx, &scene, &terrain, Size::new(240, 160), None, 0).expect("render");
+            let out = render_desert(ctx, &scene, &terrain, Size::new(240, 160), None);
             common::assert_golden(
                 &format!("dunes-{name}-240x160"),
                 &out.image,
@@ -60,11 +93,7 @@ fn effects_change_the_picture_where_they_should() {
     common::with_gpu(|ctx| {
         let terrain = dunes::simulate(&small("fig12"), &mut |_, _| {}).expect("simulate");
         let size = Size::new(240, 160);
-        let render = |name: &str| {
-            dunes::render(ctx, &small(name), &terrain, size, None, 0)
-                .expect("render")
-                .image
-        };
+        let render = |name: &str| render_desert(ctx, &small(name), &terrain, size, None).image;
         let (f14, f15, f16, f17) = (
             render("fig14"),
             render("fig15"),
@@ -106,14 +135,14 @@ fn lod_against_level_0_stays_within_the_papers_difference() {
         for (scene, bound) in [
             (
                 DunesScene {
-                    sun_elevation_degrees: DunesScene::default().sun_elevation_degrees,
+                    sun_elevation: DunesScene::default().sun_elevation,
                     ..fig13.clone()
                 },
                 3.92,
             ),
             (fig13.clone(), 2.0 * 3.92),
         ] {
-            let off = dunes::render(
+            let off = render_desert(
                 ctx,
                 &DunesScene {
                     lod: false,
@@ -122,28 +151,25 @@ fn lod_against_level_0_stays_within_the_papers_difference() {
                 &terrain,
                 size,
                 None,
-                0,
-            )
-            .expect("LOD off");
+            );
             // The sampler's per-pixel choice and the paper's per-quad one.
             for per_quad in [false, true] {
-                let on = dunes::render(
+                let on = render_desert(
                     ctx,
                     &DunesScene {
-                        lod_per_quad: per_quad,
+                        lod_choice: if per_quad {
+                            dunes::LodChoice::Quad
+                        } else {
+                            dunes::LodChoice::Pixel
+                        },
                         ..scene.clone()
                     },
                     &terrain,
                     size,
                     None,
-                    0,
-                )
-                .expect("LOD on");
-                let diff = mean_abs_diff(&on.image, &off.image);
-                let (sun, choice) = (
-                    scene.sun_elevation_degrees,
-                    if per_quad { "quad" } else { "pixel" },
                 );
+                let diff = mean_abs_diff(&on.image, &off.image);
+                let (sun, choice) = (scene.sun_elevation, if per_quad { "quad" } else { "pixel" });
                 eprintln!(
                     "mean absolute difference, LOD ({choice}) vs off, 720x480, sun {sun} deg: \
                      {diff:.3}/255 (paper: 3.92)"
@@ -164,13 +190,13 @@ fn culling_drops_quads_without_changing_the_picture() {
     common::with_gpu(|ctx| {
         // Culling alone: every remaining quad drawn whole (no mesh LOD).
         let scene = DunesScene {
-            mesh_lod_pixels: 0.0,
+            mesh_lod: 0.0,
             ..small("fig13")
         };
         let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
         let size = Size::new(240, 160);
-        let culled = dunes::render(ctx, &scene, &terrain, size, None, 0).expect("cull on");
-        let all = dunes::render(
+        let culled = render_desert(ctx, &scene, &terrain, size, None);
+        let all = render_desert(
             ctx,
             &DunesScene {
                 cull: false,
@@ -179,9 +205,7 @@ fn culling_drops_quads_without_changing_the_picture() {
             &terrain,
             size,
             None,
-            0,
-        )
-        .expect("cull off");
+        );
         assert!(culled.visible_triangles < all.visible_triangles);
         assert_eq!(all.visible_triangles, all.total_triangles);
         let diff = mean_abs_diff(&culled.image, &all.image);
@@ -202,10 +226,10 @@ fn the_mesh_lod_draws_far_fewer_triangles_for_nearly_the_same_picture() {
     let size = Size::new(720, 480);
     let at = |pixels: f32| {
         let scene = DunesScene {
-            mesh_lod_pixels: pixels,
+            mesh_lod: pixels,
             ..scene.clone()
         };
-        dunes::render(&ctx, &scene, &terrain, size, None, 0).expect("render")
+        render_desert(&ctx, &scene, &terrain, size, None)
     };
     let (full, lod) = (at(0.0), at(2.0));
     common::assert_no_validation_errors(&ctx);
@@ -257,12 +281,12 @@ fn per_pixel_dune_shadows_agree_with_the_shadow_map() {
         let scene = small("fig15");
         let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
         let size = Size::new(240, 160);
-        let map = dunes::render(ctx, &scene, &terrain, size, None, 0).expect("map");
+        let map = render_desert(ctx, &scene, &terrain, size, None);
         let per_pixel = DunesScene {
-            dune_shadows_per_pixel: true,
+            dune_shadows: dunes::DuneShadowMethod::Pixel,
             ..scene.clone()
         };
-        let pixel = dunes::render(ctx, &per_pixel, &terrain, size, None, 0).expect("per pixel");
+        let pixel = render_desert(ctx, &per_pixel, &terrain, size, None);
         // The same march, once sampled from a 256² map and once exact per pixel: only
         // the map's resolution shows at shadow edges.
         let diff = mean_abs_diff(&map.image, &pixel.image);
@@ -376,8 +400,7 @@ fn sand_reads_as_sand_in_figures_12_to_17() {
             .expect("simulate");
         for name in ["fig12", "fig13", "fig14", "fig15", "fig16", "fig17"] {
             let scene = dunes::preset(name).expect("preset");
-            let out =
-                dunes::render(ctx, &scene, &terrain, Size::new(720, 480), None, 0).expect("render");
+            let out = render_desert(ctx, &scene, &terrain, Size::new(720, 480), None);
             let (spread, saturation, clipped) = ground_statistics(&out.image);
             eprintln!(
                 "{name}: ground luminance spread {spread:.0}/255, saturation {saturation:.3}, \
@@ -405,19 +428,17 @@ fn frames_at(
     times: &[u32],
 ) -> Vec<image::RgbaImage> {
     let camera = dunes::default_camera(scene, terrain);
+    let mut frame = dunes::DunesFrame::new(ctx, scene.clone(), terrain).expect("frame");
+    let mut runner = sediment::frame::FrameRunner::new(ctx, size).expect("runner");
+    let views: Vec<_> = times
+        .iter()
+        .map(|&t| (camera.clone(), sediment::frame::Time::At(t)))
+        .collect();
     let mut frames = Vec::new();
-    dunes::render_times(
-        ctx,
-        scene,
-        terrain,
-        size,
-        &camera,
-        times,
-        &mut |_, image| {
-            frames.push(image);
-            Ok(())
-        },
-    )
+    sediment::frame::headless::shots(&mut runner, &mut frame, &views, &mut |_, shot| {
+        frames.push(shot.image);
+        Ok(())
+    })
     .expect("render");
     frames
 }
@@ -442,7 +463,6 @@ fn dust_cut_pixels(with: &image::RgbaImage, without: &image::RgbaImage) -> usize
 #[test]
 fn dust_is_soft_where_it_meets_the_sand_and_blows_over_time() {
     common::with_gpu(|ctx| {
-        use sediment::model::dust::DustParams;
         use sediment::model::sand::Heightfield;
         // Flat sand without ripples, so the dust's own edges are what changes from
         // pixel to pixel; every blob 3 m in radius (ripple height 1 everywhere) floats
@@ -463,36 +483,26 @@ fn dust_is_soft_where_it_meets_the_sand_and_blows_over_time() {
             },
             dune_field: flat,
         };
-        let params = DustParams {
-            count: 150,
-            ..DustParams::default()
-        };
         let scene = DunesScene {
             ripple_size: 16,
             dune_size: n,
             ripples: false,
             shadows: dunes::Shadows::None,
-            dust: Some(params.clone()),
-            sun_elevation_degrees: 10.0,
-            sun_azimuth_degrees: 270.0,
+            dust: true,
+            dust_count: 150,
+            sun_elevation: 10.0,
+            sun_azimuth: 270.0,
             ..DunesScene::default()
         };
         let size = Size::new(240, 160);
-        let render = |s: &DunesScene| {
-            dunes::render(ctx, s, &terrain, size, None, 0)
-                .expect("render")
-                .image
-        };
+        let render = |s: &DunesScene| render_desert(ctx, s, &terrain, size, None).image;
         let without = render(&DunesScene {
-            dust: None,
+            dust: false,
             ..scene.clone()
         });
         let soft = render(&scene);
         let hard = render(&DunesScene {
-            dust: Some(DustParams {
-                fade: 1e-4,
-                ..params
-            }),
+            dust_fade: 1e-4,
             ..scene.clone()
         });
         let (s, h) = (
@@ -520,7 +530,7 @@ fn dust_is_soft_where_it_meets_the_sand_and_blows_over_time() {
         let still = frames_at(
             ctx,
             &DunesScene {
-                dust: None,
+                dust: false,
                 ..scene.clone()
             },
             &terrain,
@@ -544,18 +554,14 @@ fn footprints_change_fig18_only_near_the_walk() {
         let size = Size::new(240, 160);
         // The same camera for both: the walker's-eye view of the walk.
         let camera = dunes::default_camera(&scene, &terrain);
-        let render = |s: &DunesScene| {
-            dunes::render(ctx, s, &terrain, size, Some(&camera), 0)
-                .expect("render")
-                .image
-        };
+        let render = |s: &DunesScene| render_desert(ctx, s, &terrain, size, Some(&camera)).image;
         let with = render(&scene);
         let without = render(&DunesScene {
-            footprints: None,
+            footprints: sediment::model::footprints::Walk(None),
             ..scene.clone()
         });
         // Where each print lands in the image.
-        let path = scene.footprints.clone().expect("fig18 walks");
+        let path = scene.footprints.0.clone().expect("fig18 walks");
         let vp = camera.view_proj(size.width as f32 / size.height as f32);
         let grid = sediment::model::dune_shadow::DuneGrid {
             n: scene.dune_size,

@@ -5,8 +5,8 @@
 //! back to TOML, where one would read `nan` or `inf`). `fuzz/` has cargo-fuzz targets
 //! for the same parsers (README: Tests).
 
+use sediment::frame::AnyScene;
 use sediment::model::random::Rng;
-use sediment::scene::params::{SceneParams, capture, parse, resolve};
 
 /// Replacements that have broken parsers elsewhere: non-finite, huge, tiny, negative,
 /// zero, the wrong type, long.
@@ -94,26 +94,24 @@ fn non_finite(toml: &str) -> Option<&str> {
 }
 
 /// Mutates every preset's printed scene `rounds` times each.
-fn fuzz_scene_files<P: SceneParams + serde::Serialize>(
-    name: &str,
-    presets: &[(&str, &str)],
-    rounds: usize,
-) -> (usize, usize) {
+fn fuzz_scene_files(def: &dyn AnyScene, rounds: usize) -> (usize, usize) {
+    let name = def.name();
     let mut rng = Rng::new(0x5EED ^ name.len() as u64);
     let (mut accepted, mut refused) = (0, 0);
-    for (preset, _) in presets {
-        let mut given = P::default();
-        given.set_preset(Some((*preset).to_owned()));
-        let resolved = resolve(&given, None, 1).expect("preset resolves");
-        let text = toml::to_string(&capture::<P>(&resolved).expect("capture")).expect("toml");
+    for (preset, _) in def.presets() {
+        let resolved = def
+            .resolve(Some(preset), 1, None, &[])
+            .expect("preset resolves");
+        let text = def.to_toml(&resolved).expect("toml");
         for round in 0..rounds {
             let mutated = mutate(&text, &mut rng);
-            let outcome = std::panic::catch_unwind(|| {
-                let parsed = parse::<P>(&mutated).map_err(|(_, m)| m)?;
-                let resolved = resolve(&parsed, None, 1).map_err(|e| e.to_string())?;
-                let back = capture::<P>(&resolved).map_err(|e| e.to_string())?;
-                toml::to_string(&back).map_err(|e| e.to_string())
-            });
+            // The registry's scenes are unit structs: nothing a panic could leave broken.
+            let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                let resolved = def
+                    .resolve_text(None, 1, Some(("fuzz.toml", &mutated)), &[])
+                    .map_err(|e| e.to_string())?;
+                def.to_toml(&resolved).map_err(|e| e.to_string())
+            }));
             match outcome {
                 Err(_) => panic!("{name} {preset} round {round}: panicked on\n{mutated}"),
                 Ok(Ok(captured)) => {
@@ -137,19 +135,11 @@ fn fuzz_scene_files<P: SceneParams + serde::Serialize>(
 
 #[test]
 fn mutated_scene_files_never_panic_or_smuggle_non_finite_values() {
-    use sediment::scene::{cave, dunes, grow, layers};
-    let grow = fuzz_scene_files::<grow::Params>("grow", grow::PRESETS, 200);
-    let dunes = fuzz_scene_files::<dunes::Params>("dunes", dunes::PRESETS, 200);
-    let cave = fuzz_scene_files::<cave::Params>("cave", cave::PRESETS, 200);
-    let layers = fuzz_scene_files::<layers::Params>("layers", layers::PRESETS, 200);
-    // The fuzz reaches both sides: some mutations are harmless, most are refused.
-    for (name, (a, r)) in [
-        ("grow", grow),
-        ("dunes", dunes),
-        ("cave", cave),
-        ("layers", layers),
-    ] {
-        assert!(a > 0 && r > 0, "{name}: {a} accepted, {r} refused");
+    // Every scene of the registry, 200 rounds a preset.
+    for def in sediment::scene::registry() {
+        let (a, r) = fuzz_scene_files(def, 200);
+        // The fuzz reaches both sides: some mutations are harmless, most are refused.
+        assert!(a > 0 && r > 0, "{}: {a} accepted, {r} refused", def.name());
     }
 }
 

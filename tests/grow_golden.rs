@@ -7,10 +7,29 @@ use common::Tolerance;
 use common::growth::{assert_matches, sorted_triangles};
 use common::picture::{brightest_hue_saturation, hue_distance, hue_saturation_of};
 use sediment::Size;
+use sediment::frame::{FrameRunner, Scene, Time};
 use sediment::model::speleothem::grow_reference;
 use sediment::model::speleothem::table2::Mineral;
 use sediment::render::growth::GrowthPath;
-use sediment::scene::grow::{self, GrowOutputs};
+use sediment::scene::grow::{self, GrowScene, GrowthFrame};
+
+/// A growth as `sediment grow` draws it: every pass grown in bounded submissions, then
+/// the picture from the default camera; the frame stays for reading back.
+fn grown(
+    ctx: &std::sync::Arc<sediment::gpu::Context>,
+    params: &GrowScene,
+    path: GrowthPath,
+    size: Size,
+) -> (GrowthFrame, image::RgbaImage) {
+    let model = params.speleothems().expect("scene");
+    let camera = grow::default_camera(&model.growth);
+    let mut frame = GrowthFrame::with_look(ctx, model, path).expect("frame");
+    let mut runner = FrameRunner::new(ctx, size).expect("runner");
+    let end = Time::At(u32::MAX);
+    frame.advance_to(ctx, end, &|_, _, _| {}).expect("grow");
+    let (image, _) = runner.render(&mut frame, &camera, end).expect("render");
+    (frame, image)
+}
 
 /// The default chamber's height, the scale of the presets' growth.
 const CHAMBER_HEIGHT: f32 = 2.4;
@@ -26,14 +45,13 @@ fn figure9_presets_match_their_goldens() {
         let size = Size::new(240, 160);
         for (name, _) in grow::PRESETS.iter().filter(|(n, _)| n.starts_with("fig9")) {
             let scene = grow::preset(name).expect("preset");
-            let grown = grow::grow(ctx, &scene, size, &GrowOutputs::default(), &mut |_, _| {})
-                .expect("grow");
+            let (frame, image) = grown(ctx, &scene, GrowthPath::XfbRestream, size);
             assert!(
-                grown.plan.speleothems.iter().all(|s| s.rings > 0),
+                frame.plan().speleothems.iter().all(|s| s.rings > 0),
                 "{name}: every speleothem grew"
             );
-            assert_mineral_reads_true(name, scene.params.mineral, &grown.image);
-            common::assert_golden(&format!("{name}-240x160"), &grown.image, FIG9_TOLERANCE);
+            assert_mineral_reads_true(name, scene.mineral, &image);
+            common::assert_golden(&format!("{name}-240x160"), &image, FIG9_TOLERANCE);
         }
     });
 }
@@ -44,19 +62,14 @@ fn figure9_presets_match_their_goldens() {
 fn the_holocene_preset_matches_its_golden() {
     common::with_gpu(|ctx| {
         let scene = grow::preset("holocene").expect("preset");
-        let outputs = GrowOutputs {
-            look: grow::preset_look("holocene"),
-            path: sediment::render::growth::GrowthPath::XfbAppend,
-            ..GrowOutputs::default()
-        };
-        let grown =
-            grow::grow(ctx, &scene, Size::new(240, 160), &outputs, &mut |_, _| {}).expect("grow");
-        assert_eq!(grown.plan.passes, 117, "11 700 years at 100 a pass");
-        assert!(grown.plan.speleothems.iter().all(|s| s.stop.is_none()));
-        common::assert_golden("holocene-240x160", &grown.image, FIG9_TOLERANCE);
+        let (frame, image) = grown(ctx, &scene, GrowthPath::XfbAppend, Size::new(240, 160));
+        let plan = frame.plan();
+        assert_eq!(plan.passes, 117, "11 700 years at 100 a pass");
+        assert!(plan.speleothems.iter().all(|s| s.stop.is_none()));
+        common::assert_golden("holocene-240x160", &image, FIG9_TOLERANCE);
         // The first stalagmite cut open: its dated rings as growth layers, bands of
         // 1000 years.
-        let cut = grow::cut_away_render(ctx, &grown.plan, Size::new(240, 160)).expect("cut-away");
+        let cut = grow::cut_away_render(ctx, plan, Size::new(240, 160)).expect("cut-away");
         common::assert_golden("holocene-cut-away-240x160", &cut, FIG9_TOLERANCE);
     });
 }
@@ -96,19 +109,33 @@ fn frames_of_a_growth_end_in_the_final_frame_and_change() {
     common::with_gpu(|ctx| {
         let scene = grow::preset("fig9c").expect("preset");
         let size = Size::new(120, 80);
-        let outputs = GrowOutputs {
-            frame_every: Some(4),
-            mesh: true,
-            ..GrowOutputs::default()
-        };
-        let grown = grow::grow(ctx, &scene, size, &outputs, &mut |_, _| {}).expect("grow");
+        let model = scene.speleothems().expect("scene");
+        let camera = grow::default_camera(&model.growth);
+        let mut frame = GrowthFrame::with_look(ctx, model, GrowthPath::XfbRestream).expect("frame");
+        let mut runner = FrameRunner::new(ctx, size).expect("runner");
         // Base rings, then every 4 passes: 1 + ceil(30 / 4) frames.
-        assert_eq!(grown.frames.len(), 1 + scene.passes.div_ceil(4) as usize);
-        let last = grown.frames.last().expect("frames");
-        assert_eq!(last.as_raw(), grown.image.as_raw());
-        assert_ne!(grown.frames[0].as_raw(), last.as_raw(), "growth shows");
-        let mesh = grown.mesh.expect("mesh read back");
-        let reference = grow_reference(&grown.plan, scene.passes);
+        let views: Vec<_> = (0..=scene.passes.div_ceil(4))
+            .map(|k| (camera.clone(), Time::At((4 * k).min(scene.passes))))
+            .collect();
+        let mut frames = Vec::new();
+        sediment::frame::headless::shots(&mut runner, &mut frame, &views, &mut |_, shot| {
+            frames.push(shot.image);
+            Ok(())
+        })
+        .expect("frames");
+        assert_eq!(frames.len(), 1 + scene.passes.div_ceil(4) as usize);
+        let (still, _) = runner
+            .render(&mut frame, &camera, Time::At(u32::MAX))
+            .expect("still");
+        let last = frames.last().expect("frames");
+        assert_eq!(
+            last.as_raw(),
+            still.as_raw(),
+            "the last frame is the picture"
+        );
+        assert_ne!(frames[0].as_raw(), last.as_raw(), "growth shows");
+        let mesh = frame.read_back(ctx).expect("mesh read back");
+        let reference = grow_reference(frame.plan(), scene.passes);
         assert_matches("fig9c read back", &mesh, &reference, CHAMBER_HEIGHT);
     });
 }
@@ -121,26 +148,22 @@ fn the_append_only_growth_renders_the_restreamed_frames() {
         let size = Size::new(240, 160);
         for name in ["fig9f", "fig9g"] {
             let scene = grow::preset(name).expect("preset");
-            let outputs = GrowOutputs {
-                path: GrowthPath::XfbAppend,
-                mesh: true,
-                ..GrowOutputs::default()
-            };
-            let grown = grow::grow(ctx, &scene, size, &outputs, &mut |_, _| {}).expect("grow");
-            let mesh = grown.mesh.expect("mesh");
+            let (frame, image) = grown(ctx, &scene, GrowthPath::XfbAppend, size);
+            let mesh = frame.read_back(ctx).expect("mesh");
+            let plan = frame.plan();
             assert_eq!(
                 mesh.len(),
-                *sediment::model::speleothem::vertex_counts(&grown.plan)
+                *sediment::model::speleothem::vertex_counts(plan)
                     .last()
                     .expect("passes") as usize
             );
             assert_matches(
                 &format!("{name} append-only read back"),
                 &sorted_triangles(&mesh),
-                &sorted_triangles(&grow_reference(&grown.plan, grown.plan.passes)),
+                &sorted_triangles(&grow_reference(plan, plan.passes)),
                 CHAMBER_HEIGHT,
             );
-            common::assert_golden(&format!("{name}-240x160"), &grown.image, FIG9_TOLERANCE);
+            common::assert_golden(&format!("{name}-240x160"), &image, FIG9_TOLERANCE);
         }
     });
 }

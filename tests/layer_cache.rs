@@ -11,7 +11,10 @@ use sediment::scene::grow;
 
 #[test]
 fn the_rock_copied_in_gives_the_picture_it_drawn_gave() {
-    let scene = grow::preset("fig9g").expect("preset");
+    let scene = grow::preset("fig9g")
+        .expect("preset")
+        .growth_scene()
+        .expect("growth");
     let ctx = common::gpu_temporal();
     let camera = grow::default_camera(&scene);
     let mut frame = grow::GrowthFrame::new(&ctx, scene, GrowthPath::XfbAppend).expect("scene");

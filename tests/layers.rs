@@ -17,7 +17,7 @@ const CUT_AWAY_TOLERANCE: Tolerance = Tolerance { mean: 1.0, p99: 16 };
 #[test]
 fn drying_section_matches_its_golden_and_lists_every_layer() {
     let setup = layers::preset("drying").expect("preset");
-    let (s, unit) = setup.grow().expect("grow");
+    let (s, unit) = setup.setup().expect("setup").grow().expect("grow");
     let style = SectionStyle {
         colouring: Colouring::Age,
         unit,
@@ -38,6 +38,8 @@ fn drying_section_matches_its_golden_and_lists_every_layer() {
 fn timeline_section_has_a_scale_bar_in_millimetres() {
     let (s, unit) = layers::preset("timeline")
         .expect("preset")
+        .setup()
+        .expect("setup")
         .grow()
         .expect("grow");
     assert_eq!(unit.as_deref(), Some("mm"));
@@ -59,15 +61,13 @@ fn cut_away_matches_its_golden() {
     common::with_gpu(|ctx| {
         let (s, _) = layers::preset("drying")
             .expect("preset")
+            .setup()
+            .expect("setup")
             .grow()
             .expect("grow");
         let cut = layers::cut_away(&s, 18);
         assert!(!cut.light.indices.is_empty() && !cut.dark.indices.is_empty());
-        let frame = layers::render(ctx, &cut, Size::new(240, 160), None).expect("render");
-        common::assert_golden(
-            "layers-drying-cutaway-240x160",
-            &frame.image,
-            CUT_AWAY_TOLERANCE,
-        );
+        let image = layers::picture(ctx, &cut, Size::new(240, 160)).expect("render");
+        common::assert_golden("layers-drying-cutaway-240x160", &image, CUT_AWAY_TOLERANCE);
     });
 }

@@ -300,7 +300,7 @@ fn dunes_and_layers_export_textured_and_named() {
     assert_eq!(field.positions().len(), 33 * 33);
 
     let svg = s(&dir.join("l.svg"));
-    let (glb, _, _) = exported(&dir, "l.glb", &["layers", "--rep", "60", "-o", &svg]);
+    let (glb, _, _) = exported(&dir, "l.glb", &["layers", "--rep", "60", "--section", &svg]);
     assert_eq!(
         glb.names(),
         [

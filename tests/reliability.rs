@@ -68,7 +68,7 @@ fn an_output_that_is_an_input_is_refused() {
     let b = base.to_string_lossy().into_owned();
     let svg = dir.join("s.svg").to_string_lossy().into_owned();
     refused(
-        &["layers", "--base", &b, "--csv", &b, "-o", &svg],
+        &["layers", "--base", &b, "--csv", &b, "--section", &svg],
         "also an input",
     );
     assert_eq!(
@@ -117,25 +117,25 @@ fn messages_name_the_real_cause_once_and_cut_long_input() {
     .expect("csv");
     let supply = format!("timeline:{}", s("nan.csv"));
     refused(
-        &["layers", "--supply", &supply, "-o", &s("l.svg")],
+        &["layers", "--supply", &supply, "--section", &s("l.svg")],
         "line 2: the year NaN",
     );
     // More than 1000 steps says so.
     let steps = format!("steps:{}", vec!["1"; 1200].join(","));
     refused(
-        &["layers", "--supply", &steps, "-o", &s("l.svg")],
+        &["layers", "--supply", &steps, "--section", &s("l.svg")],
         "at most 1000 factors, not 1200",
     );
     // --section-size is named as itself, not as --size.
     let err = refused(
-        &["layers", "--section-size", "0x0", "-o", &s("l.svg")],
+        &["layers", "--section-size", "0x0", "--section", &s("l.svg")],
         "--section-size",
     );
     assert!(!err.contains("for --size"), "{err}");
     // `-inf` is a value, refused for what it is (was "unexpected argument '-i'").
     refused(
         &["grow", "--wind-direction", "-inf", "-o", &s("g.png")],
-        "finite degrees",
+        "not a finite number",
     );
     // A 5000-character preset name is cut when echoed.
     let long = "x".repeat(5000);
@@ -161,7 +161,7 @@ fn messages_name_the_real_cause_once_and_cut_long_input() {
             "layers",
             "--supply",
             &format!("timeline:{missing}"),
-            "-o",
+            "--section",
             &s("l.svg"),
         ],
         "none.csv",
@@ -304,7 +304,7 @@ fn an_animation_holds_one_frame_not_all_of_them() {
         "23",
         "--count",
         "2",
-        "--growth",
+        "--growth-path",
         "append",
     ];
     let mut without = common.to_vec();
@@ -347,10 +347,14 @@ fn a_dune_animation_streams_its_frames_too() {
     for (name, dust) in [("forming.gif", false), ("dust.gif", true)] {
         let gif = s(name);
         let mut args = field.to_vec();
+        // Without dust the desert forming is the animation (`--forming`); with it, the
+        // dust blowing (`--gif`).
         if dust {
-            args.push("--dust");
+            args.extend(["--dust", "--gif"]);
+        } else {
+            args.push("--forming");
         }
-        args.extend(["--gif", &gif, "--gif-frames", "24"]);
+        args.extend([gif.as_str(), "--gif-frames", "24"]);
         let animated = peak_rss_mb(&args);
         eprintln!("{name}: peak {animated:.0} MB against {base:.0} MB for the still");
         assert!(
@@ -425,11 +429,11 @@ fn a_frame_over_the_memory_budget_is_refused_and_the_estimate_holds() {
         err.contains("reduce --size (at most about 9459x9459") && err.contains("--samples"),
         "{err}"
     );
-    // The gallery also keeps its flythrough's frames: budgeted with them, before the
-    // output folder is made.
+    // The gallery streams its animations frame by frame: its frame is budgeted, before
+    // the output folder is made.
     refused(
-        &["demo", "--size", "8000x8000", "--out", &s("gallery")],
-        "25-frame flythrough",
+        &["demo", "--size", "16384x16384", "--out", &s("gallery")],
+        "memory budget",
     );
     assert!(std::fs::read_dir(&dir).expect("dir").next().is_none());
     // The estimate is an upper bound on what a frame really costs: the peak of a

@@ -16,8 +16,10 @@ fn rock_frame_matches_golden_and_is_deterministic() {
     common::with_gpu(|ctx| {
         let scene = rock::RockScene::new(1);
         let size = Size::new(360, 240);
-        let a = rock::render(ctx, &scene, size).expect("render");
-        let b = rock::render(ctx, &scene, size).expect("render again");
+        let a = sediment::frame::headless::picture(ctx, &rock::RockDef, scene.clone(), size)
+            .expect("render");
+        let b = sediment::frame::headless::picture(ctx, &rock::RockDef, scene.clone(), size)
+            .expect("render again");
         assert_eq!(a.image.as_raw(), b.image.as_raw(), "same seed, same bytes");
         assert!(
             a.gpu_spans
@@ -31,7 +33,9 @@ fn rock_frame_matches_golden_and_is_deterministic() {
         assert_ne!(centre, corner, "something is drawn in the middle");
         common::assert_golden("rock-seed1-360x240", &a.image, ROCK_TOLERANCE);
 
-        let other = rock::render(ctx, &rock::RockScene::new(2), size).expect("seed 2");
+        let other =
+            sediment::frame::headless::picture(ctx, &rock::RockDef, rock::RockScene::new(2), size)
+                .expect("seed 2");
         assert_ne!(
             a.image.as_raw(),
             other.image.as_raw(),

@@ -18,7 +18,10 @@ use sediment::scene::grow;
 /// Fig. 9g grown and drawn under temporal anti-aliasing with the error bound `lod`
 /// (0: off): its picture (the mean of 16 frames) and the frame.
 fn fig9g(lod: f32) -> (image::RgbaImage, grow::GrowthFrame) {
-    let scene = grow::preset("fig9g").expect("preset");
+    let scene = grow::preset("fig9g")
+        .expect("preset")
+        .growth_scene()
+        .expect("growth");
     let ctx = common::gpu_temporal();
     let camera = grow::default_camera(&scene);
     let mut frame = grow::GrowthFrame::new(&ctx, scene, GrowthPath::XfbAppend).expect("scene");

@@ -29,7 +29,7 @@ use glam::Vec3;
 use crate::Size;
 use crate::camera::{Camera, Jitter};
 use crate::error::{Error, Result};
-use crate::frame::{Frame, FrameRunner};
+use crate::frame::{AnyScene, Frame, FrameRunner};
 use crate::gpu::{Context, GpuTimer, OffscreenTarget, Span, TargetFormat};
 use crate::render::sky::SkyPass;
 use crate::stats::Stats;
@@ -46,8 +46,12 @@ pub const PAGE_FAULTS: &str = "page_faults_per_frame";
 
 /// The scenes `sediment bench` times, and each one's variants (from the registry).
 pub fn scenes() -> Vec<(&'static str, &'static [&'static str])> {
-    crate::scene::registry()
-        .iter()
+    scenes_of(&crate::scene::registry())
+}
+
+/// The scenes of `list` the bench times, and each one's variants.
+pub fn scenes_of(list: &[&'static dyn AnyScene]) -> Vec<(&'static str, &'static [&'static str])> {
+    list.iter()
         .filter_map(|k| k.bench().map(|b| (k.name(), b.variants())))
         .collect()
 }
@@ -75,7 +79,12 @@ pub struct BenchOptions {
 impl BenchOptions {
     /// Refuses unknown scenes or variants and counts out of range, naming them.
     pub fn validate(&self) -> Result<()> {
-        let known = scenes();
+        self.validate_for(&crate::scene::registry())
+    }
+
+    /// [`BenchOptions::validate`] against the scenes of `list`.
+    pub fn validate_for(&self, list: &[&'static dyn AnyScene]) -> Result<()> {
+        let known = scenes_of(list);
         for s in &self.scenes {
             if !known.iter().any(|(name, _)| name == s) {
                 return Err(Error::invalid(
@@ -112,13 +121,23 @@ impl BenchOptions {
     }
 }
 
-/// Runs the bench; `progress(what)` names each series as it starts.
+/// Runs the bench over the registry; `progress(what)` names each series as it starts.
 pub fn run(
     ctx: &Arc<Context>,
     opts: &BenchOptions,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Report> {
-    opts.validate()?;
+    run_scenes(ctx, opts, &crate::scene::registry(), progress)
+}
+
+/// [`run`] over the scenes of `list` (a program's own scenes).
+pub fn run_scenes(
+    ctx: &Arc<Context>,
+    opts: &BenchOptions,
+    list: &[&'static dyn AnyScene],
+    progress: &mut dyn FnMut(&str),
+) -> Result<Report> {
+    opts.validate_for(list)?;
     let info = ctx.info();
     let mut report = Report {
         meta: Meta {
@@ -144,7 +163,7 @@ pub fn run(
     let mut floor_pass = FloorPass::new(ctx, opts.size)?;
     report.floor = floor(ctx, opts, &mut floor_pass)?;
     let mut runner = FrameRunner::new(ctx, opts.size)?;
-    let mut kinds = crate::scene::registry();
+    let mut kinds = list.to_vec();
     if opts.reversed {
         kinds.reverse();
     }

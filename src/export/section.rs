@@ -40,6 +40,16 @@ impl std::str::FromStr for Colouring {
     }
 }
 
+impl std::fmt::Display for Colouring {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Plain => "none",
+            Self::Age => "age",
+            Self::Supply => "supply",
+        })
+    }
+}
+
 /// What the picture shows.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SectionStyle {

@@ -3,15 +3,17 @@
 //! and time by `set_frame`, recorded into a target — and one [`FrameRunner`] owns the
 //! target, the GPU timers, warm-up, timed repeats and read-back. The headless commands,
 //! `bench`, `demo` and `view` all draw through it; what each scene offers them (its
-//! presets, gallery pictures and bench variants) is its [`SceneKind`] in the registry
-//! (`scene::registry`).
+//! parameters, presets, gallery pictures and bench variants) is its [`SceneDef`] in
+//! the registry (`scene::registry`).
 //!
 //! ```text
 //! parameters (scene::<x>) -> model -> Scene (scene::<x>::frame, passes from render)
 //!     -> FrameRunner (target, timers, warm-up, repeats, read-back) -> outputs (export)
 //! ```
 
+pub mod headless;
 pub mod layer_cache;
+pub mod plugin;
 mod runner;
 pub mod supersample;
 pub mod temporal;
@@ -19,6 +21,7 @@ pub mod temporal;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
+pub use plugin::{AnyScene, GalleryShot, OutputDef, Progress, SceneDef};
 pub use runner::{Frame, FrameRunner};
 
 use crate::Size;
@@ -93,6 +96,21 @@ pub trait Scene {
     fn message(&self) -> &str {
         ""
     }
+    /// Work before the frame that shows `time` (a growth's passes), done in bounded
+    /// submissions with `progress`; the GPU time it took, as named spans.
+    fn advance_to(
+        &mut self,
+        _ctx: &Arc<Context>,
+        _time: Time,
+        _progress: Progress<'_>,
+    ) -> Result<Vec<Span>> {
+        Ok(Vec::new())
+    }
+    /// A caption for the frame just set (an animation's calendar year); none by
+    /// default.
+    fn label(&self) -> Option<String> {
+        None
+    }
     /// What the scene shows as a file's asset (named parts, materials, metres), for
     /// `--mesh`; `None` for a scene with nothing to export.
     fn asset(&self, _ctx: &Arc<Context>, _title: &str) -> Result<Option<Asset>> {
@@ -135,19 +153,6 @@ impl Shot {
             extras: Vec::new(),
         }
     }
-}
-
-/// Renders one gallery picture at a size with a seed.
-pub type RenderFn = Box<dyn Fn(&Arc<Context>, Size, u64) -> Result<Shot>>;
-
-/// One picture of the demo gallery.
-pub struct GalleryEntry {
-    /// File stem of the PNG.
-    pub name: &'static str,
-    /// One line on what the picture shows.
-    pub description: &'static str,
-    /// Renders the picture at the demo's `--size` and `--seed`.
-    pub render: RenderFn,
 }
 
 /// How `sediment bench` times a scene: its variants, each a scene to draw frames of.
@@ -213,20 +218,4 @@ pub struct PaperRatio {
     pub paper_ratio: f64,
     /// The same ratio measured in this run.
     pub ours: f64,
-}
-
-/// What a scene offers the instruments: its presets, its gallery pictures and how the
-/// bench times it. One line of `scene::registry` per scene.
-pub trait SceneKind: Sync {
-    /// The scene's name ("rock", "grow", "dunes", "cave", "layers"): what `sediment bench`
-    /// selects scenes by and its report names them by.
-    fn name(&self) -> &'static str;
-    /// Presets (name, what it shows).
-    fn presets(&self) -> &'static [(&'static str, &'static str)];
-    /// Its pictures in the demo gallery.
-    fn gallery(&self) -> Vec<GalleryEntry>;
-    /// How `sediment bench` times it (`None`: the bench does not).
-    fn bench(&self) -> Option<Box<dyn BenchScene>> {
-        None
-    }
 }

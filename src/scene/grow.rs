@@ -6,27 +6,24 @@ pub mod bench;
 mod chamber;
 pub mod export;
 pub mod frame;
-pub mod headless;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::camera::{Camera, Jitter};
 
-use super::camera::CameraOptions;
-
 use crate::render::lighting::Lighting;
 
-use super::params::{SceneParams, Way};
 use crate::error::{Error, Result};
 use crate::model::speleothem::climate;
 pub use crate::model::speleothem::plan::GrowthScene;
-use crate::model::speleothem::plan::{GrowthParams, ParamChange, StepMode};
+use crate::model::speleothem::plan::{GrowthParams, GrowthUnits, ParamChange, StepMode};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
+use crate::params::{Point3, check};
+use crate::render::growth::GrowthPath;
 use crate::render::tone_map::ToneMap;
 pub use export::{cut_away_render, export_asset, export_parts, write_rings_csv};
-pub use frame::GrowthFrame;
-pub use headless::{GrowOutputs, Grown, grow, grow_streaming};
+pub use frame::{GrowDef, GrowthFrame};
 
 /// Names of the Figure 9 presets, with what each shows.
 pub const PRESETS: &[(&str, &str)] = &[
@@ -53,32 +50,27 @@ pub const PRESETS: &[(&str, &str)] = &[
     ),
 ];
 
-/// The growth scene of a Figure 9 preset.
-pub fn preset(name: &str) -> Result<GrowthScene> {
-    let base = GrowthScene::default();
-    let manual = |pil, drip, co2, mineral| GrowthScene {
-        params: GrowthParams {
-            pil,
-            drip,
-            co2,
-            mineral,
-            ..GrowthParams::default()
-        },
+/// The parameters of a Figure 9 preset (or `holocene`).
+pub fn preset(name: &str) -> Result<GrowScene> {
+    let base = GrowScene::default();
+    let manual = |pil, drip, co2, mineral| GrowScene {
+        pil,
+        drip,
+        co2,
+        mineral,
         ..base.clone()
     };
-    let random = |pil, mineral, count| GrowthScene {
+    let random = |pil, mineral, count| GrowScene {
         count,
         passes: 30,
         // A taller chamber, so that not every pair meets in a column.
-        ceiling_y: 3.0,
-        mode: StepMode::Random { jitter: 0.5 },
-        params: GrowthParams {
-            pil,
-            mineral,
-            // Random mode draws the wind direction per ring (Fig. 7).
-            wind_intensity: 0.3,
-            ..GrowthParams::default()
-        },
+        chamber_height: 3.0,
+        mode: ModeName::Random,
+        jitter: 0.5,
+        pil,
+        mineral,
+        // Random mode draws the wind direction per ring (Fig. 7).
+        wind: 0.3,
         ..base.clone()
     };
     use DripInterval as D;
@@ -93,32 +85,272 @@ pub fn preset(name: &str) -> Result<GrowthScene> {
         "fig9c" => manual(Pil::Stalactites, D::Standard, Co2::Low, Mineral::Calcareous),
         "fig9d" => manual(Pil::Stalactites, D::Standard, Co2::High, Mineral::Iron),
         "fig9e" => manual(Pil::Dripping, D::Dry, Co2::Normal, Mineral::Iron),
-        "fig9f" => GrowthScene {
+        "fig9f" => GrowScene {
             passes: 24,
             ..manual(Pil::Dripping, D::Standard, Co2::High, Mineral::Calcareous)
         },
         "fig9g" => random(Pil::Dripping, Mineral::Iron, 12),
         "fig9h" => random(Pil::Dripping, Mineral::Malachite, 9),
-        // Beyond the paper: the same rings with their steps from a climate record.
-        "holocene" => GrowthScene {
+        // Beyond the paper: the same rings with their steps from a climate record,
+        // coloured by age; its 117 passes on the append-only path (the same mesh,
+        // tests/ring_growth.rs), whose passes cost O(one ring) rather than O(mesh).
+        "holocene" => GrowScene {
             count: 6,
-            climate: Some(climate::load("holocene", 1e-4, 100.0)?),
-            passes: 117,
+            climate: Some("holocene".to_owned()),
+            color: ColorBy::Age,
+            growth_path: Some(GrowthPath::XfbAppend),
             ..base.clone()
         },
         other => return Err(Error::unknown_preset(other, PRESETS)),
     })
 }
 
-/// How a preset is shaded: the climate's coloured by age, the others by mineral.
-pub fn preset_look(name: &str) -> Look {
-    match name {
-        "holocene" => Look {
-            color: ColorBy::Age,
-            ..Look::default()
-        },
-        _ => Look::default(),
+crate::params! {
+    /// Everything that fixes a growth picture (Tortelli & Walter 2009): the sites,
+    /// Table 2's parameters and their changes, the units, the chamber, the growth path
+    /// and how the speleothems are shaded. Lengths are in scene units (metres with a
+    /// climate record).
+    pub struct GrowScene {
+        /// The seed of every random choice (scene files; on the command line the global
+        /// --seed).
+        [growth, "Growth"] seed: u64 = 1, "", "", check::any();
+        /// Sites to place from the seed: each a stalactite, plus a stalagmite below it at
+        /// PIL 2.
+        [growth, "Growth"] count: u32 = 9, "N", "", check::within(1..=256);
+        /// Growth passes, one ring each (a climate record sets its own).
+        [growth, "Growth"] passes: u32 = 30, "N", "", check::within(1..=512);
+        /// Segments per ring.
+        [growth, "Growth"] segments: u32 = 32, "N", "", check::within(3..=128);
+        /// manual: exactly the Table 2 row of pil/drip/co2 every pass; random: each pass
+        /// draws the row at random and jitters the steps by `jitter`.
+        [growth, "Growth"] mode: ModeName = ModeName::Manual, "manual|random", "", check::any();
+        /// Random mode's step jitter, a fraction.
+        [growth, "Growth"] jitter: f32 = 0.5, "F", "", check::within(0.0..=0.9);
+        /// Pluviometric index level: 0 no growth, 1 stalactites only, 2 dripping
+        /// (stalagmites below the stalactites).
+        [growth, "Table 2"] pil: Pil = Pil::Stalactites, "0|1|2", "", check::any();
+        /// Drip interval (the stalagmites' radius): dry (narrows), standard, wet
+        /// (widens).
+        [growth, "Table 2"] drip: DripInterval = DripInterval::Standard, "dry|standard|wet", "", check::any();
+        /// Calcium/CO2 concentration (the height step x1/x2/x3): low, normal, high.
+        [growth, "Table 2"] co2: Co2 = Co2::Normal, "low|normal|high", "", check::any();
+        /// Wind intensity wi (displaces each new ring by wi x 0.02 units).
+        [growth, "Table 2"] wind: f32 = 0.0, "F", "", check::within(0.0..=1.0);
+        /// Wind direction, from +x toward +z. Manual mode only: random mode draws a
+        /// direction for every new ring (the paper's Fig. 7).
+        [growth, "Table 2"] wind_direction: f32 = 0.0, "DEG", "degrees", check::any();
+        /// Mineral colour (Table 1): calcareous, iron, manganese, copper, malachite.
+        [growth, "Table 1"] mineral: Mineral = Mineral::Calcareous, "NAME", "", check::any();
+        /// How strongly the mineral colours the calcite.
+        [growth, "Table 1"] mineral_intensity: f32 = 0.8, "F", "", check::within(0.0..=1.0);
+        /// Grow from a climate record instead of Table 2: holocene (the synthetic
+        /// record sediment ships, examples/holocene.csv) or a timeline CSV (rows of
+        /// calendar year, temperature C, drip interval s, excess Ca mol/m^3, as `layers`
+        /// reads). Each pass is `years_per_pass` years; stalagmites rise by Kaufmann's W0
+        /// and widen or narrow toward R0; straws lengthen at W0. Sets the passes; scene
+        /// units are metres; none: Table 2.
+        [growth, "Climate"] climate: Option<String> = None, "holocene|FILE.csv", "", check::any();
+        /// Years per growth pass with a climate record; the record's span must be
+        /// 1..=512 passes.
+        [growth, "Climate"] years_per_pass: f64 = 100.0, "YEARS", "years", check::above(0.0);
+        /// Water-film thickness with a climate record.
+        [growth, "Climate"] film: f64 = 0.1, "MM", "mm", check::one_of(&[0.1, 0.075, 0.05]);
+        /// The growth path: restream (the paper's GS/XFB pass, the whole mesh through
+        /// the geometry shader every pass), append (only the growth front through the
+        /// same shader, new bands appended by resuming the transform-feedback counter:
+        /// O(one ring) a pass), compute (the same pass as a compute shader) or cpu (the
+        /// CPU reference, uploaded). All give the same mesh. None: restream for
+        /// pictures, append in the viewer.
+        [growth, "Growth"] growth_path: Option<GrowthPath> = None, "restream|append|compute|cpu", "", check::any();
+        /// Initial ring radius irr.
+        [units, "Units"] radius: f32 = 0.09, "UNITS", "scene units", check::above(0.0);
+        /// Table 2's "x1" radius step.
+        [units, "Units"] radius_unit: f32 = 0.006, "UNITS", "scene units", check::above(0.0);
+        /// Table 2's "x1" height step.
+        [units, "Units"] height_unit: f32 = 0.035, "UNITS", "scene units", check::above(0.0);
+        /// kf of the flank displacement vd = kf * arr / irr.
+        [units, "Units"] kf: f32 = 0.02, "UNITS", "scene units", check::at_least(0.0);
+        /// Chance per pass that a drop solidifies on the flank while CO2 is low.
+        [units, "Units"] flank_rate: f32 = 0.3, "P", "", check::within(0.0..=1.0);
+        /// Horizontal thickening per pass after vertical growth stopped.
+        [units, "Units"] thicken: f32 = 0.0012, "UNITS", "scene units", check::at_least(0.0);
+        /// Metres per scene unit in an exported mesh (1: the chamber is 2.4 m high and a
+        /// ring starts 9 cm wide, a cave chamber's size).
+        [units, "Units"] unit_scale: f32 = 1.0, "M", "m", check::above_to(0.0, 1000.0);
+        /// Height of the chamber, floor to ceiling.
+        [chamber, "Chamber"] chamber_height: f32 = 2.4, "UNITS", "scene units", check::within(0.2..=100.0);
+        /// Sites are spread over -extent..extent in x and z.
+        [chamber, "Chamber"] chamber_extent: f32 = 1.2, "UNITS", "scene units", check::within(0.1..=100.0);
+        /// Tone mapping: ashikhmin (Ashikhmin 2002's global operator, as the paper
+        /// cites), aces (a filmic curve) or reinhard.
+        [look, "Look"] tonemap: ToneMap = ToneMap::Ashikhmin, "ashikhmin|aces|reinhard", "", check::any();
+        /// Exposure before tone mapping.
+        [look, "Look"] exposure: f32 = 1.0, "F", "", check::above_to(0.0, 64.0);
+        /// Normal-map strength (the calcite's ruggedness); 0 is smooth.
+        [look, "Look"] bump: f32 = 1.0, "F", "", check::within(0.0..=4.0);
+        /// Strength of the environment-mapped reflection of the chamber (the wet film);
+        /// 0 turns it off.
+        [look, "Look"] environment: f32 = 1.0, "F", "", check::within(0.0..=4.0);
+        /// The lamp's colour: neutral (white: the minerals show their own colours) or
+        /// warm.
+        [look, "Look"] lamp: Lamp = Lamp::Neutral, "neutral|warm", "", check::any();
+        /// What colours the speleothems: mineral (Table 1's colour over white calcite)
+        /// or age (each ring by its date, oldest dark brown to newest pale, times the
+        /// mineral's colour; with a climate record the dates are years).
+        [look, "Look"] color: ColorBy = ColorBy::Mineral, "mineral|age", "", check::any();
+        /// One growth pass every K frames in the viewer (`[` and `]` change it).
+        [view, "Viewer"] every: u32 = 1, "K", "frames", check::within(1..=120);
+        /// Far speleothems with fewer segments in the viewer: with the append-only
+        /// growth, each is drawn with every 2nd or 4th segment where that polygon stays
+        /// within this many pixels of the full one; 0: the capture as it is.
+        [view, "Viewer"] speleothem_lod: f32 = crate::render::speleothem_lod::DEFAULT_MAX_ERROR_PX, "PIXELS", "pixels", check::within(0.0..=4.0);
+        /// Parameter changes from a given pass on: `[[change]]` tables of `pass` and any
+        /// of `pil`, `drip`, `co2`, `wind`, `wind_direction` (scene files only).
+        [top, "Growth"] change: Vec<ChangeOptions> = Vec::new(), "", "", check::any();
+        /// Camera position x,y,z in scene units, the chamber's floor at y = 0;
+        /// default: in front of the chamber.
+        [camera, "Camera"] eye: Option<Point3> = None, "X,Y,Z", "scene units", check::any();
+        /// The point the camera looks at.
+        [camera, "Camera"] target: Option<Point3> = None, "X,Y,Z", "scene units", check::any();
     }
+    validate = GrowScene::check_growth;
+}
+
+crate::text_param!(
+    ModeName,
+    Lamp,
+    ColorBy,
+    Pil,
+    DripInterval,
+    Co2,
+    Mineral,
+    ToneMap,
+    GrowthPath
+);
+crate::serde_param!(Vec<ChangeOptions>);
+
+impl GrowScene {
+    /// The growth model's scene: the chamber, the sites, Table 2's parameters, their
+    /// changes and units, or the climate record (read here).
+    pub fn growth_scene(&self) -> Result<GrowthScene> {
+        let d = GrowthScene::default();
+        let mut s = GrowthScene {
+            seed: self.seed,
+            count: self.count,
+            passes: self.passes,
+            segments: self.segments,
+            mode: match self.mode {
+                ModeName::Manual => StepMode::Manual,
+                ModeName::Random => StepMode::Random {
+                    jitter: self.jitter,
+                },
+            },
+            params: GrowthParams {
+                pil: self.pil,
+                drip: self.drip,
+                co2: self.co2,
+                wind_direction_degrees: self.wind_direction,
+                wind_intensity: self.wind,
+                mineral: self.mineral,
+                mineral_intensity: self.mineral_intensity,
+            },
+            changes: self
+                .change
+                .iter()
+                .map(|c| ParamChange {
+                    pass: c.pass,
+                    pil: c.pil,
+                    drip: c.drip,
+                    co2: c.co2,
+                    wind_direction_degrees: c.wind_direction,
+                    wind_intensity: c.wind,
+                })
+                .collect(),
+            units: GrowthUnits {
+                initial_radius: self.radius,
+                radius_unit: self.radius_unit,
+                height_unit: self.height_unit,
+                flank_scale: self.kf,
+                flank_rate: self.flank_rate,
+                thicken_rate: self.thicken,
+                ..d.units
+            },
+            floor_y: 0.0,
+            ceiling_y: self.chamber_height,
+            extent: self.chamber_extent,
+            ..d
+        };
+        s.changes.sort_by_key(|c| c.pass);
+        if let Some(source) = &self.climate {
+            s.climate = Some(climate::load(
+                source,
+                self.film * 1e-3,
+                self.years_per_pass,
+            )?);
+            s.passes = s.passes();
+        }
+        Ok(s)
+    }
+
+    /// How the speleothems are shaded.
+    pub fn look(&self) -> Look {
+        Look {
+            tonemap: self.tonemap,
+            exposure: self.exposure,
+            bump: self.bump,
+            environment: self.environment,
+            lamp: self.lamp,
+            color: self.color,
+        }
+    }
+
+    /// The growth and its look, as the frame takes them.
+    pub fn speleothems(&self) -> Result<SpeleothemScene> {
+        Ok(SpeleothemScene {
+            growth: self.growth_scene()?,
+            look: self.look(),
+        })
+    }
+
+    /// The checks across parameters: a record's years and film only with a record, and
+    /// the growth's own (its changes, units, chamber, a record's span in passes).
+    fn check_growth(&self) -> Result<()> {
+        let d = GrowScene::default();
+        if self.climate.is_none() {
+            for (key, given) in [
+                ("years_per_pass", self.years_per_pass != d.years_per_pass),
+                ("film", self.film != d.film),
+            ] {
+                if given {
+                    return Err(Error::invalid(key, "applies only with a climate record"));
+                }
+            }
+        }
+        self.growth_scene()?.validate()
+    }
+}
+
+/// One `[[change]]`: parameters in force from `pass` on.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChangeOptions {
+    /// The first pass the change applies to, counted from 0, below `passes`.
+    pub pass: u32,
+    /// The pluviometric index level from then on (0, 1, 2); none: unchanged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pil: Option<Pil>,
+    /// The drip interval from then on (dry, standard, wet); none: unchanged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drip: Option<DripInterval>,
+    /// The CO2 concentration from then on (low, normal, high); none: unchanged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub co2: Option<Co2>,
+    /// The wind intensity wi from then on, 0..=1; none: unchanged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wind: Option<f32>,
+    /// The wind direction from then on, degrees from +x toward +z; none: unchanged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wind_direction: Option<f32>,
 }
 
 /// The camera that frames the chamber from the front, slightly below mid-height (with a
@@ -346,352 +578,24 @@ impl std::fmt::Display for ModeName {
     }
 }
 
-crate::serde_as_text!(ModeName);
-
-/// The growth scene's parameters: `sediment grow` and `view grow` options, and the
-/// scene file (`[growth]`, `[units]`, `[[change]]`, `[camera]`):
-///
-/// ```toml
-/// preset = "fig9g"          # optional starting point
-/// [growth]
-/// count = 12                # sites (each a stalactite, and a stalagmite at PIL 2)
-/// passes = 40
-/// pil = 2                   # 0, 1, 2
-/// co2 = "normal"            # low, normal, high
-/// mineral = "iron"
-/// [units]
-/// radius = 0.09             # initial ring radius, scene units
-/// [[change]]                # from pass 20 on (file only)
-/// pass = 20
-/// co2 = "low"
-/// [camera]
-/// eye = [0.0, 1.3, 5.0]
-/// ```
-#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Params {
-    /// Start from a reproduction of a panel of the paper's Figure 9: fig9a (random
-    /// stalactites), fig9b/c/d (stalactites, normal/low/high CO2), fig9e (stalagmites,
-    /// dry drip), fig9f (columns), fig9g/fig9h (random, iron/malachite); beyond the
-    /// paper, holocene (six sites grown from the shipped climate record, coloured by
-    /// age). Default: none
-    /// (9 stalactites, manual mode, PIL 1, standard drip, normal CO2, calcareous).
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-    /// Sites, passes, Table 2's parameters, wind, mineral and climate (`[growth]`).
-    #[command(flatten)]
-    #[serde(default)]
-    pub growth: GrowthOptions,
-    /// Table 2's steps in scene units (`[units]`).
-    #[command(flatten)]
-    #[serde(default)]
-    pub units: UnitsOptions,
-    /// How the speleothems are shaded (`[look]`).
-    #[command(flatten)]
-    #[serde(default)]
-    pub look: LookOptions,
-    /// Parameter changes from a given pass on (scene files only: `[[change]]`).
-    #[arg(skip)]
-    #[serde(default, rename = "change", skip_serializing_if = "Vec::is_empty")]
-    pub changes: Vec<ChangeOptions>,
-    /// Where the camera goes (`--eye`/`--target`, `[camera]`), in scene units with the
-    /// chamber's floor at y = 0, over the scene's own view.
-    #[command(flatten)]
-    #[serde(default, skip_serializing_if = "CameraOptions::is_unset")]
-    pub camera: CameraOptions,
-}
-
-/// The `[growth]` section.
-#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GrowthOptions {
-    /// The seed (scene files; on the command line the global --seed).
-    #[arg(skip)]
-    pub seed: Option<u64>,
-    /// Sites to place from the seed, 1..=256: each a stalactite, plus a stalagmite
-    /// below it at PIL 2 (default 9).
-    #[arg(long, value_name = "N")]
-    pub count: Option<u32>,
-    /// Growth passes (one ring per pass), 1..=512 (default 30).
-    #[arg(long, value_name = "N")]
-    pub passes: Option<u32>,
-    /// Segments per ring, 3..=128 (default 32).
-    #[arg(long, value_name = "N")]
-    pub segments: Option<u32>,
-    /// manual: exactly the Table 2 row of --pil/--drip/--co2; random: each pass draws
-    /// the row at random and jitters the steps by --jitter (default manual).
-    #[arg(long, value_name = "manual|random")]
-    pub mode: Option<ModeName>,
-    /// Random mode's step jitter, as a fraction, 0..=0.9 (default 0.5).
-    #[arg(long, value_name = "F", allow_hyphen_values = true)]
-    pub jitter: Option<f32>,
-    /// Pluviometric index level: 0 no growth, 1 stalactites only, 2 dripping
-    /// (stalagmites below the stalactites) (default 1).
-    #[arg(long, value_name = "0|1|2")]
-    pub pil: Option<Pil>,
-    /// Drip interval (stalagmite radius): dry (narrows), standard, wet (widens)
-    /// (default standard).
-    #[arg(long, value_name = "dry|standard|wet")]
-    pub drip: Option<DripInterval>,
-    /// Calcium/CO2 concentration (height step x1/x2/x3): low, normal, high (default
-    /// normal).
-    #[arg(long, value_name = "low|normal|high")]
-    pub co2: Option<Co2>,
-    /// Wind intensity wi, 0..=1 (displaces each new ring by wi x 0.02 units; default 0).
-    #[arg(long, value_name = "F", allow_hyphen_values = true)]
-    pub wind: Option<f32>,
-    /// Wind direction in degrees from +x toward +z, finite (default 0). Manual mode
-    /// only: random mode draws a direction for every new ring (the paper's Fig. 7).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    pub wind_direction: Option<f32>,
-    /// Mineral colour (Table 1): calcareous, iron, manganese, copper, malachite
-    /// (default calcareous).
-    #[arg(long, value_name = "NAME")]
-    pub mineral: Option<Mineral>,
-    /// How strongly the mineral colours the calcite, 0..=1 (default 0.8).
-    #[arg(long, value_name = "F", allow_hyphen_values = true)]
-    pub mineral_intensity: Option<f32>,
-    /// Grow from a climate record instead of Table 2: `holocene` (the synthetic record
-    /// sediment ships, examples/holocene.csv) or a timeline CSV (rows of calendar year,
-    /// temperature C, drip interval s, excess Ca mol/m^3, as `sediment layers` reads).
-    /// Each pass is --years-per-pass years; stalagmites rise by Kaufmann's W0 and widen
-    /// or narrow toward R0; straws lengthen at W0. Sets the passes; scene units are
-    /// metres (default: none, Table 2).
-    #[arg(long, value_name = "holocene|FILE.csv")]
-    pub climate: Option<String>,
-    /// Years per growth pass with --climate, > 0; the record's span / years must be
-    /// 1..=512 passes (default 100).
-    #[arg(long, value_name = "YEARS", allow_hyphen_values = true)]
-    pub years_per_pass: Option<f64>,
-    /// Water-film thickness with --climate: 0.1, 0.075 or 0.05 mm (default 0.1).
-    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
-    pub film: Option<f64>,
-}
-
-/// The `[units]` section: Table 2's steps in scene units.
-#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct UnitsOptions {
-    /// Initial ring radius irr, scene units, > 0 (default 0.09).
-    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
-    pub radius: Option<f32>,
-    /// Table 2's "x1" radius step, scene units, > 0 (default 0.006).
-    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
-    pub radius_unit: Option<f32>,
-    /// Table 2's "x1" height step, scene units, > 0 (default 0.035).
-    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
-    pub height_unit: Option<f32>,
-    /// kf of the flank displacement vd = kf * arr / irr, scene units, >= 0 (default
-    /// 0.02).
-    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
-    pub kf: Option<f32>,
-    /// Chance per pass, 0..=1, that a drop solidifies on the flank while CO2 is low
-    /// (default 0.3).
-    #[arg(long, value_name = "P", allow_hyphen_values = true)]
-    pub flank_rate: Option<f32>,
-    /// Horizontal thickening per pass after vertical growth stopped, scene units, >= 0
-    /// (default 0.0012).
-    #[arg(long, value_name = "UNITS", allow_hyphen_values = true)]
-    pub thicken: Option<f32>,
-}
-
-/// The `[look]` section: how the speleothems are shaded (changeable live in `sediment
-/// view grow`).
-#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LookOptions {
-    /// Tone mapping: ashikhmin (Ashikhmin 2002's global operator, as the paper cites),
-    /// aces (a filmic curve) or reinhard (default ashikhmin).
-    #[arg(long, value_name = "ashikhmin|aces|reinhard")]
-    pub tonemap: Option<ToneMap>,
-    /// Exposure before tone mapping, (0, 64] (default 1).
-    #[arg(long, value_name = "F", allow_hyphen_values = true)]
-    pub exposure: Option<f32>,
-    /// Normal-map strength (the calcite's ruggedness), 0..=4; 0 is smooth (default 1).
-    #[arg(long, value_name = "F", allow_hyphen_values = true)]
-    pub bump: Option<f32>,
-    /// Strength of the environment-mapped reflection of the chamber (the wet film),
-    /// 0..=4; 0 turns it off (default 1).
-    #[arg(long, value_name = "F", allow_hyphen_values = true)]
-    pub environment: Option<f32>,
-    /// The lamp's colour: neutral (white: the minerals show their own colours) or warm
-    /// (default neutral).
-    #[arg(long, value_name = "neutral|warm")]
-    pub lamp: Option<Lamp>,
-    /// What colours the speleothems: mineral (Table 1's colour over white calcite) or
-    /// age (each ring by its date, oldest dark brown to newest pale, times the
-    /// mineral's colour; with --climate the dates are years) (default mineral).
-    #[arg(long, value_name = "mineral|age")]
-    pub color: Option<ColorBy>,
-}
-
-/// One `[[change]]`: parameters in force from `pass` on.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ChangeOptions {
-    /// The first pass the change applies to, counted from 0, below `passes`.
-    pub pass: u32,
-    /// The pluviometric index level from then on (0, 1, 2); none: unchanged.
-    pub pil: Option<Pil>,
-    /// The drip interval from then on (dry, standard, wet); none: unchanged.
-    pub drip: Option<DripInterval>,
-    /// The CO2 concentration from then on (low, normal, high); none: unchanged.
-    pub co2: Option<Co2>,
-    /// The wind intensity wi from then on, 0..=1; none: unchanged.
-    pub wind: Option<f32>,
-    /// The wind direction from then on, degrees from +x toward +z; none: unchanged.
-    pub wind_direction: Option<f32>,
-}
-
-impl SceneParams for Params {
-    type Scene = SpeleothemScene;
-
-    super::params::preset_and_camera_fields!();
-
-    fn base(preset: Option<&str>) -> Result<SpeleothemScene> {
-        Ok(SpeleothemScene {
-            growth: preset.map_or_else(|| Ok(GrowthScene::default()), self::preset)?,
-            look: preset.map_or_else(Look::default, preset_look),
-        })
-    }
-
-    fn set_seed(scene: &mut SpeleothemScene, seed: u64) {
-        scene.growth.seed = seed;
-    }
-
-    fn sync(&mut self, scene: &mut SpeleothemScene, way: Way) -> Result<()> {
-        let (l, look) = (&mut self.look, &mut scene.look);
-        way.field(&mut l.tonemap, &mut look.tonemap);
-        way.field(&mut l.exposure, &mut look.exposure);
-        way.field(&mut l.bump, &mut look.bump);
-        way.field(&mut l.environment, &mut look.environment);
-        way.field(&mut l.lamp, &mut look.lamp);
-        way.field(&mut l.color, &mut look.color);
-        let s = &mut scene.growth;
-        let g = &mut self.growth;
-        way.field(&mut g.seed, &mut s.seed);
-        way.field(&mut g.count, &mut s.count);
-        way.field(&mut g.passes, &mut s.passes);
-        way.field(&mut g.segments, &mut s.segments);
-        match way {
-            Way::Apply => match (g.mode, s.mode) {
-                (Some(ModeName::Manual), _) => s.mode = StepMode::Manual,
-                (Some(ModeName::Random), _) => {
-                    s.mode = StepMode::Random {
-                        jitter: g.jitter.unwrap_or(0.5),
-                    }
-                }
-                (None, StepMode::Random { jitter }) => {
-                    s.mode = StepMode::Random {
-                        jitter: g.jitter.unwrap_or(jitter),
-                    }
-                }
-                (None, StepMode::Manual) => {}
-            },
-            Way::Capture => {
-                (g.mode, g.jitter) = match s.mode {
-                    StepMode::Manual => (Some(ModeName::Manual), None),
-                    StepMode::Random { jitter } => (Some(ModeName::Random), Some(jitter)),
-                }
-            }
-        }
-        let p = &mut s.params;
-        way.field(&mut g.pil, &mut p.pil);
-        way.field(&mut g.drip, &mut p.drip);
-        way.field(&mut g.co2, &mut p.co2);
-        way.field(&mut g.wind, &mut p.wind_intensity);
-        way.field(&mut g.wind_direction, &mut p.wind_direction_degrees);
-        way.field(&mut g.mineral, &mut p.mineral);
-        way.field(&mut g.mineral_intensity, &mut p.mineral_intensity);
-        match way {
-            Way::Apply => {
-                let given = g
-                    .climate
-                    .clone()
-                    .or_else(|| s.climate.as_ref().map(|c| c.source.clone()));
-                if let Some(source) = given {
-                    let film_mm = g
-                        .film
-                        .or_else(|| s.climate.as_ref().map(|c| c.film_m * 1e3))
-                        .unwrap_or(0.1);
-                    let years = g
-                        .years_per_pass
-                        .or_else(|| s.climate.as_ref().map(|c| c.years_per_pass))
-                        .unwrap_or(100.0);
-                    s.climate = Some(climate::load(&source, film_mm * 1e-3, years)?);
-                    s.passes = s.passes();
-                } else if g.years_per_pass.is_some() || g.film.is_some() {
-                    return Err(Error::invalid(
-                        if g.film.is_some() {
-                            "--film"
-                        } else {
-                            "--years-per-pass"
-                        },
-                        "applies only with --climate",
-                    ));
-                }
-            }
-            Way::Capture => {
-                g.climate = s.climate.as_ref().map(|c| c.source.clone());
-                g.years_per_pass = s.climate.as_ref().map(|c| c.years_per_pass);
-                g.film = s.climate.as_ref().map(|c| c.film_m * 1e3);
-            }
-        }
-        let (u, su) = (&mut self.units, &mut s.units);
-        way.field(&mut u.radius, &mut su.initial_radius);
-        way.field(&mut u.radius_unit, &mut su.radius_unit);
-        way.field(&mut u.height_unit, &mut su.height_unit);
-        way.field(&mut u.kf, &mut su.flank_scale);
-        way.field(&mut u.flank_rate, &mut su.flank_rate);
-        way.field(&mut u.thicken, &mut su.thicken_rate);
-        match way {
-            // Changes add to the preset's (the presets have none).
-            Way::Apply => {
-                s.changes.extend(self.changes.iter().map(|c| ParamChange {
-                    pass: c.pass,
-                    pil: c.pil,
-                    drip: c.drip,
-                    co2: c.co2,
-                    wind_direction_degrees: c.wind_direction,
-                    wind_intensity: c.wind,
-                }));
-                s.changes.sort_by_key(|c| c.pass);
-            }
-            Way::Capture => {
-                self.changes = s
-                    .changes
-                    .iter()
-                    .map(|c| ChangeOptions {
-                        pass: c.pass,
-                        pil: c.pil,
-                        drip: c.drip,
-                        co2: c.co2,
-                        wind: c.wind_intensity,
-                        wind_direction: c.wind_direction_degrees,
-                    })
-                    .collect()
-            }
-        }
-        Ok(())
-    }
-
-    fn validate(scene: &SpeleothemScene) -> Result<()> {
-        scene.growth.validate()?;
-        scene.look.validate()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::params::{Resolved, capture, parse, resolve};
+    use crate::frame::AnyScene;
+    use crate::params::{ParamSet, SceneFile};
 
+    /// The scene a scene file's text resolves to, as `sediment grow --scene` reads it.
     fn from_text(text: &str) -> Result<GrowthScene> {
-        let file: Params = parse(text).map_err(|(_, m)| Error::invalid("scene file", m))?;
-        let mut scene = Params::base(file.preset())?;
-        file.clone().sync(&mut scene, Way::Apply)?;
-        Params::validate(&scene)?;
-        Ok(scene.growth)
+        let file = SceneFile::parse::<GrowScene>(text)
+            .map_err(|(_, m)| Error::invalid("scene file", m))?;
+        let mut params = match &file.preset {
+            Some(p) => preset(p)?,
+            None => GrowScene::default(),
+        };
+        file.apply(&mut params)
+            .map_err(|(_, m)| Error::invalid("scene file", m))?;
+        params.validate()?;
+        params.growth_scene()
     }
 
     #[test]
@@ -740,7 +644,7 @@ mod tests {
         let err = from_text("[growth]\nyears_per_pass = 300\n")
             .expect_err("no record")
             .to_string();
-        assert!(err.contains("only with --climate"), "{err}");
+        assert!(err.contains("only with a climate record"), "{err}");
     }
 
     #[test]
@@ -761,25 +665,22 @@ mod tests {
         let err = from_text("[growth]\npasses = 4\n[[change]]\npass = 1\nwind_direction = nan\n")
             .expect_err("NaN")
             .to_string();
-        assert!(err.contains("wind_direction"), "{err}");
-        let (line, _) = parse::<Params>("[growth]\ncount = 3\nsegmnets = 12\n").expect_err("typo");
+        assert!(err.contains("change"), "{err}");
+        let (line, _) = SceneFile::parse::<GrowScene>("[growth]\ncount = 3\nsegmnets = 12\n")
+            .expect_err("typo");
         assert_eq!(line, Some(3), "the typo's line");
     }
 
     #[test]
-    fn every_preset_captured_and_applied_again_is_the_same_scene() {
+    fn every_preset_printed_and_read_again_is_the_same_scene() {
         for (name, _) in PRESETS {
-            let given = Params {
-                preset: Some((*name).to_owned()),
-                ..Params::default()
-            };
-            let resolved = resolve(&given, None, 7).expect("preset");
-            let text =
-                toml::to_string(&capture::<Params>(&resolved).expect("capture")).expect("toml");
-            let back: Params = parse(&text).expect("parses");
-            let again = resolve(&back, None, 1).expect("applies");
-            let Resolved { scene, .. } = again;
-            assert_eq!(scene, resolved.scene, "{name}:\n{text}");
+            let resolved = GrowDef.resolve(Some(name), 7, None, &[]).expect("preset");
+            let text = GrowDef.to_toml(&resolved).expect("toml");
+            let file = SceneFile::parse::<GrowScene>(&text).expect("parses");
+            let mut back = GrowScene::default();
+            file.apply(&mut back).expect("applies");
+            let first = resolved.params.downcast_ref::<GrowScene>().expect("grow");
+            assert_eq!(&back, first, "{name}:\n{text}");
         }
     }
 }

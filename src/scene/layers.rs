@@ -11,13 +11,16 @@ use serde::{Deserialize, Serialize};
 
 use crate::camera::{Camera, Jitter};
 
-use super::camera::CameraOptions;
-use super::params::{SceneParams, Way};
+use crate::Size;
 use crate::error::{Error, Result};
+use crate::export::section::Colouring;
 pub use crate::model::layers::cut_away::{CutAway, WEDGE, cut_away};
 use crate::model::layers::physical::{self, Conditions, TimelineRow};
 use crate::model::layers::{Base, Decay, Stalagmite, Supply};
-pub use frame::{CutAwayFrame, FRANKE_UNIT_M, export, metres_per_unit, render};
+use crate::params::{Point3, check};
+pub use frame::{
+    CutAwayFrame, FRANKE_UNIT_M, LayersDef, LayersModel, export, metres_per_unit, picture,
+};
 
 /// Real units for Franke's model (the Dreybrodt/Kaufmann growth law).
 #[derive(Clone, Debug, PartialEq)]
@@ -95,29 +98,24 @@ pub fn example_timeline() -> Vec<TimelineRow> {
     ]
 }
 
-/// The setup of one of [`PRESETS`] (`--preset`); an unknown name is refused, listing them.
-pub fn preset(name: &str) -> Result<LayersSetup> {
-    let d = LayersSetup::default();
+/// The parameters of one of [`PRESETS`] (`--preset`); an unknown name is refused,
+/// listing them.
+pub fn preset(name: &str) -> Result<LayersScene> {
+    let d = LayersScene::default();
     Ok(match name {
         "candlestick" => d,
-        "drying" => LayersSetup {
-            franke: crate::model::layers::FrankeParams {
-                supply: Supply::Steps(vec![1.0, 0.6, 0.3]),
-                rep: 450,
-                ..d.franke
-            },
+        "drying" => LayersScene {
+            supply: SupplySpec::Relative(Supply::Steps(vec![1.0, 0.6, 0.3])),
+            rep: 450,
             ..d
         },
-        "wetting" => LayersSetup {
-            franke: crate::model::layers::FrankeParams {
-                supply: Supply::Steps(vec![0.6, 0.6, 0.6, 1.4]),
-                rep: 400,
-                ..d.franke
-            },
+        "wetting" => LayersScene {
+            supply: SupplySpec::Relative(Supply::Steps(vec![0.6, 0.6, 0.6, 1.4])),
+            rep: 400,
             ..d
         },
-        "uneven" => LayersSetup {
-            base: Some(Base::from_points(
+        "uneven" => LayersScene {
+            base: Some(BaseSpec::Points(
                 (0..=40)
                     .map(|i| {
                         let x = 4.0 * f64::from(i) / 40.0;
@@ -127,19 +125,166 @@ pub fn preset(name: &str) -> Result<LayersSetup> {
                         ]
                     })
                     .collect(),
-            )?),
+            )),
             ..d
         },
-        "timeline" => LayersSetup {
-            physical: Some(PhysicalSetup {
-                timeline: example_timeline(),
-                film_mm: 0.1,
-                years_per_layer: 40.0,
-            }),
+        "timeline" => LayersScene {
+            timeline: Some(example_timeline()),
             ..d
         },
         other => return Err(crate::error::Error::unknown_preset(other, PRESETS)),
     })
+}
+
+crate::params! {
+    /// Everything that decides a layered stalagmite (Franke 1999, or real units with
+    /// the growth law of Kaufmann 2003) and how its section is drawn.
+    pub struct LayersScene {
+        /// Layer thickness per time unit at the apex (Franke's units).
+        [top, "Layer model"] dic: f64 = 0.02, "F", "", check::above(0.0);
+        /// Support points of the profile.
+        [top, "Layer model"] pz: usize = 160, "N", "", check::within(8..=2000);
+        /// Layers.
+        [top, "Layer model"] rep: usize = 300, "N", "", check::within(1..=20_000);
+        /// Decay length r of the deposit (the stationary radius is 0.886 r for the
+        /// Gaussian, r / 2 linear, r exponential).
+        [top, "Layer model"] r: f64 = 1.0, "F", "", check::above(0.0);
+        /// Decay law: gaussian (Franke's exp(-(s/r)^2)), linear (Dreybrodt's) or
+        /// exponential.
+        [top, "Layer model"] decay: Decay = Decay::Gaussian, "gaussian|linear|exponential", "", check::any();
+        /// Water supply over time, a factor on the stationary radius: constant,
+        /// linear:A..B (from A to B), steps:A,B,... (equal runs), each 0.05..=20; or
+        /// timeline:FILE.csv (real units: rows of years, temperature C, drip interval
+        /// s, excess Ca mol/m^3).
+        [top, "Layer model"] supply: SupplySpec = SupplySpec::Relative(Supply::Constant), "SPEC", "", check::any();
+        /// An uneven base: a CSV of x,y support points from the axis (x = 0) outwards,
+        /// heights falling steadily (a rising base would pond water); scene files may
+        /// give the points, `base = [[0.0, 0.8], [1.0, 0.5]]`; none: a flat floor.
+        [top, "Layer model"] base: Option<BaseSpec> = None, "FILE.csv", "", check::any();
+        /// Radius of the flat base, in stationary radii.
+        [top, "Layer model"] extent: f64 = 4.5, "F", "", check::within(2.0..=20.0);
+        /// Real units at constant cave conditions (temperature, drip_interval,
+        /// excess_ca, years), in mm and years.
+        [top, "Real units"] physical: bool = false, "on|off", "", check::any();
+        /// Cave temperature with `physical`.
+        [top, "Real units"] temperature: f64 = 10.0, "C", "degrees C", check::within(0.0..=40.0);
+        /// Drip interval with `physical`.
+        [top, "Real units"] drip_interval: f64 = 100.0, "S", "s", check::within(0.1..=1_000_000.0);
+        /// Excess calcium c_in - c_eq with `physical`.
+        [top, "Real units"] excess_ca: f64 = 1.0, "MOL_M3", "mol/m^3", check::within(0.0..=10.0);
+        /// Years of growth with `physical`.
+        [top, "Real units"] years: f64 = 10_000.0, "YEARS", "years", check::above(0.0);
+        /// Water-film thickness in real units.
+        [top, "Real units"] film: f64 = 0.1, "MM", "mm", check::one_of(&[0.1, 0.075, 0.05]);
+        /// Years per layer in real units.
+        [top, "Real units"] years_per_layer: f64 = 40.0, "YEARS", "years", check::above(0.0);
+        /// A climate timeline in real units: `[[timeline]]` rows of `year`,
+        /// `temperature_c`, `drip_interval_s` and `excess_ca` (scene files only).
+        [top, "Real units"] timeline: Option<Vec<TimelineRow>> = None, "", "", check::any();
+        /// How the section colours its layers: none, age or supply.
+        [section, "Section"] color: Colouring = Colouring::Plain, "none|age|supply", "", check::any();
+        /// Every K-th layer drawn heavier in the section, 0 for none.
+        [section, "Section"] emphasis: usize = 10, "K", "", check::within(0..=20_000);
+        /// The section's size (`--section` and `--section-gif`); none: --size when
+        /// given, else a 600x800 page.
+        [section, "Section"] section_size: Option<Size> = None, "WxH", "pixels", check::any();
+        /// Camera position x,y,z in the stalagmite's units (its axis is x = z = 0, its
+        /// base at y = 0); default: into the cut from the open wedge.
+        [camera, "Camera"] eye: Option<Point3> = None, "X,Y,Z", "", check::any();
+        /// The point the camera looks at.
+        [camera, "Camera"] target: Option<Point3> = None, "X,Y,Z", "", check::any();
+    }
+    validate = LayersScene::check_setup;
+}
+
+crate::serde_param!(Vec<TimelineRow>);
+crate::text_param!(Decay, SupplySpec, Colouring, Size);
+
+impl LayersScene {
+    /// The model's setup: the supply, the real-unit conditions (a timeline file,
+    /// `[[timeline]]` rows or constant conditions with `physical`; the film and years
+    /// per layer apply to any) and the base, files read.
+    pub fn setup(&self) -> Result<LayersSetup> {
+        let franke = crate::model::layers::FrankeParams {
+            dic: self.dic,
+            pz: self.pz,
+            rep: self.rep,
+            r: self.r,
+            decay: self.decay,
+            supply: match &self.supply {
+                SupplySpec::Relative(s) => s.clone(),
+                SupplySpec::Timeline(_) => Supply::Constant,
+            },
+        };
+        let real = |timeline| PhysicalSetup {
+            timeline,
+            film_mm: self.film,
+            years_per_layer: self.years_per_layer,
+        };
+        let mut physical = match &self.supply {
+            SupplySpec::Timeline(file) => {
+                let text = std::fs::read_to_string(file).map_err(|source| Error::Read {
+                    path: file.clone(),
+                    source,
+                })?;
+                Some(real(physical::parse_timeline(&text, self.film * 1e-3)?))
+            }
+            SupplySpec::Relative(_) => None,
+        };
+        if let Some(rows) = &self.timeline {
+            physical::check_rows(rows, self.film * 1e-3)?;
+            physical = Some(real(rows.clone()));
+        }
+        if self.physical {
+            let c = Conditions {
+                temperature_c: self.temperature,
+                drip_interval_s: self.drip_interval,
+                excess_ca: self.excess_ca,
+                film_m: self.film * 1e-3,
+            };
+            c.validate()?;
+            let row = |year| TimelineRow {
+                year,
+                temperature_c: c.temperature_c,
+                drip_interval_s: c.drip_interval_s,
+                excess_ca: c.excess_ca,
+            };
+            physical = Some(real(vec![row(0.0), row(self.years)]));
+        }
+        let base = self
+            .base
+            .as_ref()
+            .map(|b| Base::from_points(b.points()?))
+            .transpose()?;
+        Ok(LayersSetup {
+            franke,
+            base,
+            extent: self.extent,
+            physical,
+        })
+    }
+
+    /// The checks a setup makes without reading files: the layer model's own ranges.
+    fn check_setup(&self) -> Result<()> {
+        crate::model::layers::FrankeParams {
+            dic: self.dic,
+            pz: self.pz,
+            rep: self.rep,
+            r: self.r,
+            decay: self.decay,
+            supply: match &self.supply {
+                SupplySpec::Relative(s) => s.clone(),
+                SupplySpec::Timeline(_) => Supply::Constant,
+            },
+        }
+        .validate()?;
+        // Rows a scene file gives are checked with the parameters, so that no value
+        // that is not a number passes `--print-scene` (a file's rows, when it is read).
+        if let Some(rows) = &self.timeline {
+            physical::check_rows(rows, self.film * 1e-3)?;
+        }
+        Ok(())
+    }
 }
 
 impl LayersSetup {
@@ -220,8 +365,6 @@ impl std::fmt::Display for SupplySpec {
     }
 }
 
-crate::serde_as_text!(SupplySpec);
-
 /// `--base`: a CSV file of support points, or (scene files) the points themselves.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
@@ -259,185 +402,16 @@ impl BaseSpec {
     }
 }
 
-/// The layered stalagmite's parameters: `sediment layers` and `view layers` options,
-/// and the scene file (the same names; a scene file may also give `base` as points,
-/// `base = [[0.0, 0.5], [1.0, 0.3]]`, and a `[[timeline]]` of rows `year`,
-/// `temperature_c`, `drip_interval_s`, `excess_ca`).
-#[derive(clap::Args, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Params {
-    /// A demo case: candlestick (constant supply), drying (steps 1, 0.6, 0.3: a cone),
-    /// wetting (rising supply: overhang), uneven (uneven base), timeline (12 000 years
-    /// in mm). Default: none (the candlestick's constant supply).
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-    /// Layer thickness per time unit at the apex, > 0 (default 0.02; Franke units).
-    #[arg(long, value_name = "F", allow_hyphen_values = true)]
-    pub dic: Option<f64>,
-    /// Support points of the profile, 8..=2000 (default 160).
-    #[arg(long, value_name = "N")]
-    pub pz: Option<usize>,
-    /// Layers, 1..=20000 (default 300).
-    #[arg(long, value_name = "N")]
-    pub rep: Option<usize>,
-    /// Decay length r of the deposit, > 0 (default 1; the stationary radius is
-    /// 0.886 r for the Gaussian, r / 2 linear, r exponential).
-    #[arg(long = "r", value_name = "F", allow_hyphen_values = true)]
-    pub r: Option<f64>,
-    /// Decay law: gaussian (Franke's exp(-(s/r)^2)), linear (Dreybrodt's), exponential
-    /// (default gaussian).
-    #[arg(long, value_name = "gaussian|linear|exponential")]
-    pub decay: Option<Decay>,
-    /// Water supply over time, a factor on the stationary radius: constant,
-    /// linear:A..B (from A to B), steps:A,B,... (equal runs), each 0.05..=20; or
-    /// timeline:FILE.csv (real units: rows of years, temperature C, drip interval s,
-    /// excess Ca mol/m^3) (default constant).
-    #[arg(long, value_name = "SPEC")]
-    pub supply: Option<SupplySpec>,
-    /// An uneven base: a CSV of x,y support points from the axis (x = 0) outwards,
-    /// heights falling steadily (a rising base would pond water) (default: a flat
-    /// floor).
-    #[arg(long, value_name = "FILE.csv")]
-    pub base: Option<BaseSpec>,
-    /// Radius of the flat base in stationary radii, 2..=20 (default 4.5).
-    #[arg(long, value_name = "F", allow_hyphen_values = true)]
-    pub extent: Option<f64>,
-    /// Real units at constant cave conditions (the options below), in mm and years.
-    #[arg(long, num_args = 0, default_missing_value = "true")]
-    pub physical: Option<bool>,
-    /// Cave temperature with --physical, 0..=40 C (default 10).
-    #[arg(long, value_name = "C", allow_hyphen_values = true)]
-    pub temperature: Option<f64>,
-    /// Drip interval with --physical, 0.1..=1000000 s (default 100).
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
-    pub drip_interval: Option<f64>,
-    /// Excess calcium c_in - c_eq with --physical, 0..=10 mol/m^3 (default 1).
-    #[arg(long, value_name = "MOL_M3", allow_hyphen_values = true)]
-    pub excess_ca: Option<f64>,
-    /// Water-film thickness in real units: 0.1, 0.075 or 0.05 mm (default 0.1).
-    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
-    pub film: Option<f64>,
-    /// Years of growth with --physical, > 0 (default 10000).
-    #[arg(long, value_name = "YEARS", allow_hyphen_values = true)]
-    pub years: Option<f64>,
-    /// Years per layer in real units, > 0 (default 40).
-    #[arg(long, value_name = "YEARS", allow_hyphen_values = true)]
-    pub years_per_layer: Option<f64>,
-    /// A climate timeline in real units (scene files only: `[[timeline]]` rows).
-    #[arg(skip)]
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub timeline: Option<Vec<TimelineRow>>,
-    /// Where the camera goes, over the view into the cut-away.
-    // --eye/--target in the stalagmite's units (its axis is x = z = 0, its base at
-    // y = 0); a scene file's `[camera]`.
-    #[command(flatten)]
-    #[serde(default, skip_serializing_if = "CameraOptions::is_unset")]
-    pub camera: CameraOptions,
-}
-
-impl SceneParams for Params {
-    type Scene = LayersSetup;
-
-    super::params::preset_and_camera_fields!();
-
-    fn base(preset: Option<&str>) -> Result<LayersSetup> {
-        preset.map_or_else(|| Ok(LayersSetup::default()), self::preset)
+impl crate::params::ParamValue for BaseSpec {
+    fn from_text(text: &str) -> std::result::Result<Self, String> {
+        Ok(BaseSpec::File(text.trim().into()))
     }
-
-    /// Nothing in the layer model is random.
-    fn set_seed(_scene: &mut LayersSetup, _seed: u64) {}
-
-    fn sync(&mut self, s: &mut LayersSetup, way: Way) -> Result<()> {
-        let f = &mut s.franke;
-        way.field(&mut self.dic, &mut f.dic);
-        way.field(&mut self.pz, &mut f.pz);
-        way.field(&mut self.rep, &mut f.rep);
-        way.field(&mut self.r, &mut f.r);
-        way.field(&mut self.decay, &mut f.decay);
-        way.field(&mut self.extent, &mut s.extent);
-        match way {
-            Way::Capture => {
-                self.supply = Some(SupplySpec::Relative(f.supply.clone()));
-                self.timeline = s.physical.as_ref().map(|p| p.timeline.clone());
-                self.film = s.physical.as_ref().map(|p| p.film_mm);
-                self.years_per_layer = s.physical.as_ref().map(|p| p.years_per_layer);
-                self.base = s.base.as_ref().map(|b| BaseSpec::Points(b.points.clone()));
-            }
-            Way::Apply => self.apply_physical(s)?,
-        }
-        Ok(())
+    fn from_toml(value: &toml::Value) -> std::result::Result<Self, String> {
+        serde::Deserialize::deserialize(value.clone())
+            .map_err(|e| format!("expected a CSV file's path or [[x, y], ...] points ({e})"))
     }
-
-    fn validate(scene: &LayersSetup) -> Result<()> {
-        scene.schedule().map(drop)
-    }
-}
-
-impl Params {
-    /// The supply, the real-unit setup (a timeline file, `[[timeline]]` rows or
-    /// constant conditions with `--physical`; the film and years per layer apply to
-    /// any) and the base.
-    fn apply_physical(&self, s: &mut LayersSetup) -> Result<()> {
-        let film_mm = self
-            .film
-            .or(s.physical.as_ref().map(|p| p.film_mm))
-            .unwrap_or(0.1);
-        let years_per_layer = self
-            .years_per_layer
-            .or(s.physical.as_ref().map(|p| p.years_per_layer))
-            .unwrap_or(40.0);
-        let real = |timeline| PhysicalSetup {
-            timeline,
-            film_mm,
-            years_per_layer,
-        };
-        match &self.supply {
-            Some(SupplySpec::Relative(supply)) => s.franke.supply = supply.clone(),
-            Some(SupplySpec::Timeline(file)) => {
-                let text = std::fs::read_to_string(file).map_err(|source| Error::Read {
-                    path: file.clone(),
-                    source,
-                })?;
-                s.physical = Some(real(physical::parse_timeline(&text, film_mm * 1e-3)?));
-            }
-            None => {}
-        }
-        if let Some(rows) = &self.timeline {
-            s.physical = Some(real(rows.clone()));
-        }
-        match self.physical {
-            Some(true) => {
-                let c = Conditions {
-                    temperature_c: self.temperature.unwrap_or(10.0),
-                    drip_interval_s: self.drip_interval.unwrap_or(100.0),
-                    excess_ca: self.excess_ca.unwrap_or(1.0),
-                    film_m: film_mm * 1e-3,
-                };
-                c.validate()?;
-                let years = self.years.unwrap_or(10_000.0);
-                if !(years.is_finite() && years > 0.0) {
-                    return Err(Error::invalid("--years", "must be > 0"));
-                }
-                let row = |year| TimelineRow {
-                    year,
-                    temperature_c: c.temperature_c,
-                    drip_interval_s: c.drip_interval_s,
-                    excess_ca: c.excess_ca,
-                };
-                s.physical = Some(real(vec![row(0.0), row(years)]));
-            }
-            Some(false) => s.physical = None,
-            None => {
-                if let Some(p) = &mut s.physical {
-                    p.film_mm = film_mm;
-                    p.years_per_layer = years_per_layer;
-                }
-            }
-        }
-        if let Some(base) = &self.base {
-            s.base = Some(Base::from_points(base.points()?)?);
-        }
-        Ok(())
+    fn to_toml(&self) -> Option<toml::Value> {
+        toml::Value::try_from(self).ok()
     }
 }
 
@@ -451,7 +425,12 @@ mod tests {
     #[test]
     fn the_cut_away_has_its_outer_surface_over_the_whole_height() {
         for (name, _) in PRESETS {
-            let (stalagmite, _) = preset(name).expect("preset").grow().expect("grow");
+            let (stalagmite, _) = preset(name)
+                .expect("preset")
+                .setup()
+                .expect("setup")
+                .grow()
+                .expect("grow");
             let c = cut_away(&stalagmite, 10);
             for tenth in 0..10 {
                 let lo = c.base_y + c.height * tenth as f32 / 10.0;

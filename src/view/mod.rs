@@ -66,6 +66,9 @@ pub struct ViewReport {
     pub frame_ms: Vec<f64>,
     /// Per frame: the GPU time of each named pass (the scene's spans).
     pub gpu_spans: Vec<Vec<Span>>,
+    /// Frames up to the last one whose scene changed with its clock (a growth's
+    /// passes): the frames "while growing".
+    pub clock_frames: usize,
     /// Final size of the window's image.
     pub size: Size,
     /// The scene's asset at the end, for `--mesh` (scenes with something to export,
@@ -109,6 +112,7 @@ pub fn run(
             frames: 0,
             frame_ms: Vec::new(),
             gpu_spans: Vec::new(),
+            clock_frames: 0,
             size: Size::new(0, 0),
             asset: None,
             validation_errors: Vec::new(),
@@ -517,6 +521,9 @@ impl State {
         report.frames += 1;
         report.frame_ms.push(frame_ms);
         report.gpu_spans.push(self.last_gpu.clone());
+        if self.scene.animated() && self.scene.steps().is_some() {
+            report.clock_frames = report.gpu_spans.len();
+        }
         report.size = Size::new(w, h);
         self.frame += 1;
         Ok(())

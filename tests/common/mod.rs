@@ -233,3 +233,18 @@ pub fn difference(a: &image::RgbaImage, b: &image::RgbaImage) -> (image::RgbaIma
     };
     (diff, stats)
 }
+
+/// `scene`'s still picture from `camera` at `size` (time 0 on its clock), as the frame
+/// runner draws pictures.
+pub fn draw(
+    ctx: &Arc<Context>,
+    scene: &mut dyn sediment::frame::Scene,
+    camera: &sediment::camera::Camera,
+    size: sediment::Size,
+) -> image::RgbaImage {
+    let mut runner = sediment::frame::FrameRunner::new(ctx, size).expect("runner");
+    runner
+        .render(scene, camera, sediment::frame::Time::At(0))
+        .expect("render")
+        .0
+}

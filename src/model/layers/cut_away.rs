@@ -14,6 +14,7 @@ const SEGMENTS: u32 = 96;
 
 /// The meshes of the cut-away: outer surface, light and dark bands of the cut faces,
 /// and the floor disk.
+#[derive(Clone, Debug)]
 pub struct CutAway {
     /// The outer surface over the kept three quarters, facing outwards.
     pub surface: Mesh,

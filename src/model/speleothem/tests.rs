@@ -398,6 +398,8 @@ fn every_preset_is_closed_but_its_base_ring_with_the_caps() {
     for (name, _) in crate::scene::grow::PRESETS {
         let plan = crate::scene::grow::preset(name)
             .expect("preset")
+            .growth_scene()
+            .expect("growth")
             .plan()
             .expect("plan");
         let mesh = grow_reference(&plan, plan.passes);

@@ -6,12 +6,14 @@ use glam::Vec3;
 
 use super::{CaveScene, Speleothems, wall_rays};
 use crate::error::Result;
+use crate::frame::Progress;
 use crate::model::cave::placement::{self, PlacementParams, Site};
 use crate::model::cave::volume::FLOOR_Y;
 use crate::model::cave::{self, Cave, CaveParams, Phase};
 use crate::model::mesh::Mesh;
 use crate::model::speleothem::plan::{GrowthScene, GrowthSite, GrowthUnits};
 use crate::model::speleothem::table2::Pil;
+use crate::params::ParamSet;
 
 /// The generated cave and its speleothem sites.
 pub struct CaveModel {
@@ -26,10 +28,6 @@ pub struct CaveModel {
     pub growth: Option<GrowthScene>,
 }
 
-/// What [`build`] is doing, for a progress display: (phase, done, total), from any
-/// thread.
-pub type Progress<'a> = &'a (dyn Fn(&str, u32, u32) + Sync);
-
 /// Generates the cave and places its speleothems.
 pub fn build(scene: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
     scene.validate()?;
@@ -39,7 +37,7 @@ pub fn build(scene: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
         Phase::Split => progress("crack-free split", 0, 1),
         Phase::Smooth => progress("smoothing", 0, 1),
     };
-    let mut cave = cave::generate(&scene.cave, &report)?;
+    let mut cave = cave::generate(&scene.cave(), &report)?;
     let mut sites = Vec::new();
     let mut short_mesh = Mesh::default();
     let mut growth = None;
@@ -50,12 +48,12 @@ pub fn build(scene: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
             &cave.mesh,
             &rays,
             &PlacementParams {
-                seed: scene.cave.volume.seed,
+                seed: scene.seed,
                 count: scene.speleothem_count,
-                unit_m: scene.unit_m,
+                unit_m: scene.unit,
                 growth_ratio: scene.growth_ratio,
                 clear_path: walkway(scene),
-                clear_radius_m: 0.045 * scene.cave.size_m,
+                clear_radius_m: 0.045 * scene.cave_size,
             },
         );
         match scene.speleothems {
@@ -63,13 +61,13 @@ pub fn build(scene: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
                 progress("voxel speleothems", 0, 1);
                 let solids: Vec<_> = sites
                     .iter()
-                    .map(|s| placement::SiteSolid::new(s, scene.unit_m))
+                    .map(|s| placement::SiteSolid::new(s, scene.unit))
                     .collect();
                 cave = cave::with_rock(&cave, &solids, &|phase| report(phase));
             }
             Speleothems::Short => {
                 for site in &sites {
-                    for m in placement::site_meshes(site, scene.unit_m) {
+                    for m in placement::site_meshes(site, scene.unit) {
                         short_mesh.append(&m);
                     }
                 }
@@ -88,11 +86,11 @@ pub fn build(scene: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
 
 /// The passage axis as a polyline at floor height: the walkway the cameras use.
 fn walkway(scene: &CaveScene) -> Vec<Vec3> {
-    let size = scene.cave.size_m;
+    let size = scene.cave_size;
     (0..=48)
         .map(|i| {
             let x = i as f32 / 48.0;
-            let (_, z) = scene.cave.volume.axis(x);
+            let (_, z) = scene.cave().volume.axis(x);
             Vec3::new(x * size, FLOOR_Y * size, z * size)
         })
         .collect()
@@ -104,7 +102,7 @@ fn walkway(scene: &CaveScene) -> Vec<Vec3> {
 fn growth_scene(scene: &CaveScene, sites: &[Site]) -> GrowthScene {
     // The grow scene's units are for a 2.4 m chamber; a cave passage is a few times
     // taller.
-    let k = scene.cave.size_m / 16.0;
+    let k = scene.cave_size / 16.0;
     let d = GrowthUnits::default();
     let units = GrowthUnits {
         initial_radius: d.initial_radius * k,
@@ -118,7 +116,7 @@ fn growth_scene(scene: &CaveScene, sites: &[Site]) -> GrowthScene {
     };
     let initial_radius = units.initial_radius;
     let mut g = GrowthScene {
-        seed: scene.cave.volume.seed,
+        seed: scene.seed,
         passes: scene.grown_passes,
         mode: crate::model::speleothem::plan::StepMode::Random { jitter: 0.5 },
         units,

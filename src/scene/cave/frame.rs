@@ -5,17 +5,17 @@
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
-use std::time::Instant;
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::build::{CaveModel, build, shown_wall};
-use super::{CaveScene, PRESETS, Speleothems, default_camera, flythrough, preset};
+use super::build::{CaveModel, PAPER_TABLE_1, build, shown_wall, table};
+use super::{CaveScene, PRESETS, default_camera, flythrough, preset};
 use crate::Size;
 use crate::camera::{Camera, Jitter};
 use crate::error::{Error, Result};
 use crate::export::asset::{Asset, Material, PartMesh, floor_centre};
-use crate::frame::{BenchScene, FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
+use crate::frame::plugin::Job;
+use crate::frame::{BenchScene, GalleryShot, OutputDef, Progress, Scene, SceneDef, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
 use crate::input::Key;
 use crate::model::cave::placement::site_meshes;
@@ -69,7 +69,7 @@ fn cave_environment(
         up: Vec3::Y,
         fov_y_degrees: 90.0,
         near: 0.01,
-        far: 2.0 * scene.cave.size_m,
+        far: 2.0 * scene.cave_size,
         jitter: Jitter::NONE,
     };
     let rock = ObjectPush {
@@ -102,6 +102,8 @@ fn cave_lighting() -> Lighting {
 /// A generated cave, ready to draw: the [`Scene`] of `sediment cave`, `view cave` and
 /// the bench.
 pub struct CaveFrame {
+    /// The parameters it was made from (the asset's walls and units).
+    scene: CaveScene,
     model: Arc<CaveModel>,
     pass: CaveWallPass,
     /// (faces, edges) of the smoothed wall, then of the blocky one; uploaded when
@@ -143,7 +145,7 @@ impl CaveFrame {
                         ctx.frame_format(),
                         cave_lighting().tonemap,
                         &plan,
-                        scene.cave.volume.seed,
+                        scene.seed,
                         &environment,
                     )?,
                     _environment: environment,
@@ -161,9 +163,10 @@ impl CaveFrame {
             smooth: scene.smooth,
             wireframe: scene.wireframe,
             fog_density: scene.fog,
-            lamp: Vec3::new(14.0, 12.5, 10.5) * (scene.cave.size_m / 24.0).powi(2),
-            depth: scene.cave.depth,
+            lamp: Vec3::new(14.0, 12.5, 10.5) * (scene.cave_size / 24.0).powi(2),
+            depth: scene.depth,
             message: String::new(),
+            scene: scene.clone(),
             model,
         };
         frame.upload_shown(ctx)?;
@@ -345,6 +348,18 @@ impl Scene for CaveFrame {
     fn message(&self) -> &str {
         &self.message
     }
+
+    /// The walls and the speleothems (Short-profile or, once grown, the growth's), in
+    /// metres.
+    fn asset(&self, ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>> {
+        let grown = self.grown(ctx)?;
+        Ok(Some(export(
+            &self.scene,
+            &self.model,
+            grown.as_ref(),
+            title,
+        )))
+    }
 }
 
 impl CaveFrame {
@@ -358,51 +373,6 @@ impl CaveFrame {
             _ => Ok(None),
         }
     }
-}
-
-/// Rendered frames and what they cost.
-pub struct CaveRender {
-    /// One picture per camera, with its frame's cost.
-    pub frames: Vec<(image::RgbaImage, crate::frame::Frame)>,
-    /// The grown speleothems' vertices (for export), with their plan.
-    pub grown: Option<(GrowthPlan, Vec<RingVertex>)>,
-}
-
-/// Renders `model` once per camera (the growth, if any, runs in the first frame).
-pub fn render(
-    ctx: &Arc<Context>,
-    scene: &CaveScene,
-    model: &Arc<CaveModel>,
-    size: Size,
-    cameras: &[Camera],
-) -> Result<CaveRender> {
-    render_streaming(ctx, scene, model, size, cameras, &mut |_, _| Ok(true))
-}
-
-/// `render`, handing each camera's image to `on_frame(index, image)` as it is made;
-/// only the frames it returns `true` for are kept in `CaveRender::frames` (a
-/// fly-through streamed to its GIF holds one frame, not all of them).
-pub fn render_streaming(
-    ctx: &Arc<Context>,
-    scene: &CaveScene,
-    model: &Arc<CaveModel>,
-    size: Size,
-    cameras: &[Camera],
-    on_frame: &mut dyn FnMut(usize, &image::RgbaImage) -> Result<bool>,
-) -> Result<CaveRender> {
-    let mut runner = FrameRunner::new(ctx, size)?;
-    let mut frame = CaveFrame::new(ctx, scene, model.clone())?;
-    let mut frames = Vec::new();
-    for (i, camera) in cameras.iter().enumerate() {
-        let rendered = runner.render(&mut frame, camera, Time::At(0))?;
-        if on_frame(i, &rendered.0)? {
-            frames.push(rendered);
-        }
-    }
-    Ok(CaveRender {
-        frames,
-        grown: frame.grown(ctx)?,
-    })
 }
 
 /// The cave as a file's asset: the walls, and the stalactites, stalagmites and
@@ -423,7 +393,7 @@ pub fn export(
         // 0 stalactites, 1 stalagmites, 2 columns.
         let mut parts: [Mesh; 3] = Default::default();
         for site in &model.sites {
-            let [hanging, standing] = site_meshes(site, scene.unit_m);
+            let [hanging, standing] = site_meshes(site, scene.unit);
             let (a, b) = if site.column { (2, 2) } else { (0, 1) };
             parts[a].append(&hanging);
             parts[b].append(&standing);
@@ -443,70 +413,148 @@ pub fn export(
     asset
 }
 
-/// Frames of the cave fly-through GIF in the gallery.
+/// Frames of the cave fly-through GIF (`--gif` without `--gif-frames`, the gallery).
 pub const FLYTHROUGH_FRAMES: u32 = 24;
 
-/// The cave in the registry.
-pub struct Kind;
+/// `--table`: the paper's Table 1 counterpart instead of a picture.
+const TABLE: OutputDef = OutputDef {
+    flag: "table",
+    value_name: "",
+    extensions: &[],
+    help: "Print the paper's Table 1 counterpart (triangles before and after the \
+           crack-free split and generation time per phase, octree depths 5..9) and render \
+           nothing",
+};
 
-impl SceneKind for Kind {
+/// Cui, Chow & Zhang's caves as a scene of the registry.
+pub struct CaveDef;
+
+impl SceneDef for CaveDef {
+    type Params = CaveScene;
+    type Model = CaveModel;
+
     fn name(&self) -> &'static str {
         "cave"
+    }
+
+    fn about(&self) -> &'static str {
+        "Generate a cave (Cui, Chow & Zhang 2011: noise -> voxel octree -> walls -> \
+         crack-free Laplacian smoothing) with Short-profile or GPU-grown speleothems, and \
+         render it from inside the passage. Its animation (--gif) flies along the passage."
     }
 
     fn presets(&self) -> &'static [(&'static str, &'static str)] {
         PRESETS
     }
 
+    fn preset(&self, name: &str) -> Result<CaveScene> {
+        preset(name)
+    }
+
+    fn set_seed(&self, params: &mut CaveScene, seed: u64) {
+        params.seed = seed;
+    }
+
+    fn model(&self, params: &CaveScene, progress: Progress<'_>) -> Result<CaveModel> {
+        build(params, progress)
+    }
+
+    fn camera(&self, params: &CaveScene, model: &CaveModel) -> Camera {
+        default_camera(params, model)
+    }
+
+    fn frame(
+        &self,
+        ctx: &Arc<Context>,
+        params: &CaveScene,
+        model: &Arc<CaveModel>,
+        _realtime: bool,
+    ) -> Result<Box<dyn Scene>> {
+        Ok(Box::new(CaveFrame::new(ctx, params, model.clone())?))
+    }
+
+    fn animation(
+        &self,
+        params: &CaveScene,
+        model: &CaveModel,
+        _camera: &Camera,
+        frames: Option<u32>,
+    ) -> Vec<(Camera, Time)> {
+        flythrough(params, model, frames.unwrap_or(FLYTHROUGH_FRAMES))
+            .into_iter()
+            .map(|c| (c, Time::At(0)))
+            .collect()
+    }
+
+    fn outputs(&self) -> &'static [OutputDef] {
+        &[TABLE]
+    }
+
+    fn write_output(
+        &self,
+        _output: &OutputDef,
+        _path: Option<&std::path::Path>,
+        job: &Job<'_, CaveScene, CaveModel>,
+        report: &mut dyn FnMut(&str),
+    ) -> Result<Vec<String>> {
+        let rows = table(&job.params.cave(), &mut |_| {})?;
+        report(
+            "| depth | triangles before split | after | increase | paper before | paper after | paper increase | octree ms | walls ms | split ms | smooth ms | total ms |",
+        );
+        report("|---|---|---|---|---|---|---|---|---|---|---|---|");
+        for (row, (_, pb, pa)) in rows.iter().zip(PAPER_TABLE_1) {
+            let t = &row.timings;
+            report(&format!(
+                "| {} | {} | {} | {:.1} % | {pb} | {pa} | {:.1} % | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} |",
+                row.depth,
+                row.before,
+                row.after,
+                100.0 * (row.after - row.before) as f64 / row.before as f64,
+                100.0 * (pa - pb) as f64 / pb as f64,
+                t.build_ms,
+                t.extract_ms,
+                t.split_ms,
+                t.smooth_ms,
+                t.total_ms()
+            ));
+        }
+        Ok(Vec::new())
+    }
+
     /// The smoothed wall as wireframe, the passage with Short-profile speleothems (and
     /// a fly-through) and with the same sites grown.
-    fn gallery(&self) -> Vec<GalleryEntry> {
-        let caves: [(&'static str, &'static str, &'static str, Speleothems); 3] = [
-            (
-                "cave-fig5c",
-                "fig5c",
-                "cave walls after crack-free smoothing, wireframe",
-                Speleothems::None,
-            ),
-            (
-                "cave-fig8",
-                "fig8",
-                "cave passage with Short-profile stalactites and stalagmites; cave-fig8.gif flies through it",
-                Speleothems::Short,
-            ),
-            (
-                "cave-grown",
-                "fig8",
-                "the same sites grown on the GS/transform-feedback pipeline",
-                Speleothems::Grown,
-            ),
-        ];
-        caves
-            .into_iter()
-            .map(
-                |(name, preset_name, description, speleothems)| GalleryEntry {
-                    name,
-                    description,
-                    render: Box::new(move |ctx, size, seed| {
-                        let start = Instant::now();
-                        let mut scene = preset(preset_name)?;
-                        scene.cave.volume.seed = seed;
-                        scene.speleothems = speleothems;
-                        let model = Arc::new(build(&scene, &|_, _, _| {})?);
-                        let mut cameras = vec![default_camera(&scene, &model)];
-                        if name == "cave-fig8" {
-                            cameras.extend(flythrough(&scene, &model, FLYTHROUGH_FRAMES));
-                        }
-                        let mut frames = render(ctx, &scene, &model, size, &cameras)?.frames;
-                        let (image, frame) = frames.remove(0);
-                        Ok(Shot {
-                            animation: frames.into_iter().map(|f| f.0).collect(),
-                            ..Shot::still(image, frame.spans, start.elapsed().as_secs_f64() * 1e3)
-                        })
-                    }),
-                },
-            )
-            .collect()
+    fn gallery(&self) -> Vec<GalleryShot> {
+        vec![
+            GalleryShot {
+                name: "cave-fig5c",
+                preset: "fig5c",
+                set: &[],
+                animated: false,
+                files: &[],
+                description: "cave walls after crack-free smoothing, wireframe",
+            },
+            GalleryShot {
+                name: "cave-fig8",
+                preset: "fig8",
+                set: &[],
+                animated: true,
+                files: &[],
+                description: "cave passage with Short-profile stalactites and stalagmites; \
+                              cave-fig8.gif flies through it",
+            },
+            GalleryShot {
+                name: "cave-grown",
+                preset: "fig8",
+                set: &[("speleothems", "grown")],
+                animated: false,
+                files: &[],
+                description: "the same sites grown on the GS/transform-feedback pipeline",
+            },
+        ]
+    }
+
+    fn controls(&self) -> &'static [&'static str] {
+        CaveFrame::CONTROLS
     }
 
     fn bench(&self) -> Option<Box<dyn BenchScene>> {
@@ -533,7 +581,7 @@ impl BenchScene for CaveBench {
             .and_then(|d| d.parse().ok())
             .ok_or_else(|| Error::internal("cave bench", format!("variant {variant}")))?;
         let mut scene = CaveScene::default();
-        scene.cave.depth = depth;
+        scene.depth = depth;
         let model = Arc::new(build(&scene, &|_, _, _| {})?);
         let camera = default_camera(&scene, &model);
         Ok((Box::new(CaveFrame::new(ctx, &scene, model)?), camera))

@@ -15,8 +15,7 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::frame::{BenchAdditions, BenchScene, PaperRatio, Scene, SeriesOutcome};
 use crate::gpu::Context;
-use crate::model::dust::DustParams;
-use crate::model::footprints::fig18_walk;
+use crate::model::footprints::{Walk, fig18_walk};
 use crate::model::sand::{Heightfield, SandParams, SandSim};
 
 /// One timed set-up of the figure-17 scene.
@@ -125,15 +124,19 @@ impl BenchScene for DunesBench {
         let scene = DunesScene {
             cull: v.cull,
             lod: v.lod,
-            lod_per_quad: v.lod_per_quad,
+            lod_choice: if v.lod_per_quad {
+                super::LodChoice::Quad
+            } else {
+                super::LodChoice::Pixel
+            },
             shadows: v.shadows,
-            dust: v.dust.then(DustParams::default),
+            dust: v.dust,
             ..base.clone()
         };
         // Every variant from Fig. 17's camera (a walk would take the walker's).
         let camera = default_camera(&scene, terrain);
         let scene = DunesScene {
-            footprints: v.footprints.then(|| fig18_walk(scene.field_size())),
+            footprints: Walk(v.footprints.then(|| fig18_walk(scene.field_size()))),
             ..scene
         };
         Ok((Box::new(DunesFrame::new(ctx, scene, terrain)?), camera))

@@ -4,15 +4,17 @@
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
-use std::time::Instant;
 
 use glam::Vec3;
 
-use super::{DunesScene, PRESETS, SAND_ALBEDO, Shadows, default_camera, preset};
-use crate::Size;
+use super::{
+    DuneShadowMethod, DunesScene, LodChoice, PRESETS, SAND_ALBEDO, Shadows, default_camera, preset,
+};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
+use crate::export::asset::Asset;
+use crate::frame::plugin::Job;
+use crate::frame::{GalleryShot, OutputDef, Progress, Scene, SceneDef, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::input::Key;
 use crate::model::atmosphere::Atmosphere;
@@ -20,11 +22,12 @@ use crate::model::dune_mesh::{
     DuneLod, dune_mesh_tiled, normal_texels, quad_levels, visible_quads,
 };
 use crate::model::dune_shadow::DuneGrid;
-use crate::model::dust::{DustCloud, DustGround, DustParams};
+use crate::model::dust::{DustCloud, DustGround};
 use crate::model::footprints::{self, DetailField, FootprintParams};
 use crate::model::mesh::Mesh;
 use crate::model::sand::{Heightfield, SandSim};
 use crate::model::sand_grain::grain_texture;
+use crate::params::ParamSet;
 use crate::render::atmosphere::{
     AtmosphereSkyPass, AtmosphereSkyPush, SKY_VIEW_HEIGHT, SKY_VIEW_WIDTH, SkyViewPass,
 };
@@ -38,6 +41,7 @@ use crate::render::ripple_maps::{HorizonWalk, RippleMaps};
 use crate::render::tone_map::ToneMap;
 
 /// The simulated terrain: dune heights (world metres) and the ripple tile.
+#[derive(Clone)]
 pub struct Terrain {
     /// One period of dune heights in metres, lowest at 0: `dune_size` squared, row by
     /// row.
@@ -67,7 +71,7 @@ pub fn simulate_frames(
     let total = scene.ripple_steps + scene.dune_steps;
     let mut ripples = SandSim::new(
         Heightfield::random(scene.ripple_size, scene.ripple_size, 0.0, 1.0, scene.seed),
-        scene.ripple.clone(),
+        scene.ripple_params(),
     )?;
     let mut dunes = SandSim::new(
         Heightfield::random(
@@ -80,7 +84,7 @@ pub fn simulate_frames(
             // rather than one smooth slope.
             scene.seed ^ 0xD0E6,
         ),
-        scene.dune.clone(),
+        scene.dune_params(),
     )?;
     let (mut ripple_done, mut dune_done) = (0u32, 0u32);
     let mut last = None;
@@ -102,7 +106,7 @@ pub fn simulate_frames(
 
 /// World-unit dune heights (lowest at 0) from the simulated fields.
 fn terrain_of(scene: &DunesScene, ripples: Heightfield, dune_field: Heightfield) -> Terrain {
-    let scale = scene.dune.vertical_scale as f32 * scene.cell;
+    let scale = scene.dune_params().vertical_scale as f32 * scene.cell;
     let min = dune_field.data.iter().copied().fold(f64::MAX, f64::min);
     let dune_heights = dune_field
         .data
@@ -158,6 +162,9 @@ pub struct DunesFrame {
     /// Draw the dune-shadow term instead of the shaded desert (`show_shadow_mask`).
     shadow_mask: bool,
     message: String,
+    /// The simulated terrain, kept when the frame was made from the registry so that
+    /// `asset` can export one period of it (`--mesh`).
+    terrain: Option<Arc<Terrain>>,
 }
 
 /// What `set_frame` fixes for the next frame.
@@ -187,9 +194,9 @@ const DESERT_TONE_MAP: ToneMap = ToneMap::Aces;
 fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwitches {
     DuneSwitches {
         lod: scene.lod,
-        lod_per_quad: scene.lod && scene.lod_per_quad,
+        lod_per_quad: scene.lod && scene.lod_choice == LodChoice::Quad,
         dune_shadows: scene.shadows != Shadows::None,
-        dune_shadows_marched: scene.dune_shadows_per_pixel,
+        dune_shadows_marched: (scene.dune_shadows == DuneShadowMethod::Pixel),
         ripple_shadows: scene.shadows == Shadows::DuneAndRipple && scene.ripples,
         footprints,
         shadow_mask,
@@ -227,6 +234,7 @@ impl DunesFrame {
         let grain = sand_grain(&scene);
         let prints = scene
             .footprints
+            .0
             .as_ref()
             .map(|path| footprints::walk(&FootprintParams::walk(path.clone())));
         let dune_normals = normal_texels(n, scene.cell, &terrain.dune_heights, SHADOW_RES as usize);
@@ -236,7 +244,7 @@ impl DunesFrame {
             &shadow,
             &DuneBake {
                 sun,
-                wind_radians: scene.wind_degrees.to_radians(),
+                wind_radians: scene.wind_direction.to_radians(),
                 dune_normals: &dune_normals,
             },
             &grain,
@@ -252,12 +260,12 @@ impl DunesFrame {
             switches(&scene, prints.is_some(), false),
         )?;
         // The dust: released whether or not it is shown (the viewer's `u` shows it).
-        let cloud = scene.dust.as_ref().map(|params| {
+        let cloud = scene.dust_params().as_ref().map(|params| {
             let height = dune_height(n, scene.cell, &terrain.dune_heights);
             let ground = DustGround {
                 ripples: &terrain.ripples,
                 tile: scene.ripple_tile,
-                wind_radians: scene.wind_degrees.to_radians(),
+                wind_radians: scene.wind_direction.to_radians(),
                 period: scene.field_size(),
                 dune_height: &height,
             };
@@ -306,6 +314,7 @@ impl DunesFrame {
             view: None,
             shadow_mask: false,
             message: String::new(),
+            terrain: None,
             scene,
         })
     }
@@ -339,7 +348,8 @@ impl DunesFrame {
     /// for each `Time::Tick` (the viewer blows it along).
     fn advance_dust(&mut self, time: Time) -> Result<()> {
         self.dust_moved = false;
-        let (Some((released, cloud)), Some(_)) = (&mut self.dust_cloud, &self.scene.dust) else {
+        let (Some((released, cloud)), Some(_)) = (&mut self.dust_cloud, self.scene.dust_params())
+        else {
             return Ok(());
         };
         let scene = &self.scene;
@@ -373,6 +383,15 @@ impl Scene for DunesFrame {
         "dunes"
     }
 
+    /// One period of the field (it tiles), textured with the sand and the ripples.
+    fn asset(&self, _ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>> {
+        Ok(self.terrain.as_ref().map(|terrain| {
+            let s = &self.scene;
+            let mesh = dune_mesh_tiled(s.dune_size, s.cell, &terrain.dune_heights, 1);
+            super::export::export(s, terrain, &mesh, title)
+        }))
+    }
+
     /// The scene's sun and toggles and the camera for the next frame; a moved sun
     /// rebuilds the dune shadow map first.
     fn set_frame(
@@ -393,7 +412,7 @@ impl Scene for DunesFrame {
                 &self.shadow,
                 &DuneBake {
                     sun,
-                    wind_radians: self.scene.wind_degrees.to_radians(),
+                    wind_radians: self.scene.wind_direction.to_radians(),
                     dune_normals: &self.dune_normals,
                 },
                 &self.grain,
@@ -430,7 +449,7 @@ impl Scene for DunesFrame {
         self.surface.set_frame(&frame)?;
         self.surface
             .set_switches(switches(scene, self.prints.is_some(), self.shadow_mask))?;
-        let wind = scene.wind_degrees.to_radians();
+        let wind = scene.wind_direction.to_radians();
         let push = DunePush {
             tile: glam::Vec4::new(
                 scene.ripple_tile,
@@ -465,7 +484,7 @@ impl Scene for DunesFrame {
         };
         let sky = AtmosphereSkyPush {
             inverse_view_proj: frame.view_proj.inverse(),
-            sun: sun.extend(scene.sun_azimuth_degrees.to_radians()),
+            sun: sun.extend(scene.sun_azimuth.to_radians()),
             camera: camera.eye.extend(frame.params.x),
             disk: light.disk.extend(SUN_RADIUS_RADIANS.cos()),
         };
@@ -476,7 +495,7 @@ impl Scene for DunesFrame {
             target: camera.target,
             push,
             sky,
-            dust: scene.dust.is_some(),
+            dust: scene.dust,
         });
         let pi = std::f32::consts::PI;
         self.dust.set_light(&DustLight {
@@ -484,7 +503,7 @@ impl Scene for DunesFrame {
             sun: (pi * light.sun).extend(DUST_PHASE_G),
             // The mean radiance all round: the sky above, the sand below.
             sky: (0.5 * (light.sky + light.ground)).extend(DUST_OPACITY),
-            albedo: DUST_ALBEDO.extend(scene.dust.as_ref().map_or(1.0, |d| d.fade)),
+            albedo: DUST_ALBEDO.extend(scene.dust_params().map_or(1.0, |d| d.fade)),
             eye: camera.eye.extend(scene.cell),
             tone: glam::Vec4::new(frame.params.x, 0.0, scene.dune_size as f32, 0.0),
         })?;
@@ -503,11 +522,11 @@ impl Scene for DunesFrame {
             .as_ref()
             .ok_or_else(|| Error::internal("dunes", "set_frame must come before record"))?;
         // The quads to draw: culled, and simplified far away, for this target's size.
-        let quads = if self.scene.cull && self.scene.mesh_lod_pixels > 0.0 {
+        let quads = if self.scene.cull && self.scene.mesh_lod > 0.0 {
             let focal = target.height() as f32 / (2.0 * (0.5 * v.fov_y_degrees.to_radians()).tan());
             let steps = self
                 .lod
-                .steps(v.eye, self.scene.cell, focal, self.scene.mesh_lod_pixels);
+                .steps(v.eye, self.scene.cell, focal, self.scene.mesh_lod);
             self.lod.quads(&self.mesh, &steps, v.eye, v.view_proj, true)
         } else {
             visible_quads(&self.mesh, v.eye, v.view_proj, self.scene.cull)
@@ -519,7 +538,7 @@ impl Scene for DunesFrame {
             }
             None => self.geometry.set_visible(&quads)?,
         }
-        if self.scene.lod && self.scene.lod_per_quad {
+        if self.scene.lod && self.scene.lod_choice == LodChoice::Quad {
             // Texels of the ripple tile across one dune quad (the paper: 64).
             let texels = self.scene.cell / self.scene.ripple_tile * self.scene.ripple_size as f32;
             let levels = quad_levels(
@@ -573,8 +592,8 @@ impl Scene for DunesFrame {
         vec![
             format!(
                 "sun elevation {:.0} deg azimuth {:.0} deg  shadows {}  ripples {}",
-                s.sun_elevation_degrees,
-                s.sun_azimuth_degrees,
+                s.sun_elevation,
+                s.sun_azimuth,
                 s.shadows,
                 on(s.ripples)
             ),
@@ -582,7 +601,7 @@ impl Scene for DunesFrame {
                 "lod {}  culling {} ({visible}/{total} triangles)  dust {}",
                 on(s.lod),
                 on(s.cull),
-                on(s.dust.is_some())
+                on(s.dust)
             ),
         ]
     }
@@ -590,10 +609,10 @@ impl Scene for DunesFrame {
     fn key(&mut self, _ctx: &Arc<Context>, key: Key) -> Result<bool> {
         let s = &mut self.scene;
         match key {
-            Key::Left => s.sun_azimuth_degrees = (s.sun_azimuth_degrees - 10.0).rem_euclid(360.0),
-            Key::Right => s.sun_azimuth_degrees = (s.sun_azimuth_degrees + 10.0).rem_euclid(360.0),
-            Key::Up => s.sun_elevation_degrees = (s.sun_elevation_degrees + 2.0).min(90.0),
-            Key::Down => s.sun_elevation_degrees = (s.sun_elevation_degrees - 2.0).max(-2.0),
+            Key::Left => s.sun_azimuth = (s.sun_azimuth - 10.0).rem_euclid(360.0),
+            Key::Right => s.sun_azimuth = (s.sun_azimuth + 10.0).rem_euclid(360.0),
+            Key::Up => s.sun_elevation = (s.sun_elevation + 2.0).min(90.0),
+            Key::Down => s.sun_elevation = (s.sun_elevation - 2.0).max(-2.0),
             Key::Char('l') => s.lod = !s.lod,
             Key::Char('k') => s.cull = !s.cull,
             Key::Char('j') => s.ripples = !s.ripples,
@@ -609,10 +628,7 @@ impl Scene for DunesFrame {
                     self.message = "no dust in this scene (start it with --dust)".into();
                     return Ok(true);
                 }
-                s.dust = match s.dust {
-                    Some(_) => None,
-                    None => Some(DustParams::default()),
-                };
+                s.dust = !s.dust;
             }
             _ => return Ok(false),
         }
@@ -787,123 +803,196 @@ fn shadow_map(ctx: &Arc<Context>, shadow: &DuneShadowPass, sun: Vec3) -> Result<
     timer.read()
 }
 
-/// A rendered desert frame and what it cost.
-pub struct DunesRender {
-    /// The picture at the requested size.
-    pub image: image::RgbaImage,
-    /// GPU time of each pass of the frame.
-    pub gpu_spans: Vec<Span>,
-    /// Wall-clock milliseconds of the whole render (set-up included).
-    pub wall_ms: f64,
-    /// GPU milliseconds of each extra timing frame (the first frame, which pays for
-    /// lavapipe's shader compilation, is not among them).
-    pub timed_ms: Vec<f64>,
-    /// GPU time of the precomputations (ripple maps, dune shadow map).
-    pub precompute: Vec<Span>,
-    /// Triangles drawn after back-face and frustum culling.
-    pub visible_triangles: u32,
-    /// Triangles of the tiled dune mesh before culling.
-    pub total_triangles: u32,
-    /// One period of the dune field with its wrap edge, so copies tile seamlessly (for
-    /// export).
-    pub mesh: Mesh,
-}
+/// `--heightmap`: the dune field and the ripple tile for terrain tools.
+const HEIGHTMAP: OutputDef = OutputDef {
+    flag: "heightmap",
+    value_name: "FILE.png|FILE.exr",
+    extensions: crate::export::heightmap::HEIGHTMAP_FORMATS,
+    help: "The dune field's heights as a 16-bit PNG (its range in tEXt chunks) or a float \
+           EXR in metres, with the ripple tile beside it as FILE-ripples.png/.exr, each \
+           with a JSON sidecar (range, orientation, periodicity, import settings)",
+};
 
-/// Renders `scene` from simulated `terrain` with `camera` (default: `default_camera`),
-/// then the same frame `timing_frames` more times for timing.
-pub fn render(
-    ctx: &Arc<Context>,
-    scene: &DunesScene,
-    terrain: &Terrain,
-    size: Size,
-    camera: Option<&Camera>,
-    timing_frames: u32,
-) -> Result<DunesRender> {
-    let start = Instant::now();
-    let camera = camera
-        .cloned()
-        .unwrap_or_else(|| default_camera(scene, terrain));
-    let mut frame = DunesFrame::new(ctx, scene.clone(), terrain)?;
-    let mut runner = FrameRunner::new(ctx, size)?;
-    let (image, first) = runner.render(&mut frame, &camera, Time::At(0))?;
-    let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-    let timed = runner.repeat(&mut frame, &camera, timing_frames, &|_| Time::At(0))?;
-    let (visible_triangles, total_triangles) = frame.triangles();
-    Ok(DunesRender {
-        image,
-        gpu_spans: first.spans,
-        wall_ms,
-        timed_ms: timed.iter().map(crate::frame::Frame::gpu_ms).collect(),
-        precompute: frame.precompute.clone(),
-        visible_triangles,
-        total_triangles,
-        mesh: dune_mesh_tiled(scene.dune_size, scene.cell, &terrain.dune_heights, 1),
-    })
-}
+/// `--forming`: the desert forming, the simulations run again in chunks.
+const FORMING: OutputDef = OutputDef {
+    flag: "forming",
+    value_name: "FILE.gif",
+    extensions: &["gif"],
+    help: "The ripples and dunes forming over time as an animated GIF: the simulations \
+           run again in --gif-frames chunks (default 12), a frame after each",
+};
 
-/// Frames of `scene` at each of `times` (`Time::At`: the dust `dust_step + t` steps
-/// on) from one frame set-up, as the viewer draws them: the dust blowing over the
-/// terrain, each handed to `each(index, image)` as it is made (an animation streams
-/// to its encoder, one frame alive at a time).
-pub fn render_times(
-    ctx: &Arc<Context>,
-    scene: &DunesScene,
-    terrain: &Terrain,
-    size: Size,
-    camera: &Camera,
-    times: &[u32],
-    each: &mut dyn FnMut(usize, image::RgbaImage) -> Result<()>,
-) -> Result<()> {
-    let mut frame = DunesFrame::new(ctx, scene.clone(), terrain)?;
-    let mut runner = FrameRunner::new(ctx, size)?;
-    for (i, &t) in times.iter().enumerate() {
-        each(i, runner.render(&mut frame, camera, Time::At(t))?.0)?;
-    }
-    Ok(())
-}
+/// Onoue & Nishita's desert as a scene of the registry.
+pub struct DunesDef;
 
-/// The dune figures in the registry.
-pub struct Kind;
+impl SceneDef for DunesDef {
+    type Params = DunesScene;
+    type Model = Terrain;
 
-impl SceneKind for Kind {
     fn name(&self) -> &'static str {
         "dunes"
+    }
+
+    fn about(&self) -> &'static str {
+        "Simulate dunes and wind ripples (Nishimori–Ouchi) and render the desert with \
+         bump-mapped ripples, LOD, culling, dune and ripple shadows, dust and footprints \
+         (Onoue & Nishita). With --dust, its animation (--gif) is the dust blowing."
     }
 
     fn presets(&self) -> &'static [(&'static str, &'static str)] {
         PRESETS
     }
 
-    /// Five of the seven dune figures keep the gallery quick: each simulates anew.
-    fn gallery(&self) -> Vec<GalleryEntry> {
-        PRESETS
-            .iter()
-            .filter(|(name, _)| matches!(*name, "fig12" | "fig13" | "fig15" | "fig17" | "fig18"))
-            .map(|&(name, description)| GalleryEntry {
-                name: match name {
-                    "fig12" => "dunes-fig12",
-                    "fig13" => "dunes-fig13",
-                    "fig15" => "dunes-fig15",
-                    "fig17" => "dunes-fig17",
-                    _ => "dunes-fig18",
-                },
-                description,
-                render: Box::new(move |ctx, size, seed| {
-                    let scene = DunesScene {
-                        seed,
-                        ..preset(name)?
-                    };
-                    let terrain = simulate(&scene, &mut |_, _| {})?;
-                    let out = render(ctx, &scene, &terrain, size, None, 0)?;
-                    Ok(Shot::still(out.image, out.gpu_spans, out.wall_ms))
-                }),
-            })
+    fn preset(&self, name: &str) -> Result<DunesScene> {
+        preset(name)
+    }
+
+    fn set_seed(&self, params: &mut DunesScene, seed: u64) {
+        params.seed = seed;
+    }
+
+    fn model(&self, params: &DunesScene, progress: Progress<'_>) -> Result<Terrain> {
+        simulate(params, &mut |d, t| progress("simulation steps", d, t))
+    }
+
+    fn camera(&self, params: &DunesScene, model: &Terrain) -> Camera {
+        default_camera(params, model)
+    }
+
+    fn frame(
+        &self,
+        ctx: &Arc<Context>,
+        params: &DunesScene,
+        model: &Arc<Terrain>,
+        _realtime: bool,
+    ) -> Result<Box<dyn Scene>> {
+        let mut frame = DunesFrame::new(ctx, params.clone(), model)?;
+        frame.terrain = Some(Arc::clone(model));
+        Ok(Box::new(frame))
+    }
+
+    /// The still shows the dust at `dust_step`.
+    fn still_time(&self, _params: &DunesScene) -> Time {
+        Time::At(0)
+    }
+
+    /// With dust: the dust blowing over the final desert, two time steps a frame.
+    fn animation(
+        &self,
+        params: &DunesScene,
+        _model: &Terrain,
+        camera: &Camera,
+        frames: Option<u32>,
+    ) -> Vec<(Camera, Time)> {
+        if !params.dust {
+            return Vec::new();
+        }
+        (0..frames.unwrap_or(12))
+            .map(|i| (camera.clone(), Time::At(2 * i)))
             .collect()
+    }
+
+    fn outputs(&self) -> &'static [OutputDef] {
+        &[HEIGHTMAP, FORMING]
+    }
+
+    fn write_output(
+        &self,
+        output: &OutputDef,
+        path: Option<&std::path::Path>,
+        job: &Job<'_, DunesScene, Terrain>,
+        _report: &mut dyn FnMut(&str),
+    ) -> Result<Vec<String>> {
+        let path = path.ok_or_else(|| Error::internal("dunes", "an output needs a path"))?;
+        if output.flag == HEIGHTMAP.flag {
+            let mut lines = Vec::new();
+            for (target, map, what) in [
+                (
+                    path.to_path_buf(),
+                    super::export::dune_heightmap(job.params, job.model),
+                    "dune field",
+                ),
+                (
+                    ripple_tile_path(path),
+                    super::export::ripple_heightmap(job.params, job.model),
+                    "ripple tile",
+                ),
+            ] {
+                let (range, files) = crate::export::heightmap::write_heightmap(&target, &map)?;
+                let files: Vec<_> = files.iter().map(|f| f.display().to_string()).collect();
+                lines.push(format!(
+                    "wrote {} ({what}; {})",
+                    files.join(" and "),
+                    range.line()
+                ));
+            }
+            return Ok(lines);
+        }
+        // The desert forming: the same seed gives the same final terrain.
+        let (Some(ctx), Some(camera)) = (job.ctx, job.camera) else {
+            return Err(Error::internal(
+                "dunes",
+                "--forming needs a device and a camera",
+            ));
+        };
+        let frames = job.frames.unwrap_or(12);
+        let mut gif = crate::export::gif::GifStream::create(path, 150)?;
+        let mut runner = crate::frame::FrameRunner::new(ctx, job.size)?;
+        simulate_frames(job.params, frames, &mut |_, _| {}, &mut |_, snapshot| {
+            let mut frame = DunesFrame::new(ctx, job.params.clone(), snapshot)?;
+            gif.push(&runner.render(&mut frame, camera, Time::At(0))?.0)
+        })?;
+        let written = gif.finish()?;
+        Ok(vec![format!("wrote {} ({written} frames)", path.display())])
+    }
+
+    /// Five of the seven dune figures keep the gallery quick: each simulates anew.
+    fn gallery(&self) -> Vec<GalleryShot> {
+        let shot = |name, preset, description| GalleryShot {
+            name,
+            preset,
+            set: &[],
+            animated: false,
+            files: &[],
+            description,
+        };
+        vec![
+            shot("dunes-fig12", "fig12", "dunes without wind ripples"),
+            shot(
+                "dunes-fig13",
+                "fig13",
+                "dunes with wind ripples (bump mapped, LOD)",
+            ),
+            shot("dunes-fig15", "fig15", "low sun, dune shadows"),
+            shot("dunes-fig17", "fig17", "dune shadows and ripple shadows"),
+            shot(
+                "dunes-fig18",
+                "fig18",
+                "dune and ripple shadows with sand dust and footprints",
+            ),
+        ]
+    }
+
+    fn controls(&self) -> &'static [&'static str] {
+        DunesFrame::CONTROLS
     }
 
     fn bench(&self) -> Option<Box<dyn crate::frame::BenchScene>> {
         Some(Box::new(super::bench::DunesBench::default()))
     }
+}
+
+/// Where the ripple tile of `--heightmap FILE.ext` goes: FILE-ripples.ext.
+pub fn ripple_tile_path(path: &std::path::Path) -> std::path::PathBuf {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "png".to_owned());
+    path.with_file_name(format!("{stem}-ripples.{ext}"))
 }
 
 #[cfg(test)]

@@ -157,5 +157,5 @@ pub fn cut_away_render(
     let layers = crate::model::speleothem::climate::dated_layers(plan, index)
         .ok_or_else(|| crate::error::Error::internal("cut-away", "no rings"))?;
     let cut = crate::scene::layers::cut_away(&layers, 10);
-    Ok(crate::scene::layers::render(ctx, &cut, size, None)?.image)
+    crate::scene::layers::picture(ctx, &cut, size)
 }

@@ -15,15 +15,19 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::chamber::{CLEAR, Chamber, ENVIRONMENT_SIZE};
-use super::export::export_asset;
-use super::headless::{GrowOutputs, grow};
-use super::{ColorBy, GrowthScene, Lamp, Look, PRESETS, SpeleothemScene, lamp_lighting};
+use super::export::{cut_away_render, export_asset, write_rings_csv};
+use super::{
+    ColorBy, GrowScene, GrowthScene, Lamp, Look, PRESETS, SpeleothemScene, default_camera,
+    lamp_lighting,
+};
 use crate::camera::{Camera, Jitter};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::export::asset::Asset;
-use crate::frame::{GalleryEntry, Scene, SceneKind, Shot, Time};
+use crate::frame::plugin::Job;
+use crate::frame::{GalleryShot, OutputDef, Progress, Scene, SceneDef, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::input::Key;
+use crate::model::speleothem::plan::Kind as SpeleothemKind;
 use crate::model::speleothem::plan::{GrowthParams, ParamChange};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
@@ -75,6 +79,8 @@ pub struct GrowthFrame {
     lod_px: f32,
     /// The camera of the frame being drawn (the index's steps follow it).
     camera: Option<Camera>,
+    /// Metres per scene unit of the exported asset (`unit_scale`).
+    pub unit_scale: f32,
 }
 
 impl GrowthFrame {
@@ -160,6 +166,7 @@ impl GrowthFrame {
             lod: None,
             lod_px: 0.0,
             camera: None,
+            unit_scale: 1.0,
             plan,
             scene,
             look,
@@ -688,53 +695,226 @@ impl Scene for GrowthFrame {
             &self.plan,
             &mesh,
             title,
-            1.0,
+            self.unit_scale,
             self.scene.floor_y,
         )))
     }
+
+    /// The passes before the frame at `time`, grown in bounded submissions.
+    fn advance_to(
+        &mut self,
+        ctx: &Arc<Context>,
+        time: Time,
+        progress: Progress<'_>,
+    ) -> Result<Vec<Span>> {
+        let Time::At(end) = time else {
+            return Ok(Vec::new());
+        };
+        let todo = end.min(self.plan.passes).saturating_sub(self.passes_done());
+        if todo == 0 {
+            return Ok(Vec::new());
+        }
+        let ms = self.advance(ctx, todo, &mut |d, t| progress("passes", d, t))?;
+        Ok(vec![Span {
+            name: "ring growth".to_owned(),
+            milliseconds: ms,
+        }])
+    }
+
+    /// With a climate record, the calendar year the growth has reached.
+    fn label(&self) -> Option<String> {
+        let (first, years) = self.plan.dates?;
+        let year = first + f64::from(self.passes_done()) * years;
+        Some(crate::model::speleothem::climate::calendar_year(year))
+    }
 }
 
-/// The speleothem scene in the registry.
-pub struct Kind;
+/// `--csv`: every ring of every speleothem.
+const RINGS_CSV: OutputDef = OutputDef {
+    flag: "csv",
+    value_name: "FILE.csv",
+    extensions: &["csv"],
+    help: "Every ring of every speleothem as CSV: speleothem, kind, ring, year (with a \
+           climate record; else the pass), height along the growth and radius in metres",
+};
 
-impl SceneKind for Kind {
+/// `--cut-away`: the first stalagmite cut open.
+const CUT_AWAY: OutputDef = OutputDef {
+    flag: "cut-away",
+    value_name: "FILE.png",
+    extensions: &["png"],
+    help: "The first stalagmite cut open (a wedge removed), its rings as growth layers in \
+           bands of 10 rings (with a climate record, 1000 years at 100 years a pass), drawn \
+           at --size as `layers` draws Franke's layers",
+};
+
+/// Tortelli & Walter's growing speleothems as a scene of the registry.
+pub struct GrowDef;
+
+impl SceneDef for GrowDef {
+    type Params = GrowScene;
+    type Model = SpeleothemScene;
+
     fn name(&self) -> &'static str {
         "grow"
+    }
+
+    fn about(&self) -> &'static str {
+        "Grow speleothems ring by ring on the geometry-shader / transform-feedback \
+         pipeline (Tortelli & Walter 2009) and render them. Its animation (--gif) is the \
+         growth, pass by pass. Lengths are in scene units (the chamber is 2.4 units high by \
+         default, 3 in the random presets)."
     }
 
     fn presets(&self) -> &'static [(&'static str, &'static str)] {
         PRESETS
     }
 
-    /// Every Figure 9 panel.
-    fn gallery(&self) -> Vec<GalleryEntry> {
-        PRESETS
+    fn preset(&self, name: &str) -> Result<GrowScene> {
+        super::preset(name)
+    }
+
+    fn set_seed(&self, params: &mut GrowScene, seed: u64) {
+        params.seed = seed;
+    }
+
+    fn inputs(&self, params: &GrowScene) -> Vec<std::path::PathBuf> {
+        params
+            .climate
             .iter()
-            .map(|&(name, description)| GalleryEntry {
-                name,
-                description,
-                render: Box::new(move |ctx, size, seed| {
-                    let scene = GrowthScene {
-                        seed,
-                        ..super::preset(name)?
-                    };
-                    let outputs = GrowOutputs {
-                        look: super::preset_look(name),
-                        // The climate's 117 passes: the append-only path (the same
-                        // mesh, tests/ring_growth.rs), whose passes cost O(one ring)
-                        // rather than O(mesh).
-                        path: if scene.climate.is_some() {
-                            GrowthPath::XfbAppend
-                        } else {
-                            GrowthPath::XfbRestream
-                        },
-                        ..GrowOutputs::default()
-                    };
-                    let g = grow(ctx, &scene, size, &outputs, &mut |_, _| {})?;
-                    Ok(Shot::still(g.image, g.gpu_spans, g.wall_ms))
-                }),
+            .filter(|c| *c != "holocene")
+            .map(std::path::PathBuf::from)
+            .collect()
+    }
+
+    fn model(&self, params: &GrowScene, _progress: Progress<'_>) -> Result<SpeleothemScene> {
+        params.speleothems()
+    }
+
+    fn camera(&self, _params: &GrowScene, model: &SpeleothemScene) -> Camera {
+        default_camera(&model.growth)
+    }
+
+    fn frame(
+        &self,
+        ctx: &Arc<Context>,
+        params: &GrowScene,
+        model: &Arc<SpeleothemScene>,
+        realtime: bool,
+    ) -> Result<Box<dyn Scene>> {
+        let path = params.growth_path.unwrap_or(if realtime {
+            GrowthPath::XfbAppend
+        } else {
+            GrowthPath::XfbRestream
+        });
+        let mut frame = GrowthFrame::with_look(ctx, model.as_ref().clone(), path)?;
+        frame.unit_scale = params.unit_scale;
+        if realtime {
+            frame.set_every(params.every);
+            frame.set_speleothem_lod(ctx, params.speleothem_lod);
+        }
+        let plan = frame.plan();
+        if let Some((first, years)) = plan.dates {
+            use crate::model::speleothem::climate::calendar_year;
+            log::info!(
+                "climate: {} to {}, {years} years a pass",
+                calendar_year(first),
+                calendar_year(first + f64::from(plan.passes) * years)
+            );
+        }
+        log::info!(
+            "{} speleothems, {} passes ({} stop growing)",
+            plan.speleothems.len(),
+            plan.passes,
+            plan.speleothems.iter().filter(|s| s.stop.is_some()).count()
+        );
+        Ok(Box::new(frame))
+    }
+
+    /// The growth from its base rings to its last pass: every pass, or `frames`
+    /// frames spread over the passes.
+    fn animation(
+        &self,
+        _params: &GrowScene,
+        model: &SpeleothemScene,
+        camera: &Camera,
+        frames: Option<u32>,
+    ) -> Vec<(Camera, Time)> {
+        let passes = model.growth.passes();
+        let n = frames.unwrap_or(passes + 1).max(2);
+        (0..n)
+            .map(|i| {
+                let pass = (u64::from(i) * u64::from(passes) / u64::from(n - 1)) as u32;
+                (camera.clone(), Time::At(pass))
             })
             .collect()
+    }
+
+    fn outputs(&self) -> &'static [OutputDef] {
+        &[RINGS_CSV, CUT_AWAY]
+    }
+
+    fn check_output(&self, params: &GrowScene, output: &OutputDef) -> Result<()> {
+        if output.flag == CUT_AWAY.flag {
+            let plan = params.growth_scene()?.plan()?;
+            if !plan
+                .speleothems
+                .iter()
+                .any(|s| s.kind == SpeleothemKind::Stalagmite)
+            {
+                return Err(Error::invalid(
+                    "cut-away",
+                    "needs a stalagmite: grow with pil 2 or a climate record",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn write_output(
+        &self,
+        output: &OutputDef,
+        path: Option<&std::path::Path>,
+        job: &Job<'_, GrowScene, SpeleothemScene>,
+        _report: &mut dyn FnMut(&str),
+    ) -> Result<Vec<String>> {
+        let path = path.ok_or_else(|| Error::internal("grow", "an output needs a path"))?;
+        let plan = job.model.growth.plan()?;
+        if output.flag == RINGS_CSV.flag {
+            write_rings_csv(path, &plan)?;
+            return Ok(vec![format!(
+                "wrote {} (every ring: date, height, radius)",
+                path.display()
+            )]);
+        }
+        let ctx = job
+            .ctx
+            .ok_or_else(|| Error::internal("grow", "--cut-away needs a device"))?;
+        let image = cut_away_render(ctx, &plan, job.size)?;
+        crate::export::png::write_png(path, &image)?;
+        Ok(vec![format!(
+            "wrote {} (the first stalagmite's rings as growth layers)",
+            path.display()
+        )])
+    }
+
+    /// Every Figure 9 panel, and the climate-grown stalagmites.
+    fn gallery(&self) -> Vec<GalleryShot> {
+        PRESETS
+            .iter()
+            .map(|&(name, description)| GalleryShot {
+                name,
+                preset: name,
+                set: &[],
+                animated: false,
+                files: &[],
+                description,
+            })
+            .collect()
+    }
+
+    fn controls(&self) -> &'static [&'static str] {
+        GrowthFrame::CONTROLS
     }
 
     fn bench(&self) -> Option<Box<dyn crate::frame::BenchScene>> {

@@ -1,19 +1,23 @@
 //! The layered stalagmite's frame: the cut-away (outer surface, light and dark bands of
 //! the cut faces, the floor disk) drawn with the lit-mesh pass.
 
+use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Instant;
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 
-use super::{CutAway, PRESETS, cut_away, default_camera, preset};
+use super::{
+    BaseSpec, CutAway, LayersScene, PRESETS, SupplySpec, cut_away, default_camera, preset,
+};
 use crate::Size;
 use crate::camera::Camera;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::export::asset::{Asset, Material, PartMesh, floor_centre};
-use crate::export::section::{self, Colouring, SectionStyle};
-use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
-use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
+use crate::export::section::{self, SectionStyle};
+use crate::frame::plugin::Job;
+use crate::frame::{GalleryShot, OutputDef, Progress, Scene, SceneDef, Time};
+use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
+use crate::model::layers::Stalagmite;
 use crate::render::lighting::Lighting;
 use crate::render::lit_mesh::{GpuMesh, LitMeshPass, ObjectPush};
 
@@ -28,6 +32,8 @@ pub struct CutAwayFrame {
     parts: Vec<(GpuMesh, Vec3, f32)>,
     /// Growth layers shown, for the panel.
     layers: usize,
+    /// The cut-away and its metres per unit, kept for `Scene::asset`.
+    exported: Option<(CutAway, f32)>,
 }
 
 impl CutAwayFrame {
@@ -47,7 +53,15 @@ impl CutAwayFrame {
             pass: LitMeshPass::new(ctx, ctx.frame_format(), Lighting::default().tonemap)?,
             parts,
             layers,
+            exported: None,
         })
+    }
+
+    /// Also exports the cut-away as an asset (`--mesh`), `metres_per_unit` metres per
+    /// coordinate unit.
+    pub fn exporting(mut self, c: &CutAway, metres_per_unit: f32) -> Self {
+        self.exported = Some((c.clone(), metres_per_unit));
+        self
     }
 }
 
@@ -99,35 +113,13 @@ impl Scene for CutAwayFrame {
     fn status(&self) -> Vec<String> {
         vec![format!("{} growth layers, a quarter cut away", self.layers)]
     }
-}
 
-/// A rendered cut-away and what it cost.
-pub struct CutAwayRender {
-    /// The picture at the requested size.
-    pub image: image::RgbaImage,
-    /// GPU time of each pass of the frame.
-    pub gpu_spans: Vec<Span>,
-    /// Wall-clock milliseconds of the whole render (set-up included).
-    pub wall_ms: f64,
-}
-
-/// Renders the cut-away, seen by `camera` (default: `default_camera`).
-pub fn render(
-    ctx: &Arc<Context>,
-    c: &CutAway,
-    size: Size,
-    camera: Option<&Camera>,
-) -> Result<CutAwayRender> {
-    let start = Instant::now();
-    let mut runner = FrameRunner::new(ctx, size)?;
-    let mut frame = CutAwayFrame::new(ctx, c, 0)?;
-    let camera = camera.cloned().unwrap_or_else(|| default_camera(c));
-    let (image, f) = runner.render(&mut frame, &camera, Time::At(0))?;
-    Ok(CutAwayRender {
-        image,
-        gpu_spans: f.spans,
-        wall_ms: start.elapsed().as_secs_f64() * 1e3,
-    })
+    fn asset(&self, _ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>> {
+        Ok(self
+            .exported
+            .as_ref()
+            .map(|(c, metres)| export(c, title, *metres)))
+    }
 }
 
 /// Metres per coordinate unit of a stalagmite grown in Franke's dimensionless units:
@@ -176,46 +168,283 @@ pub fn export(c: &CutAway, title: &str, metres_per_unit: f32) -> Asset {
     asset
 }
 
-/// The layered stalagmites in the registry.
-pub struct Kind;
+/// The stalagmite grown and cut open: what the layers scene's CPU makes.
+pub struct LayersModel {
+    /// Every layer.
+    pub stalagmite: Stalagmite,
+    /// "mm" in real units, `None` in Franke's.
+    pub unit: Option<String>,
+    /// The cut-away: a quarter removed, the cut faces banded by layer.
+    pub cut: CutAway,
+}
 
-impl SceneKind for Kind {
+/// `--section`: the cross-section with every layer.
+const SECTION: OutputDef = OutputDef {
+    flag: "section",
+    value_name: "FILE.svg|FILE.png",
+    extensions: &["svg", "png"],
+    help: "The cross-section: every layer mirrored about the growth axis, every K-th \
+           emphasised, coloured by `color`, with a scale bar, at `section_size`",
+};
+
+/// `--section-gif`: the section growing layer by layer.
+const SECTION_GIF: OutputDef = OutputDef {
+    flag: "section-gif",
+    value_name: "FILE.gif",
+    extensions: &["gif"],
+    help: "The stalagmite growing layer by layer as an animated GIF of its section \
+           (--gif-frames frames, default 40)",
+};
+
+/// `--csv`: every layer's points.
+const CSV: OutputDef = OutputDef {
+    flag: "csv",
+    value_name: "FILE.csv",
+    extensions: &["csv"],
+    help: "Every layer's points as CSV: layer, time, point, x, y (mm and years in real \
+           units)",
+};
+
+/// Franke's layered stalagmite as a scene of the registry.
+pub struct LayersDef;
+
+impl LayersDef {
+    fn style(params: &LayersScene, unit: Option<&str>) -> SectionStyle {
+        SectionStyle {
+            emphasis: params.emphasis,
+            colouring: params.color,
+            unit: unit.map(str::to_owned),
+            upto: None,
+        }
+    }
+}
+
+impl SceneDef for LayersDef {
+    type Params = LayersScene;
+    type Model = LayersModel;
+
     fn name(&self) -> &'static str {
         "layers"
+    }
+
+    fn about(&self) -> &'static str {
+        "Grow a stalagmite layer by layer (Franke 1999: crystal growth perpendicular to the \
+         surface, a deposit thinning away from the apex) and render it cut open, a quarter \
+         removed and the cut faces banded by layer; its cross-section, the layers as CSV, \
+         the section growing. In Franke's units by default; in millimetres and years with \
+         `physical` or a timeline (the growth law of Kaufmann 2003). Its animation (--gif) \
+         turns around the cut stalagmite."
     }
 
     fn presets(&self) -> &'static [(&'static str, &'static str)] {
         PRESETS
     }
 
-    /// Each demo case: a 3D cut-away and its cross-section as `-section.png`.
-    fn gallery(&self) -> Vec<GalleryEntry> {
-        PRESETS
-            .iter()
-            .map(|&(name, description)| GalleryEntry {
-                name: match name {
-                    "candlestick" => "layers-candlestick",
-                    "drying" => "layers-drying",
-                    "wetting" => "layers-wetting",
-                    "uneven" => "layers-uneven",
-                    _ => "layers-timeline",
-                },
-                description,
-                render: Box::new(move |ctx, size, _seed| {
-                    let (s, unit) = preset(name)?.grow()?;
-                    let cut = cut_away(&s, (s.layers.len() / 24).max(1));
-                    let style = SectionStyle {
-                        colouring: Colouring::Age,
-                        unit,
-                        ..SectionStyle::default()
-                    };
-                    let out = render(ctx, &cut, size, None)?;
-                    Ok(Shot {
-                        extras: vec![("section", section::png(&s, &style, 600, 800))],
-                        ..Shot::still(out.image, out.gpu_spans, out.wall_ms)
-                    })
-                }),
+    fn preset(&self, name: &str) -> Result<LayersScene> {
+        preset(name)
+    }
+
+    /// Nothing in the layer model is random.
+    fn set_seed(&self, _params: &mut LayersScene, _seed: u64) {}
+
+    fn inputs(&self, params: &LayersScene) -> Vec<PathBuf> {
+        let mut files = Vec::new();
+        if let Some(BaseSpec::File(f)) = &params.base {
+            files.push(f.clone());
+        }
+        if let SupplySpec::Timeline(f) = &params.supply {
+            files.push(f.clone());
+        }
+        files
+    }
+
+    fn model(&self, params: &LayersScene, progress: Progress<'_>) -> Result<LayersModel> {
+        // The files first: a bad timeline or base is refused before any work starts.
+        let setup = params.setup()?;
+        progress("growth layers", 0, 1);
+        let start = std::time::Instant::now();
+        let (stalagmite, unit) = setup.grow()?;
+        let layers = stalagmite.layers.len() - 1;
+        let apex = stalagmite.surface().first().map_or(0.0, |p| p[1]);
+        log::info!(
+            "grew {layers} layers in {:.0} ms; apex height {apex:.3} {}; {} support points",
+            start.elapsed().as_secs_f64() * 1e3,
+            unit.as_deref().unwrap_or("units"),
+            setup.franke.pz
+        );
+        if let Some(p) = &setup.physical {
+            let first = &p.timeline[0];
+            let c = crate::model::layers::physical::Conditions {
+                temperature_c: first.temperature_c,
+                drip_interval_s: first.drip_interval_s,
+                excess_ca: first.excess_ca,
+                film_m: p.film_mm * 1e-3,
+            };
+            log::info!(
+                "growth law at the start (T {} C, drip {} s, excess Ca {} mol/m^3, film {} mm): W0 = {:.4e} m/s = {:.4} mm/yr, R0 = {:.2} mm",
+                first.temperature_c,
+                first.drip_interval_s,
+                first.excess_ca,
+                p.film_mm,
+                c.growth_rate(),
+                c.growth_mm_per_year(),
+                c.equilibrium_radius() * 1e3
+            );
+        }
+        if let Some(o) = &stalagmite.overhang {
+            log::warn!(
+                "the surface would overhang at layer {} (time {}) near x = {:.3}, y = {:.3} {}: \
+                 the supply widened the top past the flank below, where ceiling-formation \
+                 rules take over (Franke); growth stopped there",
+                o.layer + 1,
+                o.time,
+                o.at[0],
+                o.at[1],
+                unit.as_deref().unwrap_or("units")
+            );
+        }
+        let cut = cut_away(&stalagmite, (layers / 24).max(1));
+        progress("growth layers", 1, 1);
+        Ok(LayersModel {
+            stalagmite,
+            unit,
+            cut,
+        })
+    }
+
+    fn camera(&self, _params: &LayersScene, model: &LayersModel) -> Camera {
+        default_camera(&model.cut)
+    }
+
+    fn frame(
+        &self,
+        ctx: &Arc<Context>,
+        _params: &LayersScene,
+        model: &Arc<LayersModel>,
+        _realtime: bool,
+    ) -> Result<Box<dyn Scene>> {
+        let layers = model.stalagmite.layers.len().saturating_sub(1);
+        Ok(Box::new(
+            CutAwayFrame::new(ctx, &model.cut, layers)?
+                .exporting(&model.cut, metres_per_unit(model.unit.as_deref())),
+        ))
+    }
+
+    /// Once around the cut stalagmite, its axis still.
+    fn animation(
+        &self,
+        _params: &LayersScene,
+        model: &LayersModel,
+        camera: &Camera,
+        frames: Option<u32>,
+    ) -> Vec<(Camera, Time)> {
+        let n = frames.unwrap_or(36).max(1);
+        let axis = Vec3::new(0.0, camera.target.y, 0.0);
+        let _ = model;
+        (0..n)
+            .map(|i| {
+                let turn = Mat3::from_rotation_y(std::f32::consts::TAU * i as f32 / n as f32);
+                let c = Camera {
+                    eye: axis + turn * (camera.eye - axis),
+                    target: axis + turn * (camera.target - axis),
+                    ..camera.clone()
+                };
+                (c, Time::At(0))
             })
             .collect()
     }
+
+    fn outputs(&self) -> &'static [OutputDef] {
+        &[SECTION, SECTION_GIF, CSV]
+    }
+
+    fn write_output(
+        &self,
+        output: &OutputDef,
+        path: Option<&std::path::Path>,
+        job: &Job<'_, LayersScene, LayersModel>,
+        _report: &mut dyn FnMut(&str),
+    ) -> Result<Vec<String>> {
+        let path = path.ok_or_else(|| Error::internal("layers", "an output needs a path"))?;
+        let m = job.model;
+        let style = Self::style(job.params, m.unit.as_deref());
+        let size = job.params.section_size.unwrap_or(Size::new(600, 800));
+        let (w, h) = (size.width, size.height);
+        if output.flag == SECTION.flag {
+            section::write(path, &m.stalagmite, &style, w, h)?;
+            return Ok(vec![format!("wrote {}", path.display())]);
+        }
+        if output.flag == CSV.flag {
+            section::write_csv(path, &m.stalagmite, m.unit.as_deref())?;
+            return Ok(vec![format!("wrote {}", path.display())]);
+        }
+        // Drawn and encoded one frame at a time: a large section of many frames held
+        // gigabytes when collected first.
+        let n = job.frames.unwrap_or(40).max(2) as usize;
+        let mut gif = crate::export::gif::GifStream::create(path, 100)?;
+        for f in 1..=n {
+            let upto = 1 + (m.stalagmite.layers.len() - 1) * f / n;
+            let frame = section::png(
+                &m.stalagmite,
+                &SectionStyle {
+                    upto: Some(upto),
+                    ..style.clone()
+                },
+                w,
+                h,
+            );
+            gif.push(&frame)?;
+        }
+        let frames = gif.finish()?;
+        Ok(vec![format!("wrote {} ({frames} frames)", path.display())])
+    }
+
+    /// Each demo case: a 3D cut-away, and its cross-section coloured by age as
+    /// `-section.png`.
+    fn gallery(&self) -> Vec<GalleryShot> {
+        let shot = |name, preset, description| GalleryShot {
+            name,
+            preset,
+            set: &[("color", "age")],
+            animated: false,
+            files: &[("section", "section.png")],
+            description,
+        };
+        vec![
+            shot(
+                "layers-candlestick",
+                "candlestick",
+                "constant supply: a candlestick stalagmite",
+            ),
+            shot(
+                "layers-drying",
+                "drying",
+                "supply falling in steps: a conical top",
+            ),
+            shot(
+                "layers-wetting",
+                "wetting",
+                "supply rising: the top widens until it overhangs",
+            ),
+            shot(
+                "layers-uneven",
+                "uneven",
+                "an uneven base: the same stationary top",
+            ),
+            shot(
+                "layers-timeline",
+                "timeline",
+                "12 000 years of climate, in millimetres",
+            ),
+        ]
+    }
+}
+
+/// The cut-away of `c` drawn at `size` from its default camera (grow's `--cut-away`).
+pub fn picture(ctx: &Arc<Context>, c: &CutAway, size: Size) -> Result<image::RgbaImage> {
+    let mut runner = crate::frame::FrameRunner::new(ctx, size)?;
+    let mut frame = CutAwayFrame::new(ctx, c, 0)?;
+    Ok(runner
+        .render(&mut frame, &default_camera(c), Time::At(0))?
+        .0)
 }

@@ -2,15 +2,13 @@
 //! pass.
 
 use std::sync::Arc;
-use std::time::Instant;
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::RockScene;
-use crate::Size;
+use super::{ALBEDO, PRESETS, RockScene, default_camera, preset};
 use crate::camera::Camera;
 use crate::error::Result;
-use crate::frame::{FrameRunner, GalleryEntry, Scene, SceneKind, Shot, Time};
+use crate::frame::{GalleryShot, Progress, Scene, SceneDef, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
 use crate::model::mesh::Mesh;
 use crate::model::rock::rock_mesh;
@@ -41,10 +39,10 @@ pub struct RockFrame {
 }
 
 impl RockFrame {
-    /// Builds the rock's mesh and uploads it with a 40-unit ground square set 0.08
-    /// above the rock's lowest point, so the rock sits in the ground.
-    pub fn new(ctx: &Arc<Context>, scene: &RockScene) -> Result<Self> {
-        let rock = rock_mesh(&scene.rock)?;
+    /// Uploads the rock's mesh with a 40-unit ground square set 0.08 above the rock's
+    /// lowest point, so the rock sits in the ground.
+    pub fn new(ctx: &Arc<Context>, rock: &Mesh) -> Result<Self> {
+        let lighting = Lighting::default();
         let floor_y = rock
             .positions
             .iter()
@@ -52,11 +50,11 @@ impl RockFrame {
             .fold(f32::INFINITY, f32::min)
             + 0.08;
         Ok(Self {
-            pass: LitMeshPass::new(ctx, ctx.frame_format(), scene.lighting.tonemap)?,
-            rock: GpuMesh::upload(ctx, "rock", &rock)?,
+            pass: LitMeshPass::new(ctx, ctx.frame_format(), lighting.tonemap)?,
+            rock: GpuMesh::upload(ctx, "rock", rock)?,
             ground: GpuMesh::upload(ctx, "ground", &ground(20.0, floor_y))?,
-            albedo: scene.albedo,
-            lighting: scene.lighting.clone(),
+            albedo: ALBEDO,
+            lighting,
         })
     }
 }
@@ -117,36 +115,61 @@ impl Scene for RockFrame {
     }
 }
 
-/// Renders the scene offscreen at `size` and reads it back.
-pub fn render(ctx: &Arc<Context>, scene: &RockScene, size: Size) -> Result<Shot> {
-    let start = Instant::now();
-    let mut runner = FrameRunner::new(ctx, size)?;
-    let mut frame = RockFrame::new(ctx, scene)?;
-    let (image, f) = runner.render(&mut frame, &scene.camera, Time::At(0))?;
-    Ok(Shot::still(
-        image,
-        f.spans,
-        start.elapsed().as_secs_f64() * 1e3,
-    ))
-}
+/// The foundation's rock as a scene of the registry.
+pub struct RockDef;
 
-/// The rock in the registry.
-pub struct Kind;
+impl SceneDef for RockDef {
+    type Params = RockScene;
+    type Model = Mesh;
 
-impl SceneKind for Kind {
     fn name(&self) -> &'static str {
         "rock"
     }
 
-    fn presets(&self) -> &'static [(&'static str, &'static str)] {
-        &[]
+    fn about(&self) -> &'static str {
+        "The foundation's test scene: an fBm-displaced rock on the ground under sun and \
+         sky light, ACES tone mapping."
     }
 
-    fn gallery(&self) -> Vec<GalleryEntry> {
-        vec![GalleryEntry {
+    fn presets(&self) -> &'static [(&'static str, &'static str)] {
+        PRESETS
+    }
+
+    fn preset(&self, name: &str) -> Result<RockScene> {
+        preset(name)
+    }
+
+    fn set_seed(&self, params: &mut RockScene, seed: u64) {
+        params.seed = seed;
+    }
+
+    fn model(&self, params: &RockScene, _progress: Progress<'_>) -> Result<Mesh> {
+        rock_mesh(&params.rock())
+    }
+
+    fn camera(&self, _params: &RockScene, _model: &Mesh) -> Camera {
+        default_camera()
+    }
+
+    fn frame(
+        &self,
+        ctx: &Arc<Context>,
+        _params: &RockScene,
+        model: &Arc<Mesh>,
+        _realtime: bool,
+    ) -> Result<Box<dyn Scene>> {
+        Ok(Box::new(RockFrame::new(ctx, model)?))
+    }
+
+    fn gallery(&self) -> Vec<GalleryShot> {
+        vec![GalleryShot {
             name: "rock",
-            description: "foundation test scene: fBm-displaced rock, sun + sky light, ACES tone mapping",
-            render: Box::new(|ctx, size, seed| render(ctx, &RockScene::new(seed), size)),
+            preset: "rock",
+            set: &[],
+            animated: false,
+            files: &[],
+            description: "foundation test scene: fBm-displaced rock, sun + sky light, ACES \
+                          tone mapping",
         }]
     }
 }

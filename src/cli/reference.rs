@@ -6,11 +6,9 @@
 
 use std::fmt::Write as _;
 
-use clap::{Arg, ArgAction, Command, CommandFactory};
-use sediment::scene::params::{SceneParams, resolve, to_toml};
-use sediment::scene::{cave, dunes, grow, layers};
+use clap::{Arg, ArgAction, Command};
 
-use crate::Cli;
+use crate::frame::AnyScene;
 
 /// Which page.
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
@@ -23,10 +21,10 @@ pub enum Page {
 }
 
 /// The page as Markdown.
-pub fn page(page: Page) -> anyhow::Result<String> {
+pub fn page(page: Page, scenes: &[&'static dyn AnyScene]) -> anyhow::Result<String> {
     match page {
-        Page::Commands => Ok(commands()),
-        Page::SceneFiles => scene_files(),
+        Page::Commands => Ok(commands(scenes)),
+        Page::SceneFiles => scene_files(scenes),
     }
 }
 
@@ -146,8 +144,8 @@ fn subcommand(out: &mut String, path: &str, cmd: &Command, level: usize, shared:
     }
 }
 
-fn commands() -> String {
-    let mut cmd = Cli::command();
+fn commands(scenes: &[&'static dyn AnyScene]) -> String {
+    let mut cmd = super::command("sediment", scenes);
     cmd.build();
     let mut out = header("commands");
     out.push_str("# Command reference\n\n");
@@ -181,153 +179,58 @@ fn commands() -> String {
     out.trim_end().to_owned() + "\n"
 }
 
-/// A scene-file key that is not a command-line option, described here.
-struct FileOnlyKey {
-    table: &'static str,
-    key: &'static str,
-    help: &'static str,
-}
-
-const FILE_ONLY: &[FileOnlyKey] = &[
-    FileOnlyKey {
-        table: "",
-        key: "seed",
-        help: "The seed of every random choice, 0..=18446744073709551615; overrides the \
-               global --seed.",
-    },
-    FileOnlyKey {
-        table: "growth",
-        key: "seed",
-        help: "The seed of every random choice, 0..=18446744073709551615; overrides the \
-               global --seed.",
-    },
-];
-
-/// The scene-file section of one scene: every key of its `Params`, by table.
-fn scene_section<P: SceneParams + clap::Args>(
-    out: &mut String,
-    name: &'static str,
-    extra: &str,
-) -> anyhow::Result<()> {
-    let defaults = resolve(&P::default(), None, 1)?;
-    let toml_text = to_toml::<P>(&defaults)?;
-    let values: toml::Table = toml::from_str(&toml_text)?;
-    let cmd = P::augment_args(Command::new(name));
-    // Each flattened options struct is a clap group named after it (`GrowthOptions`);
-    // its keys live in the table of its name (`[growth]`).
-    let table_of = |arg: &Arg| -> String {
-        cmd.get_groups()
-            .find(|g| g.get_args().any(|id| id == arg.get_id()))
-            .map(|g| g.get_id().as_str())
-            .filter(|g| g.ends_with("Options"))
-            .map(|g| g.trim_end_matches("Options").to_lowercase())
-            .unwrap_or_default()
-    };
-    let mut tables: Vec<String> = vec![String::new()];
-    for arg in cmd.get_arguments() {
-        let t = table_of(arg);
-        if !tables.contains(&t) {
-            tables.push(t);
-        }
-    }
-    let _ = writeln!(out, "## `sediment {name}`\n");
-    out.push_str(extra);
-    for table in &tables {
-        let in_file = if table.is_empty() {
-            Some(&values)
-        } else {
-            values.get(table).and_then(|v| v.as_table())
-        };
-        let mut rows = String::new();
-        for key in FILE_ONLY.iter().filter(|k| k.table == table) {
-            if in_file.is_some_and(|t| t.contains_key(key.key)) {
-                let default = in_file
-                    .and_then(|t| t.get(key.key))
-                    .map_or_else(|| "none".to_owned(), |v| format!("`{v}`"));
-                let _ = writeln!(
-                    rows,
-                    "| `{}` | {default} | {} |",
-                    key.key,
-                    one_line(key.help)
-                );
-            }
-        }
-        for arg in cmd.get_arguments().filter(|a| &table_of(a) == table) {
-            let key = arg.get_id().as_str();
-            let default = match in_file.and_then(|t| t.get(key)) {
-                Some(v) => format!("`{v}`"),
-                None => "none".to_owned(),
-            };
-            let help = arg
-                .get_long_help()
-                .or(arg.get_help())
-                .map(|h| one_line(&h.to_string()))
-                .unwrap_or_default()
-                .replace('|', "\\|");
-            let flag = arg.get_long().unwrap_or(key);
-            let _ = writeln!(rows, "| `{key}` | {default} | {help} (`--{flag}`) |");
-        }
-        if rows.is_empty() {
-            continue;
-        }
-        if table.is_empty() {
-            out.push_str("Top-level keys:\n\n");
-        } else {
-            let _ = writeln!(out, "In `[{table}]`:\n");
-        }
-        out.push_str("| key | default | meaning, unit and range |\n|---|---|---|\n");
-        out.push_str(&rows);
-        out.push('\n');
-    }
-    // Every key the defaults print must be documented above.
-    for (table, value) in &values {
-        let documented = |t: &str, k: &str| {
-            FILE_ONLY.iter().any(|f| f.table == t && f.key == k)
-                || cmd
-                    .get_arguments()
-                    .any(|a| a.get_id().as_str() == k && table_of(a) == t)
-        };
-        match value.as_table() {
-            Some(inner) => {
-                for k in inner.keys() {
-                    anyhow::ensure!(documented(table, k), "[{table}] {k} is not documented");
-                }
-            }
-            None => anyhow::ensure!(documented("", table), "{table} is not documented"),
-        }
-    }
-    Ok(())
-}
-
-fn scene_files() -> anyhow::Result<String> {
+fn scene_files(scenes: &[&'static dyn AnyScene]) -> anyhow::Result<String> {
     let mut out = header("scene-files");
     out.push_str(
         "# Scene files\n\n\
-         Every subcommand that renders a scene (`grow`, `dunes`, `cave`, `layers`, and \
-         `view` on each) reads `--scene FILE.toml` and writes its effective scene with \
-         `--print-scene`. A key is the option's name with `_` for `-`; values apply in \
-         one order: the `preset`, then the file, then the options given beside it. \
-         Unknown keys and bad values are refused with the file and line before anything \
-         runs. The defaults below are the values the program resolves with no preset \
-         (a preset changes many of them: `sediment grow --preset fig9f --print-scene` \
+         Every subcommand that renders a scene (and `view` on each) reads `--scene \
+         FILE.toml` and writes its effective scene with `--print-scene`. A key is the \
+         option's name with `_` for `-`, in the table the rows below name; values apply in \
+         one order: the `preset`, then the file, then the options given beside it (a \
+         file's `seed` over the global --seed). Unknown keys and bad values are refused \
+         with the file and line before anything runs. The defaults are the values without \
+         a preset (a preset changes some: `sediment grow --preset fig9f --print-scene` \
          shows which).\n\n",
     );
-    scene_section::<grow::Params>(
-        &mut out,
-        "grow",
-        "A grow file may also hold `[[change]]` tables, each a `pass = N` from which on \
-         any of `pil`, `drip`, `co2`, `wind`, `wind_direction` take new values (the \
-         paper's manual mode, scripted).\n\n",
-    )?;
-    scene_section::<dunes::Params>(&mut out, "dunes", "")?;
-    scene_section::<cave::Params>(&mut out, "cave", "")?;
-    scene_section::<layers::Params>(
-        &mut out,
-        "layers",
-        "A layers file may also give `base` as points from the axis outwards (`base = \
-         [[0.0, 0.8], [1.0, 0.5]]`, heights falling steadily) and a climate as \
-         `[[timeline]]` rows of `year`, `temperature_c`, `drip_interval_s` and \
-         `excess_ca` (mol/m^3), as the timeline CSV has them.\n\n",
-    )?;
+    for def in scenes {
+        let _ = writeln!(out, "## `sediment {}`\n", def.name());
+        let mut tables: Vec<&str> = Vec::new();
+        for p in def.params() {
+            if !tables.contains(&p.table) {
+                tables.push(p.table);
+            }
+        }
+        for table in tables {
+            if table.is_empty() {
+                out.push_str("Top-level keys:\n\n");
+            } else {
+                let _ = writeln!(out, "In `[{table}]`:\n");
+            }
+            out.push_str(
+                "| key | default | meaning, unit and range | option |\n|---|---|---|---|\n",
+            );
+            for p in def.params().iter().filter(|p| p.table == table) {
+                let values = match (p.range.is_empty(), p.unit.is_empty()) {
+                    (true, true) => String::new(),
+                    (true, false) => format!(" ({})", p.unit),
+                    (false, true) => format!(" ({})", p.range),
+                    (false, false) => format!(" ({} {})", p.range, p.unit),
+                };
+                let option = if p.on_command_line() {
+                    format!("`--{}`", p.flag())
+                } else {
+                    "scene files only".to_owned()
+                };
+                let _ = writeln!(
+                    out,
+                    "| `{}` | `{}` | {}{values} | {option} |",
+                    p.key,
+                    def.default_text(p.key),
+                    p.help.replace('|', "\\|")
+                );
+            }
+            out.push('\n');
+        }
+    }
     Ok(out.trim_end().to_owned() + "\n")
 }

@@ -3,11 +3,12 @@
 use std::io::Write as _;
 use std::path::PathBuf;
 
+use crate::export::check_extension;
 use anyhow::Context as _;
-use sediment::export::check_extension;
 
-use crate::{Cli, fail_on_validation_errors, open_context_with, realtime_context_options};
+use super::{Globals, fail_on_validation_errors, open_context_with, realtime_context_options};
 
+/// `bench`'s options.
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
     /// Scenes to run: grow, dunes, cave (default: all).
@@ -78,12 +79,17 @@ impl std::fmt::Display for TargetsMissed {
 
 impl std::error::Error for TargetsMissed {}
 
-pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
-    use sediment::bench::targets::Targets;
-    use sediment::bench::{self, BenchOptions, report::Report};
+/// Runs `bench`: a measurement, a comparison of reports, or a check of targets.
+pub fn run(
+    cli: &Globals,
+    a: &BenchArgs,
+    scenes: &[&'static dyn crate::frame::AnyScene],
+) -> anyhow::Result<()> {
+    use crate::bench::targets::Targets;
+    use crate::bench::{self, BenchOptions, report::Report};
     let read_text = |path: &PathBuf| -> anyhow::Result<String> {
         Ok(
-            std::fs::read_to_string(path).map_err(|source| sediment::Error::Read {
+            std::fs::read_to_string(path).map_err(|source| crate::Error::Read {
                 path: path.clone(),
                 source,
             })?,
@@ -92,7 +98,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
     let read = |path: &PathBuf| -> anyhow::Result<Report> {
         Report::from_json(&read_text(path)?).with_context(|| format!("reading {}", path.display()))
     };
-    sediment::error::ensure_in_range((1..=20).contains(&a.repeat), "--repeat", "1..=20")?;
+    crate::error::ensure_in_range((1..=20).contains(&a.repeat), "--repeat", "1..=20")?;
     // The targets are read first: a typo in them should not cost a whole bench run.
     let targets = match &a.check {
         Some(path) => Some(
@@ -136,7 +142,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         say!("{}", bench::report::compare(&ra, &rb));
         if let Some(path) = &a.plot {
             bench::plot::write_compare_chart(path, &ra, &rb)?;
-            crate::output::wrote(path);
+            super::output::wrote(path);
         }
         return Ok(());
     }
@@ -167,7 +173,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
                 (0, Some(name)) => name.to_string_lossy().into_owned(),
                 _ => arg.to_string_lossy().into_owned(),
             };
-            sediment::error::echo_long_words(&arg)
+            crate::error::echo_long_words(&arg)
         })
         .collect::<Vec<_>>()
         .join(" ");
@@ -180,7 +186,7 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         reversed: false,
         run: bench::report::RunInfo::here(&anti_aliasing, a.repeat, &command_line),
     };
-    opts.validate()?;
+    opts.validate_for(scenes)?;
     let ctx = open_context_with(cli, &options)?;
     let start = std::time::Instant::now();
     let mut step = 0usize;
@@ -195,12 +201,12 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
         } else {
             String::new()
         };
-        runs.push(bench::run(&ctx, &opts, &mut |what| {
+        runs.push(bench::run_scenes(&ctx, &opts, scenes, &mut |what| {
             step += 1;
-            crate::output::step(&format!("{step:>2}: {run_name}{what}"));
+            super::output::step(&format!("{step:>2}: {run_name}{what}"));
         })?);
     }
-    crate::output::done();
+    super::output::done();
     let report = if runs.len() == 1 {
         runs.remove(0)
     } else {
@@ -223,13 +229,13 @@ pub fn run(cli: &Cli, a: &BenchArgs) -> anyhow::Result<()> {
     ];
     for (path, text) in reports {
         if let (Some(path), Some(text)) = (path, text) {
-            sediment::export::atomic::write_bytes(path, text.as_bytes())?;
-            crate::output::wrote(path);
+            crate::export::atomic::write_bytes(path, text.as_bytes())?;
+            super::output::wrote(path);
         }
     }
     if let Some(path) = &a.plot {
         bench::plot::write_chart(path, &report)?;
-        crate::output::wrote(path);
+        super::output::wrote(path);
     }
     log::info!("bench took {:.0} s", start.elapsed().as_secs_f64());
     judge(&report)
