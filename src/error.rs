@@ -16,6 +16,7 @@ pub const VALIDATION_HINT: &str =
 
 /// Everything the library can fail with; each message says what to do next.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// The system Vulkan loader (`libvulkan`) could not be loaded at all.
     #[error("No Vulkan loader could be opened ({detail}). {INSTALL_HINT}")]

@@ -22,7 +22,13 @@
 //!
 //! The GPU side starts from a [`gpu::Context`] (lavapipe where there is no GPU); see
 //! `examples/grow_fig9.rs`, `examples/ripples_heightmap.rs` and
-//! `examples/time_growth_pass.rs` for whole programs.
+//! `examples/time_growth_pass.rs` for whole programs, and `examples/custom_scene.rs`
+//! for a scene of one's own with the full command line.
+//!
+//! Cargo features, all on by default: `cli` (the command line, [`cli`], and the
+//! `sediment` binary), `view` (the window, [`view`]) and `bench-plots` (bench charts).
+//! With `default-features = false` the crate is the simulation and rendering library
+//! alone.
 
 #![warn(
     missing_docs,
@@ -31,7 +37,7 @@
 )]
 
 pub mod bench;
-pub mod budget;
+pub(crate) mod budget;
 pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;
@@ -49,8 +55,9 @@ pub mod scene;
 pub mod shaders;
 pub mod size;
 pub mod stats;
-pub mod tables;
-pub mod text;
+pub(crate) mod tables;
+pub(crate) mod text;
+#[cfg(feature = "view")]
 pub mod view;
 
 pub use error::{Error, Result};
@@ -61,3 +68,16 @@ pub use glam;
 /// the same reason.
 pub use image;
 pub use size::Size;
+
+/// What a program built on sediment uses most, in one `use sediment::prelude::*`: a
+/// device, the registry, a scene's definition and its frame, the runner and the
+/// headless driver that draw it, a camera, a size, parameters and errors.
+pub mod prelude {
+    pub use crate::Size;
+    pub use crate::camera::Camera;
+    pub use crate::error::{Error, Result};
+    pub use crate::frame::{AnyScene, FrameRunner, Scene, SceneDef, Time, headless};
+    pub use crate::gpu::{Context, ContextOptions};
+    pub use crate::params::{ParamSet, check};
+    pub use crate::scene::registry;
+}

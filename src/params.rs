@@ -1,5 +1,5 @@
-//! Scene parameters declared once. Each scene's parameters are one [`params!`] struct:
-//! one row per parameter gives its field, type, default, value name, unit, range
+//! Scene parameters declared once. Each scene's parameters are one
+//! [`params!`](crate::params!) struct: one row per parameter gives its field, type, default, value name, unit, range
 //! check, help heading and help text, and from that row come the struct and its
 //! `Default`, the scene-file key (the field's name, in the row's table), the
 //! command-line option (the key with `-` for `_`) and its help, the range check, and
@@ -113,7 +113,9 @@ macro_rules! text_param {
     ($($ty:ty),+ $(,)?) => {$(
         impl $crate::params::ParamValue for $ty {
             fn from_text(text: &str) -> std::result::Result<Self, String> {
-                text.trim().parse::<$ty>().map_err(|e| $crate::params::reason(e))
+                text.trim()
+                    .parse::<$ty>()
+                    .map_err(|e| $crate::params::reason_for(text.trim(), e))
             }
             fn to_toml(&self) -> Option<toml::Value> {
                 Some($crate::params::text_to_toml(&self.to_string()))
@@ -129,6 +131,18 @@ pub fn reason<E: Display + 'static>(e: E) -> String {
     match any.downcast_ref::<Error>() {
         Some(Error::InvalidArgument { message, .. }) => message.clone(),
         _ => message_of(e),
+    }
+}
+
+/// [`reason`], quoting the value (cut when long) where the reason does not
+/// ("\"12x\": invalid digit found in string").
+pub fn reason_for<E: Display + 'static>(text: &str, e: E) -> String {
+    let reason = reason(e);
+    let shown = crate::error::echo(text);
+    if reason.contains(&shown) {
+        reason
+    } else {
+        format!("\"{shown}\": {reason}")
     }
 }
 
@@ -371,7 +385,7 @@ pub mod check {
     }
 }
 
-/// A scene's parameters: the struct a [`params!`] block declares.
+/// A scene's parameters: the struct a [`params!`](crate::params!) block declares.
 pub trait ParamSet: Clone + Default + PartialEq + Send + Sync + 'static {
     /// Every parameter, in declaration order.
     fn params() -> &'static [Param];

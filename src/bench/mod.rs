@@ -15,6 +15,7 @@
 //!   scene, the horizon map on the CPU, the sand simulations on one thread and all;
 //! - `cave` (`scene::cave::frame`): generation and the frame per octree depth 5..9.
 
+#[cfg(feature = "bench-plots")]
 pub mod plot;
 pub mod repeat;
 pub mod report;

@@ -4,7 +4,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use crate::export::check_extension;
-use anyhow::Context as _;
+use anyhow::{Context as _, bail};
 
 use super::{Globals, fail_on_validation_errors, open_context_with, realtime_context_options};
 
@@ -135,11 +135,18 @@ pub fn run(
         return judge(&bench::repeat::merge(runs)?);
     }
     if let Some(p) = &a.plot {
+        if !cfg!(feature = "bench-plots") {
+            bail!(crate::Error::invalid(
+                "--plot",
+                "this sediment was built without charts (the `bench-plots` feature)"
+            ));
+        }
         check_extension(p, "--plot", &["png", "svg"])?;
     }
     if let Some(pair) = &a.compare {
         let (ra, rb) = (read(&pair[0])?, read(&pair[1])?);
         say!("{}", bench::report::compare(&ra, &rb));
+        #[cfg(feature = "bench-plots")]
         if let Some(path) = &a.plot {
             bench::plot::write_compare_chart(path, &ra, &rb)?;
             super::output::wrote(path);
@@ -233,6 +240,7 @@ pub fn run(
             super::output::wrote(path);
         }
     }
+    #[cfg(feature = "bench-plots")]
     if let Some(path) = &a.plot {
         bench::plot::write_chart(path, &report)?;
         super::output::wrote(path);

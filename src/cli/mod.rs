@@ -28,6 +28,7 @@ pub mod bench;
 pub mod output;
 pub mod reference;
 mod scene;
+#[cfg(feature = "view")]
 mod view;
 
 pub use output::progress;
@@ -183,7 +184,10 @@ pub fn command(name: &'static str, scenes: &[&'static dyn AnyScene]) -> Command 
          run, each series over the floor frames drawn between its own frames; device, \
          driver, host and command line in every report. Prints Markdown tables",
     ));
-    cmd = cmd.subcommand(view::command(scenes));
+    #[cfg(feature = "view")]
+    {
+        cmd = cmd.subcommand(view::command(scenes));
+    }
     cmd.subcommand(
         ReferenceArgs::augment_args(Command::new("reference"))
             .hide(true)
@@ -233,6 +237,7 @@ fn dispatch(
                 &bench::BenchArgs::from_arg_matches(sub_matches)?,
                 scenes,
             ),
+            #[cfg(feature = "view")]
             "view" => view::run(globals, scenes, sub_matches),
             "reference" => {
                 let page = ReferenceArgs::from_arg_matches(sub_matches)?.page;

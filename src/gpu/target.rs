@@ -51,8 +51,8 @@ impl TargetFormat {
         u64::from(width) * u64::from(height) * per_pixel
     }
 
-    /// Refuses a frame over the host memory budget ([`crate::budget::HOST_BYTES`]),
-    /// naming the largest size of the same aspect that fits.
+    /// Refuses a frame over the host memory budget (4 GiB: on lavapipe device memory is
+    /// host memory), naming the largest size of the same aspect that fits.
     pub fn check_budget(&self, width: u32, height: u32) -> Result<()> {
         let bytes = self.frame_bytes(width, height);
         let samples = self.samples.as_raw().max(1);

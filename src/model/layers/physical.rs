@@ -130,9 +130,8 @@ pub const TIMELINE_COLUMNS: [&str; 4] = [
 
 /// Reads a timeline CSV: `years, temperature C, drip interval s, excess Ca mol/m^3` per
 /// line, years increasing; `#` comments and one header line before the data are
-/// skipped (read by [`crate::tables::read_numbers`]: a spreadsheet's BOM and quoted
-/// cells are fine, `;` separators are refused with a message). The last row marks the
-/// end.
+/// skipped (a spreadsheet's BOM and quoted cells are fine, `;` separators are refused
+/// with a message). The last row marks the end.
 pub fn parse_timeline(text: &str, film_m: f64) -> Result<Vec<TimelineRow>> {
     let table = crate::tables::read_numbers(text, "timeline", &TIMELINE_COLUMNS)?;
     let mut rows: Vec<TimelineRow> = Vec::with_capacity(table.len());
