@@ -123,3 +123,64 @@ fn the_library_examples_run() {
     }
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+#[test]
+fn a_scene_defined_outside_sediment_gets_the_command_line_pictures_and_bench_rows() {
+    // examples/custom_scene.rs: a user's heightmap drawn with the desert's shading,
+    // registered through sediment::cli::scene_main and nothing else.
+    let dir = scratch("examples-custom");
+    let run = |args: &[&str]| {
+        let out = Command::new(example("custom_scene"))
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .expect("run the example");
+        assert_success(&out, "custom_scene")
+    };
+    // Its own hills, and a user's 16-bit PNG (a ridge along z).
+    run(&["--size", "160x120", "-o", "hills.png"]);
+    let ridge = image::ImageBuffer::from_fn(32, 32, |x, _| {
+        image::Luma([(65535.0 * (1.0 - (x as f32 / 31.0 - 0.5).abs() * 2.0)) as u16])
+    });
+    ridge
+        .save(dir.join("ridge.png"))
+        .expect("write the heightmap");
+    run(&[
+        "--size",
+        "160x120",
+        "--heightmap",
+        "ridge.png",
+        "--height",
+        "20",
+        "-o",
+        "ridge.png.out.png",
+    ]);
+    let hills = image::open(dir.join("hills.png"))
+        .expect("picture")
+        .to_rgba8();
+    let ridge = image::open(dir.join("ridge.png.out.png"))
+        .expect("picture")
+        .to_rgba8();
+    assert_eq!(hills.dimensions(), (160, 120));
+    assert_ne!(hills.as_raw(), ridge.as_raw(), "the heightmap is drawn");
+    // Scene files and the help come from its parameter rows.
+    let scene = run(&["--sun-elevation", "35", "--print-scene"]);
+    assert!(scene.contains("sun_elevation = 35.0"), "{scene}");
+    let help = run(&["--help"]);
+    assert!(help.contains("[> 0; in m; default: 4.0]"), "{help}");
+    // Bench rows through the same machinery.
+    let bench = run(&["bench", "--size", "64x48", "--frames", "2", "--warmup", "0"]);
+    assert!(bench.contains("| heightmap | hills | frame |"), "{bench}");
+    // A bad value is named by its option.
+    let out = Command::new(example("custom_scene"))
+        .args(["--cell", "0", "-o", "x.png"])
+        .current_dir(&dir)
+        .output()
+        .expect("run the example");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("--cell"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
