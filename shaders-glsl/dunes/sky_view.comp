@@ -3,7 +3,7 @@
 // (and, as an option, Hillaire's multiple scattering),
 // integrated once whenever the sun moves and looked up by every sky pixel: the "fast"
 // idea of Onoue & Nishita's refs [14][15]. CPU reference: Atmosphere::sky_view in
-// src/model/atmosphere.rs; tests/atmosphere.rs compares the two texel by texel.
+// src/model/atmosphere.rs; tests/gpu/atmosphere.rs compares the two texel by texel.
 #extension GL_GOOGLE_include_directive : require
 #include "atmosphere.glsl"
 

@@ -58,7 +58,7 @@ void main() {
 #ifdef PER_SAMPLE
     // Each of the n samples stands for 1/n of the pixel: the normal map is filtered
     // over that much, so the n shadings the resolve averages see the bump detail the
-    // pixel holds (measured in tests/anti_aliasing.rs).
+    // pixel holds (measured in tests/gpu/anti_aliasing.rs).
     float footprint = surface.look.w;
 #else
     // Once per pixel: over the pixel, or under temporal anti-aliasing over this

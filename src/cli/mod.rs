@@ -432,7 +432,7 @@ pub fn open_context_with(g: &Globals, options: &ContextOptions) -> anyhow::Resul
 
 /// Pictures' supersampling unless `--supersample` says otherwise: 2x2 times the
 /// multisampling's samples (fig9g, the cave of Fig. 8 and fig17 at a half or less of
-/// the one-sample frame's distance from a 4x4-supersampled one, `tests/anti_aliasing.rs`).
+/// the one-sample frame's distance from a 4x4-supersampled one, `tests/gpu/anti_aliasing.rs`).
 const PICTURE_SUPERSAMPLE: u32 = 2;
 
 /// How frames are anti-aliased (`--anti-aliasing`).

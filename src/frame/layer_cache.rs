@@ -9,7 +9,7 @@
 //! frame's own). On lavapipe the rock's fragment shading runs in every pixel it covers,
 //! most of the window, where a copy is a memcpy. A moving camera draws the layer into
 //! the frame and keeps nothing; the pictures are the same to the byte
-//! (`tests/layer_cache.rs`).
+//! (`tests/gpu/layer_cache.rs`).
 
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! pixel multisampled as well) and box-filtered down in linear light, `k * k` times the
 //! multisampling's coverage samples per pixel. lavapipe multisamples at 1 or 4 samples
 //! only; four of them resolve an edge in 5 steps where a 4x4 supersampled frame has 17
-//! (`tests/anti_aliasing.rs` measures both).
+//! (`tests/gpu/anti_aliasing.rs` measures both).
 
 use crate::Size;
 use crate::gpu::Context;

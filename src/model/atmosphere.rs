@@ -4,7 +4,7 @@
 //! model behind the "fast sky" of Onoue & Nishita's refs \[14\]\[15\] (Dobashi, Nishita et
 //! al., who integrate it once and look it up; here a sky-view table, Hillaire 2020's
 //! parameterisation). This is the CPU reference of `shaders-glsl/dunes/sky_view.comp`
-//! (same sample counts, same order of operations); `tests/atmosphere.rs` compares them.
+//! (same sample counts, same order of operations); `tests/gpu/atmosphere.rs` compares them.
 //!
 //! Units: metres; radiance relative to a sun of irradiance `sun_irradiance` (the
 //! renderer's scale). Multiple scattering, beyond the paper, is Hillaire's (2020)

@@ -1,7 +1,7 @@
 //! What the dune renderer reads from the ripple heightfield (Onoue & Nishita 3.2,
 //! 3.3.2, 3.5): the normal map, its level-of-detail chain, and the horizon map. These
 //! are the CPU references of the compute shaders in `shaders-glsl/dunes/`
-//! (`normal_mip.comp`, `horizon.comp`); `tests/ripple_maps.rs` compares them.
+//! (`normal_mip.comp`, `horizon.comp`); `tests/gpu/ripple_maps.rs` compares them.
 
 use super::sand::Heightfield;
 

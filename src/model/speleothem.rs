@@ -1,7 +1,7 @@
 //! Tortelli & Walter 2009: speleothems grown ring by ring. This file holds the base
 //! primitive (the initial calcite ring) and the CPU reference of one growth pass — the
 //! exact twin of `shaders-glsl/speleothem/ring_growth.geom`, compared vertex by vertex
-//! with the captured transform-feedback buffer in `tests/ring_growth.rs`.
+//! with the captured transform-feedback buffer in `tests/gpu/ring_growth.rs`.
 //!
 //! One pass, for every input triangle in order (as the geometry shader sees them):
 //! - every vertex ID is incremented by 2 and the triangle is re-emitted (displaced

@@ -3,7 +3,7 @@
 //! (`ring_growth`), the same shader fed only the growth front (`ring_growth_append`),
 //! the same pass as a compute shader (`ring_growth_compute`) and the CPU reference
 //! generating each pass and uploading it (`ring_growth_cpu`). All four give the CPU
-//! reference's mesh (`tests/ring_growth.rs`); `grow`, `cave`, `view` and `bench` hold
+//! reference's mesh (`tests/gpu/ring_growth.rs`); `grow`, `cave`, `view` and `bench` hold
 //! a `Box<dyn Growth>` and never ask which.
 
 use std::str::FromStr;

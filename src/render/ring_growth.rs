@@ -1,6 +1,6 @@
 //! The ring-growth pass (Tortelli & Walter 2009) on the geometry-shader /
 //! transform-feedback pipeline: `shaders-glsl/speleothem/ring_growth.geom`, whose CPU
-//! twin is `model::speleothem::grow_pass`; `tests/ring_growth.rs` compares them.
+//! twin is `model::speleothem::grow_pass`; `tests/gpu/ring_growth.rs` compares them.
 //!
 //! Ping-pong between two capture buffers; pass 0 draws the base primitives with a CPU
 //! vertex count, every later pass draws the previous capture with
@@ -46,7 +46,7 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: 0,
 };
 
-/// Declared by hand (naga has no geometry stage); exercised by `tests/ring_growth.rs`.
+/// Declared by hand (naga has no geometry stage); exercised by `tests/gpu/ring_growth.rs`.
 pub static GEOMETRY_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_RING_GROWTH_GEOM,
     bindings: &[DescriptorBinding::new(0, 0, DescriptorKind::StorageBuffer)],

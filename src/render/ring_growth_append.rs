@@ -9,7 +9,7 @@
 //! vertex is written once: the re-streaming pass would thicken it (stopped speleothems)
 //! and raise its ID every later pass, so it is stored less the accumulated thickening
 //! and ID of its pass and brought up to date when drawn (`model::speleothem::unfreeze`
-//! and `surface.vert`). `tests/ring_growth.rs` holds the result against the CPU
+//! and `surface.vert`). `tests/gpu/ring_growth.rs` holds the result against the CPU
 //! reference, triangle for triangle.
 
 use std::sync::Arc;

@@ -3,7 +3,7 @@
 //! invocation over a run of consecutive triangles, and writes the output compactly, in
 //! input order, into a storage buffer the surface pass
 //! then draws — so its mesh equals the GS capture and the CPU reference vertex for
-//! vertex (`tests/ring_growth.rs`). Like the paper's path it re-streams the whole mesh
+//! vertex (`tests/gpu/ring_growth.rs`). Like the paper's path it re-streams the whole mesh
 //! each pass; unlike it, lavapipe runs it on every core.
 
 use std::sync::Arc;

@@ -2,7 +2,7 @@
 //! passes (`shaders-glsl/dunes/normal_mip.comp`; the horizons by the paper's walk,
 //! `horizon.comp`, or the linear-time sweep, `horizon_linear.comp`) from a ripple
 //! heightfield; their CPU twins are in `model::ripple_maps`, compared in
-//! `tests/ripple_maps.rs`.
+//! `tests/gpu/ripple_maps.rs`.
 
 use std::sync::Arc;
 
@@ -476,7 +476,7 @@ enum HorizonPass {
 }
 
 /// How the horizon map is computed: both give the map of the whole periodic row
-/// (`Brute { steps: size - 1 }` and `Linear` agree within rounding, `tests/ripple_maps.rs`).
+/// (`Brute { steps: size - 1 }` and `Linear` agree within rounding, `tests/gpu/ripple_maps.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HorizonWalk {
     /// `horizon.comp`: every texel walks `steps` texels along each direction (the

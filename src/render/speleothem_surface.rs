@@ -53,7 +53,7 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<SurfacePush>() as u32,
 };
 
-/// Declared by hand (naga has no geometry stage); `tests/speleothem_caps.rs` holds its
+/// Declared by hand (naga has no geometry stage); `tests/gpu/speleothem_caps.rs` holds its
 /// output against the CPU twin `model::speleothem::caps`.
 pub static CAP_GEOMETRY_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_CAP_GEOM,
@@ -143,7 +143,7 @@ impl SpeleothemSurfacePass {
         environment: &EnvironmentMap,
     ) -> Result<Self> {
         // Per sample, the bump detail inside the silhouettes is anti-aliased too
-        // (tests/anti_aliasing.rs), at the price of shading every sample.
+        // (tests/gpu/anti_aliasing.rs), at the price of shading every sample.
         let multisampled = target.samples != vk::SampleCountFlags::TYPE_1;
         let fragment = if ctx.sample_shading() && multisampled {
             &PER_SAMPLE_FRAGMENT_INTERFACE

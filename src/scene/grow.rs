@@ -93,7 +93,7 @@ pub fn preset(name: &str) -> Result<GrowScene> {
         "fig9h" => random(Pil::Dripping, Mineral::Malachite, 9),
         // Beyond the paper: the same rings with their steps from a climate record,
         // coloured by age; its 117 passes on the append-only path (the same mesh,
-        // tests/ring_growth.rs), whose passes cost O(one ring) rather than O(mesh).
+        // tests/gpu/ring_growth.rs), whose passes cost O(one ring) rather than O(mesh).
         "holocene" => GrowScene {
             count: 6,
             climate: Some("holocene".to_owned()),

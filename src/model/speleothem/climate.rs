@@ -26,7 +26,7 @@ pub const STRAW_RADIUS_M: f64 = 0.00255;
 
 /// The stalagmite's radius relaxes toward R0 over this many R0 of height grown.
 /// Calibrated against Franke's layers in real units fed the same record
-/// (`tests/climate_growth.rs`): the two agree best at mid-height with 2 R0.
+/// (`tests/cli/climate_growth.rs`): the two agree best at mid-height with 2 R0.
 pub const RELAXATION_LENGTH_IN_R0: f64 = 2.0;
 
 /// A climate record driving the growth.

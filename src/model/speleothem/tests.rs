@@ -469,7 +469,7 @@ fn random_with_and_without_dripping(change: u32) -> (GrowthScene, GrowthScene) {
 
 #[test]
 fn adding_stalagmites_mid_growth_keeps_the_grown_stalactites_identical() {
-    // The steps decide every vertex; tests/ring_growth.rs compares the vertices
+    // The steps decide every vertex; tests/gpu/ring_growth.rs compares the vertices
     // themselves, on the GPU and on the CPU reference.
     let (hanging, dripping) = random_with_and_without_dripping(10);
     let (a, b) = (

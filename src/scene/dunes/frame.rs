@@ -80,7 +80,7 @@ pub fn simulate_frames(
             scene.dune_sand,
             1.0,
             // The dune field's own stream of the seed, salted so that the default
-            // seed's field gives fig12's foreground the relief tests/dunes.rs asks for
+            // seed's field gives fig12's foreground the relief tests/gpu/dunes.rs asks for
             // rather than one smooth slope.
             scene.seed ^ 0xD0E6,
         ),

@@ -1,0 +1,222 @@
+//! `sediment bench` end to end: a small run writes its JSON, CSV and chart with
+//! validation on, `--compare` of the report with itself prints ratios of 1.00, and bad
+//! input is refused with nothing written; `--repeat` merges runs and `--check` judges
+//! them against a targets file, exit status and all.
+
+use crate::common;
+
+use common::cli::{scratch, sediment};
+
+/// `sediment bench` of the cave at octree depth 5 alone, 2 measured frames after
+/// `warmup` at `size`, with `extra` options and validation on.
+fn depth5_bench(warmup: &str, size: &str, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "bench",
+        "cave",
+        "--variants",
+        "depth-5",
+        "--frames",
+        "2",
+        "--warmup",
+        warmup,
+        "--size",
+        size,
+    ];
+    args.extend_from_slice(extra);
+    args.push("--validate");
+    sediment(&args)
+}
+
+#[test]
+fn a_small_run_writes_its_reports_and_compares_with_itself() {
+    let dir = scratch("bench");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let out = depth5_bench(
+        "1",
+        "64x48",
+        &[
+            "--json",
+            &s("a.json"),
+            "--csv",
+            &s("a.csv"),
+            "--plot",
+            &s("a.png"),
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    common::cli::assert_success(&out, "sediment");
+    assert!(
+        stdout.contains("| floor | fullscreen | frame |"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("| cave | depth-5 | frame |"), "{stdout}");
+    let chart = image::open(s("a.png")).expect("chart");
+    assert!(chart.width() > 1000);
+    assert!(
+        std::fs::read_to_string(s("a.csv"))
+            .expect("csv")
+            .starts_with("scene,variant,pass")
+    );
+    let out = sediment(&["bench", "--compare", &s("a.json"), &s("a.json")]);
+    let table = String::from_utf8_lossy(&out.stdout);
+    common::cli::assert_success(&out, "sediment");
+    let rows: Vec<&str> = table
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| scene"))
+        .collect();
+    assert!(rows.len() >= 3, "{table}");
+    assert!(
+        rows.iter()
+            .all(|r| r.ends_with("| 1.00 |") || r.ends_with("| - |")),
+        "{table}"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn bad_input_is_named_and_nothing_is_written() {
+    let dir = scratch("bench-bad");
+    let json = dir.join("r.json").to_string_lossy().into_owned();
+    let text = dir.join("not.json");
+    std::fs::write(&text, "hello").expect("write");
+    let text = text.to_string_lossy().into_owned();
+    for (args, expected) in [
+        (vec!["bench", "caves", "--json", json.as_str()], "caves"),
+        (
+            vec!["bench", "--variants", "fast", "--json", json.as_str()],
+            "--variants",
+        ),
+        (
+            vec!["bench", "--frames", "0", "--json", json.as_str()],
+            "--frames",
+        ),
+        (vec!["bench", "--plot", "chart.jpg"], "--plot"),
+        (
+            vec!["bench", "--repeat", "0", "--json", json.as_str()],
+            "--repeat",
+        ),
+        (vec!["bench", "--from", json.as_str()], "--check"),
+        (
+            vec!["bench", "--compare", text.as_str(), text.as_str()],
+            "not a sediment bench report",
+        ),
+        (
+            vec!["bench", "--compare", json.as_str(), text.as_str()],
+            "r.json",
+        ),
+    ] {
+        let out = sediment(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} must fail");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name())
+        .collect();
+    assert_eq!(
+        left,
+        vec![std::ffi::OsString::from("not.json")],
+        "nothing written"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn repeated_runs_are_judged_against_a_targets_file() {
+    let dir = scratch("bench-check");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    // Depth 5's wall has 2002 triangles after the split at the default seed (the
+    // README's Table 1): one target that holds, then one that cannot.
+    let target = |bound: &str| {
+        format!(
+            "[[target]]\nname = \"wall triangles\"\nscene = \"cave\"\nvariant = \"depth-5\"\nvalue = \"triangles_after_split\"\n{bound}\n"
+        )
+    };
+    std::fs::write(s("holds.toml"), target("at_least = 2000")).expect("write");
+    std::fs::write(
+        s("misses.toml"),
+        target("at_least = 2000") + &target("at_most = 1000").replace("wall", "few"),
+    )
+    .expect("write");
+    let bench = |check: &str, json: &str| {
+        depth5_bench(
+            "0",
+            "32x24",
+            &["--repeat", "3", "--json", &s(json), "--check", &s(check)],
+        )
+    };
+    let out = bench("holds.toml", "r.json");
+    common::cli::assert_success(&out, "sediment bench --repeat 3 --check");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("the median of 3 runs' medians"), "{stdout}");
+    assert!(stdout.contains("Spread over 3 runs"), "{stdout}");
+    assert!(
+        stdout.contains("| 2002.000 | 2002.000 | 2002.000 | yes |"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("1 of 1 targets hold in every run"),
+        "{stdout}"
+    );
+    let report = sediment::bench::report::Report::from_json(
+        &std::fs::read_to_string(s("r.json")).expect("json"),
+    )
+    .expect("report");
+    assert_eq!(report.runs.len(), 3, "every run kept");
+    assert_eq!(report.series[0].frame_gpu_ms.samples, 6);
+
+    // A target missed: exit status 1, the verdict says which, the report is written.
+    let out = bench("misses.toml", "m.json");
+    assert_eq!(out.status.code(), Some(1));
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(
+        stdout.contains("| **2002.000** | **2002.000** | **2002.000** | **no** |"),
+        "{stdout}"
+    );
+    assert!(
+        stderr.contains("1 of 2 targets did not hold in every run: few triangles"),
+        "{stderr}"
+    );
+    assert!(
+        std::path::Path::new(&s("m.json")).exists(),
+        "measured, so written"
+    );
+
+    // Saved reports judged without running, each of their runs counted.
+    let out = sediment(&[
+        "bench",
+        "--check",
+        &s("misses.toml"),
+        "--from",
+        &s("r.json"),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("| run 1 | run 2 | run 3 |"), "{stdout}");
+    let out = sediment(&[
+        "bench",
+        "--check",
+        &s("holds.toml"),
+        "--from",
+        &s("r.json"),
+        &s("m.json"),
+    ]);
+    common::cli::assert_success(&out, "sediment bench --check --from");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("| run 6 |"));
+    // A bad targets file is refused before anything runs.
+    std::fs::write(
+        s("bad.toml"),
+        target("at_least = 2000").replace("depth-5", "depth-50"),
+    )
+    .expect("write");
+    let out = sediment(&["bench", "--check", &s("bad.toml"), "--json", &s("bad.json")]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no variant \"depth-50\""));
+    assert!(!std::path::Path::new(&s("bad.json")).exists());
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

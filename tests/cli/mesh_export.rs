@@ -1,0 +1,432 @@
+//! The files other tools import: every .glb a subcommand writes passes the Khronos
+//! validator with 0 errors and 0 warnings, is indexed and welded (counts reported and
+//! checked against the file), has one named node, mesh and material per part, metres
+//! with the floor centre at the origin; closed parts are watertight read back with an
+//! independent reader (`common::glb`); OBJ colours are sRGB; heightmaps keep their
+//! heights; unknown formats are refused before any work.
+
+use crate::common;
+
+use std::path::{Path, PathBuf};
+
+use common::cli::{assert_success, gltf_validate, scratch, sediment};
+use common::glb::Glb;
+use sediment::export::asset::srgb_to_linear;
+
+fn s(p: &Path) -> String {
+    p.to_string_lossy().into_owned()
+}
+
+/// "N vertices (welded from M triangle corners), T triangles" from a command's "wrote"
+/// line (stderr).
+fn reported_counts(stderr: &str) -> (usize, usize, usize) {
+    let line = stderr
+        .lines()
+        .find(|l| l.contains("welded from"))
+        .unwrap_or_else(|| panic!("no mesh status line: {stderr}"));
+    let number_before = |word: &str| -> usize {
+        let head = &line[..line.find(word).unwrap_or_else(|| panic!("{word}: {line}"))];
+        head.split_whitespace()
+            .last()
+            .and_then(|n| n.trim_start_matches('(').parse().ok())
+            .unwrap_or_else(|| panic!("a number before {word}: {line}"))
+    };
+    (
+        number_before(" vertices"),
+        number_before(" triangle corners"),
+        number_before(" triangles"),
+    )
+}
+
+fn check_counts(glb: &Glb, stderr: &str) {
+    let (vertices, corners, triangles) = reported_counts(stderr);
+    let (read_vertices, read_indices) = glb.counts();
+    assert_eq!(read_vertices, vertices, "vertices in the file as reported");
+    assert_eq!(read_indices, corners, "one index per triangle corner");
+    assert_eq!(corners, 3 * triangles);
+    assert!(
+        vertices * 2 < corners,
+        "welded: {vertices} vertices for {corners} corners"
+    );
+}
+
+/// Runs `sediment ARGS --mesh DIR/FILE`, validates the file with the Khronos validator,
+/// reads it back and checks its counts against its "wrote" line.
+fn exported(dir: &Path, file: &str, args: &[&str]) -> (Glb, String, PathBuf) {
+    let glb = dir.join(file);
+    let path = s(&glb);
+    let mut all = args.to_vec();
+    all.extend(["--mesh", &path]);
+    let out = sediment(&all);
+    assert_success(&out, &format!("sediment {}", args[0]));
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    gltf_validate(&glb);
+    let read = Glb::open(&glb);
+    check_counts(&read, &stderr);
+    (read, stderr, glb)
+}
+
+fn grow_glb(dir: &Path, name: &str, extra: &[&str]) -> (Glb, String, PathBuf) {
+    let mut args = vec!["grow", "--preset", "fig9g"];
+    args.extend(extra);
+    exported(dir, name, &args)
+}
+
+#[test]
+fn grown_speleothems_export_as_named_closed_parts_in_metres() {
+    let dir = scratch("export-grow");
+    let (glb, _, _) = grow_glb(&dir, "g.glb", &[]);
+    assert_eq!(glb.names(), ["stalactites", "stalagmites", "columns"]);
+    assert_eq!(glb.json["scenes"][0]["name"], "grow fig9g");
+    assert_closed_but_for_base_rings(&glb, "fig9g");
+    // The chamber's floor centre is the origin: sites lie in x, z within the
+    // chamber's +-1.2 m (plus a speleothem's width) about it.
+    let (lo, hi) = glb.part("stalagmites").bounds();
+    assert!(lo[1].abs() < 1e-4, "stalagmites stand on y = 0: {lo:?}");
+    for k in [0, 2] {
+        assert!(lo[k] > -1.5 && hi[k] < 1.5, "{lo:?} {hi:?}");
+    }
+    // --unit-scale: metres per scene unit.
+    let (half, _, _) = grow_glb(&dir, "h.glb", &["--unit-scale", "0.5"]);
+    let (hlo, hhi) = half.part("stalagmites").bounds();
+    for k in 0..3 {
+        assert!((hlo[k] - 0.5 * lo[k]).abs() < 1e-5 && (hhi[k] - 0.5 * hi[k]).abs() < 1e-5);
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// Every part closed except the base rings in the rock: open edges only on the floor
+/// (y = 0, the origin's height) and on the roof (the highest point of any part).
+fn assert_closed_but_for_base_rings(glb: &Glb, preset: &str) {
+    let roof = glb
+        .parts
+        .iter()
+        .map(|p| p.bounds().1[1])
+        .fold(f32::MIN, f32::max);
+    for part in &glb.parts {
+        let in_rock = |p: [f32; 3]| p[1].abs() < 1e-4 || (p[1] - roof).abs() < 1e-4;
+        let open = part.open_edges();
+        let stray: Vec<_> = open
+            .iter()
+            .filter(|(a, b)| !(in_rock(*a) && in_rock(*b)))
+            .collect();
+        assert!(
+            stray.is_empty(),
+            "{preset} {}: {} of {} open edges off the floor and roof, e.g. {:?}",
+            part.node,
+            stray.len(),
+            open.len(),
+            &stray[..stray.len().min(3)]
+        );
+    }
+}
+
+#[test]
+fn every_grow_preset_exports_closed_speleothems() {
+    let dir = scratch("export-presets");
+    for preset in [
+        "fig9a", "fig9b", "fig9c", "fig9d", "fig9e", "fig9f", "fig9h",
+    ] {
+        let (glb, _, _) = exported(
+            &dir,
+            &format!("{preset}.glb"),
+            &["grow", "--preset", preset],
+        );
+        assert_closed_but_for_base_rings(&glb, preset);
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn obj_colours_are_the_glb_colours_in_srgb() {
+    let dir = scratch("export-obj");
+    let (glb, _, _) = grow_glb(&dir, "g.glb", &[]);
+    let obj = dir.join("g.obj");
+    assert_success(
+        &sediment(&["grow", "--preset", "fig9g", "--mesh", &s(&obj)]),
+        "sediment grow",
+    );
+    let text = std::fs::read_to_string(&obj).expect("obj");
+    assert!(text.contains("mtllib g.mtl"));
+    let mtl = std::fs::read_to_string(dir.join("g.mtl")).expect("mtl beside");
+    assert!(
+        mtl.contains("newmtl m0_calcite") && mtl.contains("Kd "),
+        "{mtl}"
+    );
+    let objects: Vec<&str> = text.lines().filter_map(|l| l.strip_prefix("o ")).collect();
+    assert_eq!(objects, ["stalactites", "stalagmites", "columns"]);
+    // Same vertices in the same order: OBJ's sRGB colours decode to glTF's linear ones.
+    let read: Vec<Vec<f32>> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| l.split(' ').map(|x| x.parse().expect("number")).collect())
+        .collect();
+    let linear: Vec<&Vec<f32>> = glb
+        .parts
+        .iter()
+        .flat_map(|p| &p.attributes["COLOR_0"])
+        .collect();
+    assert_eq!(read.len(), linear.len());
+    let mut worst = 0.0f32;
+    for (v, c) in read.iter().zip(linear) {
+        for k in 0..3 {
+            worst = worst.max((srgb_to_linear(v[3 + k]) - c[k]).abs());
+        }
+    }
+    assert!(worst < 2e-4, "sRGB round trip off by {worst}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn caves_export_watertight_walls_and_stay_small() {
+    let dir = scratch("export-cave");
+    let png = s(&dir.join("c.png"));
+    let (glb, _, path) = exported(
+        &dir,
+        "c.glb",
+        &[
+            "cave",
+            "--depth",
+            "8",
+            "--speleothems",
+            "grown",
+            "-o",
+            &png,
+            "--size",
+            "32x24",
+        ],
+    );
+    let bytes = std::fs::metadata(&path).expect("glb").len();
+    eprintln!("depth-8 grown cave: {:.2} MB", bytes as f64 / 1e6);
+    assert!(bytes < 8_000_000, "{bytes} bytes");
+    assert_eq!(glb.names()[0], "cave walls");
+    assert!(glb.names().len() >= 3, "{:?}", glb.names());
+    let walls = glb.part("cave walls");
+    assert!(
+        !walls.attributes.contains_key("COLOR_0"),
+        "rock is the material's colour"
+    );
+    assert_eq!(walls.material["name"], "rock");
+    let open = walls.open_edges();
+    assert!(open.is_empty(), "{} open wall edges", open.len());
+    let (lo, hi) = walls.bounds();
+    assert!(
+        lo[1].abs() < 1e-4,
+        "the floor's lowest point at y = 0: {lo:?}"
+    );
+    for k in [0, 2] {
+        assert!(
+            (lo[k] + hi[k]).abs() < 1e-3,
+            "centred in x, z: {lo:?} {hi:?}"
+        );
+    }
+    // Metres: the default cave is a 64 m cube.
+    assert!((20.0..=64.0).contains(&(hi[0] - lo[0])), "{lo:?} {hi:?}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn short_profile_speleothems_export_closed() {
+    // The Short profiles (Cui et al.) are closed surfaces of revolution: every part,
+    // walls included, has each edge on exactly two triangles once equal points merge
+    // (the stalagmite outline returns to the axis under its base; its axis points once
+    // made degenerate rings, 96 triangles on one edge).
+    let dir = scratch("export-short");
+    let png = s(&dir.join("c.png"));
+    let (glb, _, _) = exported(
+        &dir,
+        "c.glb",
+        &["cave", "--preset", "fig8", "-o", &png, "--size", "32x24"],
+    );
+    assert_eq!(
+        glb.names(),
+        ["cave walls", "stalactites", "stalagmites", "columns"]
+    );
+    for part in &glb.parts {
+        let open = part.open_edges();
+        assert!(
+            open.is_empty(),
+            "{}: {} open or shared edges, e.g. {:?}",
+            part.node,
+            open.len(),
+            open.first()
+        );
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn dunes_and_layers_export_textured_and_named() {
+    let dir = scratch("export-dunes");
+    let png = s(&dir.join("d.png"));
+    let (glb, _, _) = exported(
+        &dir,
+        "d.glb",
+        &[
+            "dunes",
+            "--preset",
+            "fig17",
+            "-o",
+            &png,
+            "--size",
+            "32x24",
+            "--ripple-size",
+            "64",
+            "--ripple-steps",
+            "40",
+            "--dune-size",
+            "32",
+            "--dune-steps",
+            "100",
+        ],
+    );
+    assert_eq!(glb.names(), ["dune field"]);
+    let field = glb.part("dune field");
+    for a in ["TEXCOORD_0", "TEXCOORD_1", "TANGENT", "NORMAL"] {
+        assert!(field.attributes.contains_key(a), "{a}");
+    }
+    let m = &field.material;
+    assert_eq!(m["name"], "sand");
+    assert_eq!(m["normalTexture"]["texCoord"], 0);
+    assert_eq!(m["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"], 1);
+    assert_eq!(glb.json["images"].as_array().map(Vec::len), Some(2));
+    // One period with its wrap edge, centred, lowest sand at 0: 32 cells of 4 m.
+    let (lo, hi) = field.bounds();
+    assert!(
+        lo[1].abs() < 1e-4 && (hi[0] - lo[0] - 128.0).abs() < 1e-3,
+        "{lo:?} {hi:?}"
+    );
+    assert!((lo[0] + hi[0]).abs() < 1e-3 && (lo[2] + hi[2]).abs() < 1e-3);
+    assert_eq!(field.positions().len(), 33 * 33);
+
+    let svg = s(&dir.join("l.svg"));
+    let (glb, _, _) = exported(&dir, "l.glb", &["layers", "--rep", "60", "--section", &svg]);
+    assert_eq!(
+        glb.names(),
+        [
+            "outer surface",
+            "light growth bands",
+            "dark growth bands",
+            "floor"
+        ]
+    );
+    let (lo, hi) = glb.part("floor").bounds();
+    assert!(
+        lo[1].abs() < 1e-5 && (lo[0] + hi[0]).abs() < 1e-4,
+        "{lo:?} {hi:?}"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn formats_sediment_cannot_write_are_refused_before_any_work() {
+    let dir = scratch("export-bad");
+    let png = s(&dir.join("x.png"));
+    for (command, args, names) in [
+        ("grow", vec!["--mesh", "x.stl"], ".glb or .obj"),
+        ("cave", vec!["--mesh", "x.fbx"], ".glb or .obj"),
+        ("layers", vec!["--mesh", "x.ply"], ".glb or .obj"),
+        ("dunes", vec!["--mesh", "x.usd"], ".glb or .obj"),
+        ("dunes", vec!["--heightmap", "h.tif"], ".png or .exr"),
+    ] {
+        // -v: each stage's start is a debug line ("...: N to do").
+        let mut all = vec!["-v", command, "-o", &png];
+        all.extend(args.iter().copied());
+        let out = sediment(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{command} {args:?}");
+        assert!(
+            stderr.contains(names) && !stderr.contains("panicked"),
+            "{stderr}"
+        );
+        // Refused up front: no stage started.
+        assert!(
+            !stderr.contains(" to do"),
+            "{command} {args:?} worked first: {stderr}"
+        );
+    }
+    assert!(
+        std::fs::read_dir(&dir).expect("dir").next().is_none(),
+        "nothing written"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn heightmaps_keep_their_heights_in_png_json_and_exr() {
+    use sediment::scene::dunes::{self, DunesScene};
+    let dir = scratch("export-heights");
+    let scene = DunesScene {
+        ripple_size: 32,
+        ripple_steps: 30,
+        dune_size: 16,
+        dune_steps: 60,
+        ..DunesScene::default()
+    };
+    let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
+    for map in [
+        dunes::export::dune_heightmap(&scene, &terrain),
+        dunes::export::ripple_heightmap(&scene, &terrain),
+    ] {
+        let write = |name: &str| {
+            sediment::export::heightmap::write_heightmap(&dir.join(name), &map)
+                .expect("write heightmap")
+        };
+        let (png_range, files) = write("h.png");
+        assert_eq!(files, [dir.join("h.png"), dir.join("h.json")]);
+        let sidecar: sediment::export::heightmap::HeightRange =
+            serde_json::from_slice(&std::fs::read(dir.join("h.json")).expect("json"))
+                .expect("sidecar parses");
+        assert_eq!(sidecar, png_range);
+        // The PNG's own tEXt chunks, read with the png crate.
+        let decoder = png::Decoder::new(std::io::BufReader::new(
+            std::fs::File::open(dir.join("h.png")).expect("png"),
+        ));
+        let mut reader = decoder.read_info().expect("png header");
+        let text = |key: &str| -> f64 {
+            reader
+                .info()
+                .uncompressed_latin1_text
+                .iter()
+                .find(|t| t.keyword == key)
+                .unwrap_or_else(|| panic!("tEXt {key}"))
+                .text
+                .parse()
+                .expect("a number")
+        };
+        let (lo, hi, cell) = (
+            text("sediment:height_at_0_m"),
+            text("sediment:height_at_65535_m"),
+            text("sediment:cell_m"),
+        );
+        assert_eq!(
+            (lo, hi, cell),
+            (sidecar.height_at_0_m, sidecar.height_at_65535_m, map.cell_m)
+        );
+        let mut buf = vec![0; reader.output_buffer_size().expect("size")];
+        reader.next_frame(&mut buf).expect("png pixels");
+        let from_png: Vec<f64> = buf
+            .chunks_exact(2)
+            .map(|b| lo + f64::from(u16::from_be_bytes([b[0], b[1]])) / 65535.0 * (hi - lo))
+            .collect();
+        write("h.exr");
+        let exr = image::open(dir.join("h.exr")).expect("exr").to_rgb32f();
+        assert_eq!(
+            (exr.width() as usize, exr.height() as usize),
+            (map.width, map.height)
+        );
+        let quantum = (hi - lo) / 65535.0;
+        assert!(hi - lo > 1e-3, "a real range: {lo}..{hi} m");
+        for ((want, png), exr) in map.heights_m.iter().zip(&from_png).zip(exr.pixels()) {
+            assert!(
+                (want - png).abs() <= 0.5 * quantum + 1e-9,
+                "png {png} vs {want}"
+            );
+            assert!(
+                (want - f64::from(exr[0])).abs() <= 1e-6 * want.abs().max(1.0),
+                "exr"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

@@ -1,0 +1,463 @@
+//! The audit's reproductions (issue 17) that are fixed, each as a person runs it:
+//! refused before any work with a message naming the limit, and nothing written.
+
+use crate::common;
+
+use common::cli::{gif_frames, scratch, sediment};
+
+fn refused(args: &[&str], names: &str) -> String {
+    // -v: each stage's start is a debug line ("...: N to do").
+    let verbose: Vec<&str> = std::iter::once("-v").chain(args.iter().copied()).collect();
+    let out = sediment(&verbose);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "{args:?} must fail");
+    assert!(stderr.contains(names), "{args:?}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    // Refused up front: no stage started.
+    assert!(
+        !stderr.contains(" to do"),
+        "{args:?} worked first: {stderr}"
+    );
+    stderr
+}
+
+#[test]
+fn outputs_into_missing_folders_are_refused_before_any_work() {
+    // #10: `dunes --preset fig17 --gif nodir/d.gif -o ok.png` worked 14 s, wrote ok.png
+    // and exited 1.
+    let dir = scratch("rel-folders");
+    let ok = dir.join("ok.png").to_string_lossy().into_owned();
+    let missing = dir
+        .join("nodir")
+        .join("d.gif")
+        .to_string_lossy()
+        .into_owned();
+    refused(
+        &["dunes", "--preset", "fig17", "--gif", &missing, "-o", &ok],
+        "does not exist",
+    );
+    let missing_glb = dir
+        .join("nodir")
+        .join("m.glb")
+        .to_string_lossy()
+        .into_owned();
+    refused(
+        &["grow", "--mesh", &missing_glb, "-o", &ok],
+        "does not exist",
+    );
+    let missing_csv = dir
+        .join("nodir")
+        .join("l.csv")
+        .to_string_lossy()
+        .into_owned();
+    refused(&["layers", "--csv", &missing_csv], "does not exist");
+    assert!(
+        std::fs::read_dir(&dir).expect("dir").next().is_none(),
+        "nothing written"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn an_output_that_is_an_input_is_refused() {
+    // #11: `layers --base b.csv --csv b.csv` overwrote its own input.
+    let dir = scratch("rel-inputs");
+    let base = dir.join("b.csv");
+    let text = "x,y\n0,0.5\n1,0.4\n2,0.2\n3,0\n";
+    std::fs::write(&base, text).expect("base");
+    let b = base.to_string_lossy().into_owned();
+    let svg = dir.join("s.svg").to_string_lossy().into_owned();
+    refused(
+        &["layers", "--base", &b, "--csv", &b, "--section", &svg],
+        "also an input",
+    );
+    assert_eq!(
+        std::fs::read_to_string(&base).expect("base"),
+        text,
+        "untouched"
+    );
+    let record = dir.join("r.csv");
+    std::fs::write(&record, "0,10,100,1\n1000,10,100,1\n").expect("record");
+    let r = record.to_string_lossy().into_owned();
+    let png = dir.join("g.png").to_string_lossy().into_owned();
+    refused(
+        &["grow", "--climate", &r, "--csv", &r, "-o", &png],
+        "also an input",
+    );
+    assert!(!dir.join("s.svg").exists() && !dir.join("g.png").exists());
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn the_dust_step_range_is_enforced() {
+    // #6: `--dust-step 4294967295` was accepted (help: 0..=100000) and would run ~34 h.
+    let dir = scratch("rel-dust");
+    let png = dir.join("d.png").to_string_lossy().into_owned();
+    refused(
+        &["dunes", "--dust", "--dust-step", "4294967295", "-o", &png],
+        "0..=100000",
+    );
+    assert!(
+        std::fs::read_dir(&dir).expect("dir").next().is_none(),
+        "nothing written"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn messages_name_the_real_cause_once_and_cut_long_input() {
+    // #13, case by case.
+    let dir = scratch("rel-messages");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    // A NaN year is blamed on the timeline's line, not on --years-per-layer.
+    std::fs::write(
+        dir.join("nan.csv"),
+        "0,10,100,1\nnan,10,100,1\n200,10,100,1\n",
+    )
+    .expect("csv");
+    let supply = format!("timeline:{}", s("nan.csv"));
+    refused(
+        &["layers", "--supply", &supply, "--section", &s("l.svg")],
+        "line 2: the year NaN",
+    );
+    // More than 1000 steps says so.
+    let steps = format!("steps:{}", vec!["1"; 1200].join(","));
+    refused(
+        &["layers", "--supply", &steps, "--section", &s("l.svg")],
+        "at most 1000 factors, not 1200",
+    );
+    // --section-size is named as itself, not as --size.
+    let err = refused(
+        &["layers", "--section-size", "0x0", "--section", &s("l.svg")],
+        "--section-size",
+    );
+    assert!(!err.contains("for --size"), "{err}");
+    // `-inf` is a value, refused for what it is (was "unexpected argument '-i'").
+    refused(
+        &["grow", "--wind-direction", "-inf", "-o", &s("g.png")],
+        "not a finite number",
+    );
+    // A 5000-character preset name is cut when echoed.
+    let long = "x".repeat(5000);
+    let err = refused(
+        &["grow", "--preset", &long, "-o", &s("g.png")],
+        "(5000 characters)",
+    );
+    assert!(err.len() < 1000, "{} bytes of message", err.len());
+    // So are values the argument parser quotes back (it echoed them whole).
+    for (option, value) in [("--size", "x".repeat(5000)), ("--count", "9".repeat(5000))] {
+        let err = refused(&["grow", option, &value, "-o", &s("g.png")], option);
+        assert!(
+            err.contains("(5000 characters)") && err.len() < 1000,
+            "{} bytes of message: {}",
+            err.len(),
+            sediment::error::echo(&err)
+        );
+    }
+    // An I/O error gives its cause once; an unwritable folder is refused up front.
+    let missing = s("none.csv");
+    let err = refused(
+        &[
+            "layers",
+            "--supply",
+            &format!("timeline:{missing}"),
+            "--section",
+            &s("l.svg"),
+        ],
+        "none.csv",
+    );
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+    refused(
+        &["grow", "-o", "/proc/nope.png"],
+        "cannot write in the folder /proc",
+    );
+    assert!(
+        std::fs::read_dir(&dir).expect("dir").count() == 1,
+        "only the CSV we wrote"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn an_interrupted_write_leaves_no_partial_file() {
+    // #9: a run killed during its write left `.NAME.partial-PID` (up to 10 MB).
+    let dir = scratch("rel-signal");
+    let gif = dir.join("g.gif");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .args([
+            "grow", "--passes", "40", "--count", "4", "--size", "640x480", "--gif",
+        ])
+        .arg(&gif)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start sediment");
+    // Wait until the GIF's temporary file exists (encoding 41 frames takes seconds),
+    // then send SIGTERM.
+    let partial = || {
+        std::fs::read_dir(&dir)
+            .expect("dir")
+            .filter_map(|e| e.ok())
+            .any(|e| e.file_name().to_string_lossy().contains(".partial-"))
+    };
+    let start = std::time::Instant::now();
+    while !partial() {
+        assert!(
+            start.elapsed().as_secs() < 120 && child.try_wait().expect("wait").is_none(),
+            "the GIF's temporary file never appeared"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    // The shell's own `kill` (no procps needed).
+    let killed = std::process::Command::new("sh")
+        .args(["-c", &format!("kill -TERM {}", child.id())])
+        .status()
+        .expect("kill");
+    assert!(killed.success());
+    let out = child.wait_with_output().expect("exit");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(
+        stderr.contains("removed 1 unfinished output file"),
+        "{stderr}"
+    );
+    assert!(!partial(), "no partial file left");
+    assert!(!gif.exists(), "no GIF either");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn a_growth_too_big_for_the_device_is_refused_naming_what_to_reduce() {
+    // #8: a large append run failed with a raw "vkCreateBuffer failed with
+    // ERROR_OUT_OF_DEVICE_MEMORY". The plan's vertex buffers are budgeted against the
+    // device heap before anything is allocated.
+    use sediment::model::speleothem::plan::GrowthScene;
+    use sediment::render::growth::GrowthPath;
+    let plan = GrowthScene {
+        count: 256,
+        passes: 512,
+        segments: 128,
+        ..GrowthScene::default()
+    }
+    .plan()
+    .expect("the accepted maximum plans");
+    let restream = GrowthPath::XfbRestream.buffer_bytes(&plan);
+    let append = GrowthPath::XfbAppend.buffer_bytes(&plan);
+    assert_eq!(restream, 2 * append, "ping-pong against one buffer");
+    // A device with 1.5x what re-streaming needs (budget: half of it) refuses it...
+    let heap = restream / 2 * 3;
+    let err = GrowthPath::XfbRestream
+        .check_budget_in(&plan, heap)
+        .expect_err("over budget")
+        .to_string();
+    assert!(
+        err.contains("reduce --count, --passes or --segments") && err.contains("--growth append"),
+        "{err}"
+    );
+    // ...and takes the append-only path, whose one buffer fits.
+    GrowthPath::XfbAppend
+        .check_budget_in(&plan, heap)
+        .expect("append fits");
+}
+
+/// Runs sediment with `args` and returns its peak resident memory in MB, read from
+/// /proc while it runs (VmHWM is the high-water mark, so the last reading is the peak
+/// up to then).
+fn peak_rss_mb(args: &[&str]) -> f64 {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_sediment"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("start sediment");
+    let status = format!("/proc/{}/status", child.id());
+    let mut peak_kb = 0u64;
+    loop {
+        if let Ok(text) = std::fs::read_to_string(&status)
+            && let Some(kb) = text
+                .lines()
+                .find_map(|l| l.strip_prefix("VmHWM:"))
+                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
+        {
+            peak_kb = peak_kb.max(kb);
+        }
+        if let Some(done) = child.try_wait().expect("wait") {
+            assert!(done.success(), "sediment {args:?} failed");
+            return peak_kb as f64 / 1024.0;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn an_animation_holds_one_frame_not_all_of_them() {
+    // #7: every GIF frame was held until the end (2.25 GB for a 2048x2048 growth of
+    // 129 frames). 24 frames of 1024x1024 RGBA are 100 MB; streamed, the GIF costs
+    // one frame and the encoder.
+    let dir = scratch("rel-gif");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let common = [
+        "grow",
+        "--size",
+        "1024x1024",
+        "--passes",
+        "23",
+        "--count",
+        "2",
+        "--growth-path",
+        "append",
+    ];
+    let mut without = common.to_vec();
+    let png = s("g.png");
+    without.extend(["-o", &png]);
+    let mut with = without.clone();
+    let gif = s("g.gif");
+    with.extend(["--gif", &gif]);
+    let base = peak_rss_mb(&without);
+    let animated = peak_rss_mb(&with);
+    eprintln!("peak memory: {base:.0} MB without the GIF, {animated:.0} MB with 24 frames");
+    assert!(
+        animated - base < 50.0,
+        "{animated:.0} MB against {base:.0} MB"
+    );
+    assert_eq!(gif_frames(std::path::Path::new(&gif)), 24);
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn a_dune_animation_streams_its_frames_too() {
+    // #7 for dunes: both GIFs (the dunes forming; the dust blowing) went to the
+    // encoder only once all frames were rendered. 24 frames of 1024x1024 RGBA are
+    // 100 MB; streamed they cost one frame and the encoder.
+    let dir = scratch("rel-dunes-gif");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let png = s("d.png");
+    let field = [
+        "dunes",
+        "--size",
+        "1024x1024",
+        "--ripple-size",
+        "64",
+        "--dune-size",
+        "32",
+        "-o",
+        &png,
+    ];
+    let base = peak_rss_mb(&field);
+    for (name, dust) in [("forming.gif", false), ("dust.gif", true)] {
+        let gif = s(name);
+        let mut args = field.to_vec();
+        // Without dust the desert forming is the animation (`--forming`); with it, the
+        // dust blowing (`--gif`).
+        if dust {
+            args.extend(["--dust", "--gif"]);
+        } else {
+            args.push("--forming");
+        }
+        args.extend([gif.as_str(), "--gif-frames", "24"]);
+        let animated = peak_rss_mb(&args);
+        eprintln!("{name}: peak {animated:.0} MB against {base:.0} MB for the still");
+        assert!(
+            animated - base < 50.0,
+            "{name}: {animated:.0} MB against {base:.0} MB"
+        );
+        assert_eq!(gif_frames(std::path::Path::new(&gif)), 24, "{name}");
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn a_run_failing_late_leaves_none_of_its_outputs() {
+    // #10, the rest: outputs are written all or nothing as a set. Here the mesh's
+    // final guard (a thickening that overflows single precision) fails after the
+    // picture was finished: the picture must not stay behind either.
+    let dir = scratch("rel-set");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let (png, glb) = (s("ok.png"), s("t.glb"));
+    let out = sediment(&[
+        "grow",
+        "--size",
+        "64x48",
+        "--count",
+        "2",
+        "--passes",
+        "40",
+        "--thicken",
+        "1e38",
+        "-o",
+        &png,
+        "--mesh",
+        &glb,
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("not a finite number"), "{stderr}");
+    assert!(
+        stderr.contains("nothing was written") && stderr.contains("ok.png"),
+        "{stderr}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name())
+        .collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+    // The same run without the overflow writes both.
+    let out = sediment(&[
+        "grow", "--size", "64x48", "--count", "2", "--passes", "40", "-o", &png, "--mesh", &glb,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("ok.png").exists() && dir.join("t.glb").exists());
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn a_frame_over_the_memory_budget_is_refused_and_the_estimate_holds() {
+    // The accepted maximum --size (16384x16384) needed about 12 GiB at 4 samples: the
+    // kernel killed it half way. A frame is budgeted from its size and samples before
+    // any work (4 GiB host: on lavapipe device memory is host memory).
+    let dir = scratch("rel-frame-budget");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let err = refused(
+        &["dunes", "--size", "16384x16384", "-o", &s("d.png")],
+        "memory budget",
+    );
+    assert!(
+        err.contains("reduce --size (at most about 9459x9459") && err.contains("--samples"),
+        "{err}"
+    );
+    // The gallery streams its animations frame by frame: its frame is budgeted, before
+    // the output folder is made.
+    refused(
+        &["demo", "--size", "16384x16384", "--out", &s("gallery")],
+        "memory budget",
+    );
+    assert!(std::fs::read_dir(&dir).expect("dir").next().is_none());
+    // The estimate is an upper bound on what a frame really costs: the peak of a
+    // 3000x3000 cave over a 64x64 one stays under it (one frame drawn at the size: a
+    // supersampled picture is a frame of K times the size, budgeted as such by
+    // `frame::supersample::factor_for`).
+    use sediment::gpu::TargetFormat;
+    let estimate = TargetFormat::FRAME.frame_bytes(3000, 3000) as f64 / (1 << 20) as f64;
+    let cave = |size: &str, out: &str| {
+        peak_rss_mb(&["--supersample", "1", "cave", "--size", size, "-o", &s(out)])
+    };
+    let small = cave("64x64", "small.png");
+    let large = cave("3000x3000", "large.png");
+    eprintln!(
+        "3000x3000 frame: {:.0} MB measured, {estimate:.0} MB estimated",
+        large - small
+    );
+    assert!(
+        large - small <= estimate,
+        "{large:.0} - {small:.0} MB over {estimate:.0} MB"
+    );
+    assert!(
+        large - small >= 0.5 * estimate,
+        "the estimate is not wildly high"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

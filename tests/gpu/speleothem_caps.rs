@@ -1,0 +1,80 @@
+//! Closed speleothems as drawn: the cap pass (`shaders-glsl/speleothem/cap.geom`)
+//! closes an open growth front where its CPU twin (`model::speleothem::caps`) says, on
+//! a validated device. Looking straight down a stalagmite that has not closed, the
+//! uncapped tube shows the floor inside it; capped, its top.
+
+use crate::common;
+
+use glam::Vec3;
+use sediment::Size;
+use sediment::camera::{Camera, Jitter};
+use sediment::frame::{FrameRunner, Time};
+use sediment::model::speleothem::plan::{GrowthParams, GrowthScene, Kind};
+use sediment::model::speleothem::table2::{Co2, DripInterval, Pil};
+use sediment::render::growth::GrowthPath;
+use sediment::scene::grow::GrowthFrame;
+
+#[test]
+fn the_cap_pass_closes_the_open_front_its_cpu_twin_finds() {
+    common::with_gpu(|ctx| {
+        let scene = GrowthScene {
+            count: 1,
+            passes: 6,
+            params: GrowthParams {
+                pil: Pil::Dripping,
+                drip: DripInterval::Wet,
+                co2: Co2::Low,
+                ..GrowthParams::default()
+            },
+            ..GrowthScene::default()
+        };
+        let plan = scene.plan().expect("plan");
+        let index = plan
+            .speleothems
+            .iter()
+            .position(|s| s.kind == Kind::Stalagmite)
+            .expect("a stalagmite");
+        assert!(plan.speleothems[index].stop.is_none(), "still open");
+        let mesh = sediment::model::speleothem::grow_reference(&plan, plan.passes);
+        let caps = sediment::model::speleothem::caps(&mesh, &plan, plan.passes);
+        assert!(
+            caps.iter().any(|c| c.from.speleothem() == index),
+            "the CPU twin caps the stalagmite"
+        );
+        let tip = plan.tip_centre(index, plan.passes);
+        let camera = Camera {
+            eye: tip + Vec3::new(0.0, 0.25, 0.001),
+            target: tip,
+            up: Vec3::Y,
+            fov_y_degrees: 30.0,
+            near: 0.01,
+            far: 20.0,
+            jitter: Jitter::NONE,
+        };
+        let size = Size::new(64, 64);
+        let centre = |capped: bool| {
+            let mut frame =
+                GrowthFrame::new(ctx, scene.clone(), GrowthPath::XfbRestream).expect("frame");
+            frame.show_caps(capped);
+            let mut runner = FrameRunner::new(ctx, size).expect("runner");
+            let (image, _) = runner
+                .render(&mut frame, &camera, Time::At(plan.passes))
+                .expect("render");
+            // The mean of the middle 4x4 pixels: inside the tip ring.
+            let mut sum = 0.0;
+            for y in 30..34 {
+                for x in 30..34 {
+                    let p = image.get_pixel(x, y);
+                    sum += f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2]);
+                }
+            }
+            sum / 48.0
+        };
+        let (open, capped) = (centre(false), centre(true));
+        eprintln!("looking down the stalagmite: open {open:.1}, capped {capped:.1} (0..255)");
+        assert!(
+            capped > open + 40.0 && capped > 120.0,
+            "the cap shows: open {open:.1}, capped {capped:.1}"
+        );
+    });
+}
