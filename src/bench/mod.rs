@@ -221,7 +221,9 @@ pub fn run_scenes(
                 s.metrics
                     .insert(PAGE_FAULTS.into(), Stats::of(&faults).median);
             }
-            s.metrics.extend(scene.metrics()?);
+            if let Some(m) = scene.measured() {
+                s.metrics.extend(m.metrics()?);
+            }
             s.metrics.extend(bench.frame_metrics(&frames));
             report.series.push(s);
         }

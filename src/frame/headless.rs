@@ -191,7 +191,10 @@ pub fn render(
         .map(super::Frame::gpu_ms)
         .collect();
     let asset = match &request.asset_title {
-        Some(title) => scene.asset(ctx, title)?,
+        Some(title) => match scene.exportable() {
+            Some(e) => e.asset(ctx, title)?,
+            None => None,
+        },
         None => None,
     };
     // The picture's target is not needed by the scene's own files, which may draw

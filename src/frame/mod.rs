@@ -80,22 +80,6 @@ pub trait Scene {
     fn animated(&self) -> bool {
         false
     }
-    /// What the bench reports of the frames drawn so far beside their timings.
-    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
-        Ok(BTreeMap::new())
-    }
-    /// The viewer: handles one of the scene's keys; false when it is not one.
-    fn key(&mut self, _ctx: &Arc<Context>, _key: Key) -> Result<bool> {
-        Ok(false)
-    }
-    /// The viewer: the scene's keys, for the panel and `--help`.
-    fn controls(&self) -> &'static [&'static str] {
-        &[]
-    }
-    /// The viewer: what the last key did.
-    fn message(&self) -> &str {
-        ""
-    }
     /// Work before the frame that shows `time` (a growth's passes), done in bounded
     /// submissions with `progress`; the GPU time it took, as named spans.
     fn advance_to(
@@ -111,11 +95,45 @@ pub trait Scene {
     fn label(&self) -> Option<String> {
         None
     }
-    /// What the scene shows as a file's asset (named parts, materials, metres), for
-    /// `--mesh`; `None` for a scene with nothing to export.
-    fn asset(&self, _ctx: &Arc<Context>, _title: &str) -> Result<Option<Asset>> {
-        Ok(None)
+    /// Its keys in the viewer, if it has any.
+    fn interactive(&mut self) -> Option<&mut dyn Interactive> {
+        None
     }
+    /// What the bench reports of it beside the timings, if anything.
+    fn measured(&self) -> Option<&dyn Measured> {
+        None
+    }
+    /// What it shows as a file's asset (`--mesh`), if it can.
+    fn exportable(&self) -> Option<&dyn Exportable> {
+        None
+    }
+}
+
+/// A scene the viewer's keys steer: one table of keys ([`Interactive::controls`], which
+/// the scene's `SceneDef::controls` returns too) and their handler.
+pub trait Interactive {
+    /// Handles one of the scene's keys; false when it is not one.
+    fn key(&mut self, ctx: &Arc<Context>, key: Key) -> Result<bool>;
+    /// The scene's keys, one line each, for the panel and `--help`.
+    fn controls(&self) -> &'static [&'static str];
+    /// What the last key did.
+    fn message(&self) -> &str {
+        ""
+    }
+}
+
+/// A scene with numbers for the bench beside its timings (triangles drawn, the GPU
+/// time of its precomputations).
+pub trait Measured {
+    /// The numbers of the frames drawn so far, by name.
+    fn metrics(&self) -> Result<BTreeMap<String, f64>>;
+}
+
+/// A scene that can be written as a mesh file.
+pub trait Exportable {
+    /// What the scene shows as a file's asset (named parts, materials, metres);
+    /// `None` while it has nothing to export.
+    fn asset(&self, ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>>;
 }
 
 /// Spans as one line for a report: `name 1.23 ms, name 4.56 ms`.

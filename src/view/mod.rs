@@ -370,7 +370,11 @@ impl State {
             other => {
                 // A scene's key changes what it shows in ways depth does not tell (a
                 // light, a look): what temporal anti-aliasing accumulated is dropped.
-                if self.scene.key(&self.ctx, other)? {
+                let took = match self.scene.interactive() {
+                    Some(keys) => keys.key(&self.ctx, other)?,
+                    None => false,
+                };
+                if took {
                     if let Some(runner) = &mut self.runner {
                         runner.start_over();
                     }
@@ -485,10 +489,14 @@ impl State {
                 }
             )];
             lines.extend(self.scene.status());
-            lines.extend(self.scene.controls().iter().map(|s| s.to_string()));
+            let keys = self.scene.interactive();
+            let (controls, message) = keys.map_or((&[][..], String::new()), |k| {
+                (k.controls(), k.message().to_owned())
+            });
+            lines.extend(controls.iter().map(|s| s.to_string()));
             lines.extend(CONTROLS.iter().map(|s| s.to_string()));
-            if !self.scene.message().is_empty() {
-                lines.push(self.scene.message().to_owned());
+            if !message.is_empty() {
+                lines.push(message);
             }
             overlay::panel(&lines, w, h, chain.is_bgra())
         } else {
@@ -533,7 +541,10 @@ impl State {
     fn finish(self, report: &mut ViewReport, title: Option<&str>) -> Result<()> {
         self.ctx.wait_idle()?;
         if let Some(title) = title {
-            report.asset = self.scene.asset(&self.ctx, title)?;
+            report.asset = match self.scene.exportable() {
+                Some(e) => e.asset(&self.ctx, title)?,
+                None => None,
+            };
         }
         report.validation_errors = self.ctx.take_validation_errors();
         Ok(())

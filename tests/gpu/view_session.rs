@@ -5,7 +5,7 @@
 use crate::common;
 
 use sediment::Size;
-use sediment::frame::{FrameRunner, Scene, Time};
+use sediment::frame::{FrameRunner, Interactive, Time};
 use sediment::input::Key;
 use sediment::model::speleothem::grow_reference;
 use sediment::model::speleothem::plan::{GrowthParams, GrowthScene};

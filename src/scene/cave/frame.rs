@@ -15,7 +15,10 @@ use crate::camera::{Camera, Jitter};
 use crate::error::{Error, Result};
 use crate::export::asset::{Asset, Material, PartMesh, floor_centre};
 use crate::frame::plugin::Job;
-use crate::frame::{BenchScene, GalleryShot, OutputDef, Progress, Scene, SceneDef, Time};
+use crate::frame::{
+    BenchScene, Exportable, GalleryShot, Interactive, Measured, OutputDef, Progress, Scene,
+    SceneDef, Time,
+};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
 use crate::input::Key;
 use crate::model::cave::placement::site_meshes;
@@ -292,24 +295,6 @@ impl Scene for CaveFrame {
         Ok(())
     }
 
-    /// The generation's phases and the triangles before and after the split.
-    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
-        let c = &self.model.cave;
-        let tm = &c.timings;
-        Ok([
-            ("octree_ms", tm.build_ms),
-            ("walls_ms", tm.extract_ms),
-            ("split_ms", tm.split_ms),
-            ("smooth_ms", tm.smooth_ms),
-            ("generation_ms", tm.total_ms()),
-            ("triangles_before_split", c.triangles_before_split as f64),
-            ("triangles_after_split", c.triangles_after_split() as f64),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_owned(), v))
-        .collect())
-    }
-
     fn status(&self) -> Vec<String> {
         let c = &self.model.cave;
         vec![format!(
@@ -322,6 +307,20 @@ impl Scene for CaveFrame {
         )]
     }
 
+    fn interactive(&mut self) -> Option<&mut dyn Interactive> {
+        Some(self)
+    }
+
+    fn measured(&self) -> Option<&dyn Measured> {
+        Some(self)
+    }
+
+    fn exportable(&self) -> Option<&dyn Exportable> {
+        Some(self)
+    }
+}
+
+impl Interactive for CaveFrame {
     fn key(&mut self, ctx: &Arc<Context>, key: Key) -> Result<bool> {
         match key {
             Key::Char('x') => self.wireframe = !self.wireframe,
@@ -348,7 +347,29 @@ impl Scene for CaveFrame {
     fn message(&self) -> &str {
         &self.message
     }
+}
 
+impl Measured for CaveFrame {
+    /// The generation's phases and the triangles before and after the split.
+    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
+        let c = &self.model.cave;
+        let tm = &c.timings;
+        Ok([
+            ("octree_ms", tm.build_ms),
+            ("walls_ms", tm.extract_ms),
+            ("split_ms", tm.split_ms),
+            ("smooth_ms", tm.smooth_ms),
+            ("generation_ms", tm.total_ms()),
+            ("triangles_before_split", c.triangles_before_split as f64),
+            ("triangles_after_split", c.triangles_after_split() as f64),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), v))
+        .collect())
+    }
+}
+
+impl Exportable for CaveFrame {
     /// The walls and the speleothems (Short-profile or, once grown, the growth's), in
     /// metres.
     fn asset(&self, ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>> {

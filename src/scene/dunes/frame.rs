@@ -14,7 +14,9 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::export::asset::Asset;
 use crate::frame::plugin::Job;
-use crate::frame::{GalleryShot, OutputDef, Progress, Scene, SceneDef, Time};
+use crate::frame::{
+    Exportable, GalleryShot, Interactive, Measured, OutputDef, Progress, Scene, SceneDef, Time,
+};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::input::Key;
 use crate::model::atmosphere::Atmosphere;
@@ -383,15 +385,6 @@ impl Scene for DunesFrame {
         "dunes"
     }
 
-    /// One period of the field (it tiles), textured with the sand and the ripples.
-    fn asset(&self, _ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>> {
-        Ok(self.terrain.as_ref().map(|terrain| {
-            let s = &self.scene;
-            let mesh = dune_mesh_tiled(s.dune_size, s.cell, &terrain.dune_heights, 1);
-            super::export::export(s, terrain, &mesh, title)
-        }))
-    }
-
     /// The scene's sun and toggles and the camera for the next frame; a moved sun
     /// rebuilds the dune shadow map first.
     fn set_frame(
@@ -569,22 +562,6 @@ impl Scene for DunesFrame {
         self.dust_moved
     }
 
-    /// The precomputations' GPU times and the triangles drawn.
-    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
-        let mut m: BTreeMap<String, f64> = self
-            .precompute
-            .iter()
-            .map(|p| {
-                (
-                    format!("{}_gpu_ms", p.name.replace(' ', "_")),
-                    p.milliseconds,
-                )
-            })
-            .collect();
-        m.insert("triangles_drawn".into(), f64::from(self.triangles().0));
-        Ok(m)
-    }
-
     fn status(&self) -> Vec<String> {
         let s = &self.scene;
         let on = |b: bool| if b { "on" } else { "off" };
@@ -606,6 +583,20 @@ impl Scene for DunesFrame {
         ]
     }
 
+    fn interactive(&mut self) -> Option<&mut dyn Interactive> {
+        Some(self)
+    }
+
+    fn measured(&self) -> Option<&dyn Measured> {
+        Some(self)
+    }
+
+    fn exportable(&self) -> Option<&dyn Exportable> {
+        Some(self)
+    }
+}
+
+impl Interactive for DunesFrame {
     fn key(&mut self, _ctx: &Arc<Context>, key: Key) -> Result<bool> {
         let s = &mut self.scene;
         match key {
@@ -642,6 +633,35 @@ impl Scene for DunesFrame {
 
     fn message(&self) -> &str {
         &self.message
+    }
+}
+
+impl Measured for DunesFrame {
+    /// The precomputations' GPU times and the triangles drawn.
+    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
+        let mut m: BTreeMap<String, f64> = self
+            .precompute
+            .iter()
+            .map(|p| {
+                (
+                    format!("{}_gpu_ms", p.name.replace(' ', "_")),
+                    p.milliseconds,
+                )
+            })
+            .collect();
+        m.insert("triangles_drawn".into(), f64::from(self.triangles().0));
+        Ok(m)
+    }
+}
+
+impl Exportable for DunesFrame {
+    /// One period of the field (it tiles), textured with the sand and the ripples.
+    fn asset(&self, _ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>> {
+        Ok(self.terrain.as_ref().map(|terrain| {
+            let s = &self.scene;
+            let mesh = dune_mesh_tiled(s.dune_size, s.cell, &terrain.dune_heights, 1);
+            super::export::export(s, terrain, &mesh, title)
+        }))
     }
 }
 

@@ -24,7 +24,9 @@ use crate::camera::{Camera, Jitter};
 use crate::error::{Error, Result};
 use crate::export::asset::Asset;
 use crate::frame::plugin::Job;
-use crate::frame::{GalleryShot, OutputDef, Progress, Scene, SceneDef, Time};
+use crate::frame::{
+    Exportable, GalleryShot, Interactive, Measured, OutputDef, Progress, Scene, SceneDef, Time,
+};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::input::Key;
 use crate::model::speleothem::plan::Kind as SpeleothemKind;
@@ -516,43 +518,6 @@ impl Scene for GrowthFrame {
         self.passes_now > 0
     }
 
-    /// The pass time at rings 8, 32 and 128 (the median of the nine passes around
-    /// each), the ratio of the pass times at rings 128 and 8 on a line fitted through
-    /// every pass (O(mesh) or O(one ring) per pass), vertices emitted per second of
-    /// growth, and the final vertex count.
-    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
-        let stats = |s: &[f64]| crate::stats::Stats::of(s).median;
-        let mut m = BTreeMap::new();
-        for k in RING_MARKS {
-            m.insert(
-                format!("pass_ms_at_ring_{k}"),
-                stats(around(&self.pass_ms, k)),
-            );
-        }
-        // The ratio from a line through every pass (Theil–Sen), not from the two
-        // windows: on lavapipe a short pass switches between two levels in stretches
-        // longer than a window, and a line through all the passes follows the trend
-        // better than two nine-pass medians. A slow stretch over more than about 29 %
-        // of the passes (Theil–Sen's breakdown point) still tilts it, so the
-        // append-only target is judged on passes grown side by side instead
-        // (`pass_ratio_ring_128_to_8_interleaved`, grow/bench.rs).
-        // Only where ring 128 was reached: the line is not extrapolated.
-        if let Some((a, b)) = crate::stats::theil_sen(&self.pass_ms) {
-            let at = |k: u32| a + b * f64::from(k);
-            if self.pass_ms.len() > 128 {
-                m.insert("pass_ratio_ring_128_to_8".into(), at(128) / at(8).max(1e-9));
-            }
-        }
-        let counts = self.growth.counts()?;
-        let total_ms: f64 = self.pass_ms.iter().sum();
-        m.insert(
-            "vertices_per_s".into(),
-            counts.emitted as f64 / (total_ms / 1e3).max(1e-9),
-        );
-        m.insert("final_vertices".into(), counts.vertices as f64);
-        Ok(m)
-    }
-
     fn status(&self) -> Vec<String> {
         let p = self.params();
         let state = if self.passes_done() >= self.plan.passes {
@@ -592,6 +557,48 @@ impl Scene for GrowthFrame {
         ]
     }
 
+    /// The passes before the frame at `time`, grown in bounded submissions.
+    fn advance_to(
+        &mut self,
+        ctx: &Arc<Context>,
+        time: Time,
+        progress: Progress<'_>,
+    ) -> Result<Vec<Span>> {
+        let Time::At(end) = time else {
+            return Ok(Vec::new());
+        };
+        let todo = end.min(self.plan.passes).saturating_sub(self.passes_done());
+        if todo == 0 {
+            return Ok(Vec::new());
+        }
+        let ms = self.advance(ctx, todo, &mut |d, t| progress("passes", d, t))?;
+        Ok(vec![Span {
+            name: "ring growth".to_owned(),
+            milliseconds: ms,
+        }])
+    }
+
+    /// With a climate record, the calendar year the growth has reached.
+    fn label(&self) -> Option<String> {
+        let (first, years) = self.plan.dates?;
+        let year = first + f64::from(self.passes_done()) * years;
+        Some(crate::model::speleothem::climate::calendar_year(year))
+    }
+
+    fn interactive(&mut self) -> Option<&mut dyn Interactive> {
+        Some(self)
+    }
+
+    fn measured(&self) -> Option<&dyn Measured> {
+        Some(self)
+    }
+
+    fn exportable(&self) -> Option<&dyn Exportable> {
+        Some(self)
+    }
+}
+
+impl Interactive for GrowthFrame {
     fn key(&mut self, ctx: &Arc<Context>, key: Key) -> Result<bool> {
         let p = self.params();
         match key {
@@ -686,7 +693,48 @@ impl Scene for GrowthFrame {
     fn message(&self) -> &str {
         &self.live.message
     }
+}
 
+impl Measured for GrowthFrame {
+    /// The pass time at rings 8, 32 and 128 (the median of the nine passes around
+    /// each), the ratio of the pass times at rings 128 and 8 on a line fitted through
+    /// every pass (O(mesh) or O(one ring) per pass), vertices emitted per second of
+    /// growth, and the final vertex count.
+    fn metrics(&self) -> Result<BTreeMap<String, f64>> {
+        let stats = |s: &[f64]| crate::stats::Stats::of(s).median;
+        let mut m = BTreeMap::new();
+        for k in RING_MARKS {
+            m.insert(
+                format!("pass_ms_at_ring_{k}"),
+                stats(around(&self.pass_ms, k)),
+            );
+        }
+        // The ratio from a line through every pass (Theil–Sen), not from the two
+        // windows: on lavapipe a short pass switches between two levels in stretches
+        // longer than a window, and a line through all the passes follows the trend
+        // better than two nine-pass medians. A slow stretch over more than about 29 %
+        // of the passes (Theil–Sen's breakdown point) still tilts it, so the
+        // append-only target is judged on passes grown side by side instead
+        // (`pass_ratio_ring_128_to_8_interleaved`, grow/bench.rs).
+        // Only where ring 128 was reached: the line is not extrapolated.
+        if let Some((a, b)) = crate::stats::theil_sen(&self.pass_ms) {
+            let at = |k: u32| a + b * f64::from(k);
+            if self.pass_ms.len() > 128 {
+                m.insert("pass_ratio_ring_128_to_8".into(), at(128) / at(8).max(1e-9));
+            }
+        }
+        let counts = self.growth.counts()?;
+        let total_ms: f64 = self.pass_ms.iter().sum();
+        m.insert(
+            "vertices_per_s".into(),
+            counts.emitted as f64 / (total_ms / 1e3).max(1e-9),
+        );
+        m.insert("final_vertices".into(), counts.vertices as f64);
+        Ok(m)
+    }
+}
+
+impl Exportable for GrowthFrame {
     /// The grown speleothems in metres, a scene unit a metre, the chamber's floor
     /// centre at the origin.
     fn asset(&self, ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>> {
@@ -698,34 +746,6 @@ impl Scene for GrowthFrame {
             self.unit_scale,
             self.scene.floor_y,
         )))
-    }
-
-    /// The passes before the frame at `time`, grown in bounded submissions.
-    fn advance_to(
-        &mut self,
-        ctx: &Arc<Context>,
-        time: Time,
-        progress: Progress<'_>,
-    ) -> Result<Vec<Span>> {
-        let Time::At(end) = time else {
-            return Ok(Vec::new());
-        };
-        let todo = end.min(self.plan.passes).saturating_sub(self.passes_done());
-        if todo == 0 {
-            return Ok(Vec::new());
-        }
-        let ms = self.advance(ctx, todo, &mut |d, t| progress("passes", d, t))?;
-        Ok(vec![Span {
-            name: "ring growth".to_owned(),
-            milliseconds: ms,
-        }])
-    }
-
-    /// With a climate record, the calendar year the growth has reached.
-    fn label(&self) -> Option<String> {
-        let (first, years) = self.plan.dates?;
-        let year = first + f64::from(self.passes_done()) * years;
-        Some(crate::model::speleothem::climate::calendar_year(year))
     }
 }
 

@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::export::asset::{Asset, Material, PartMesh, floor_centre};
 use crate::export::section::{self, SectionStyle};
 use crate::frame::plugin::Job;
-use crate::frame::{GalleryShot, OutputDef, Progress, Scene, SceneDef, Time};
+use crate::frame::{Exportable, GalleryShot, OutputDef, Progress, Scene, SceneDef, Time};
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
 use crate::model::layers::Stalagmite;
 use crate::render::lighting::Lighting;
@@ -114,6 +114,12 @@ impl Scene for CutAwayFrame {
         vec![format!("{} growth layers, a quarter cut away", self.layers)]
     }
 
+    fn exportable(&self) -> Option<&dyn Exportable> {
+        Some(self)
+    }
+}
+
+impl Exportable for CutAwayFrame {
     fn asset(&self, _ctx: &Arc<Context>, title: &str) -> Result<Option<Asset>> {
         Ok(self
             .exported
