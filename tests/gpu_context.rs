@@ -56,10 +56,54 @@ fn validation_errors_are_recorded() {
 }
 
 #[test]
+fn synchronization_hazards_are_recorded() {
+    let ctx = common::gpu();
+    // Two fills of one buffer with no barrier between them: a write-after-write hazard
+    // that only synchronization validation reports.
+    let buffer = Buffer::new(
+        &ctx,
+        "hazard canary",
+        BufferDesc::gpu_only(64, vk::BufferUsageFlags::TRANSFER_DST),
+    )
+    .expect("buffer");
+    ctx.submit_and_wait("hazard canary", |cmd| {
+        cmd.fill_buffer(&buffer, 0, 64, 0);
+        cmd.fill_buffer(&buffer, 0, 64, 1);
+        Ok(())
+    })
+    .expect("submission");
+    let errors = ctx.take_validation_errors();
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains("SYNC-HAZARD-WRITE-AFTER-WRITE")),
+        "expected a write-after-write hazard, got {errors:?}"
+    );
+}
+
+#[test]
+#[should_panic(expected = "1 validation error(s)")]
+fn a_test_that_leaves_a_validation_error_fails_when_its_device_drops() {
+    let ctx = common::gpu();
+    let buffer = Buffer::new(
+        &ctx,
+        "guard canary",
+        BufferDesc::upload(64, vk::BufferUsageFlags::UNIFORM_BUFFER),
+    )
+    .expect("buffer");
+    ctx.submit_and_wait("guard canary", |cmd| {
+        cmd.fill_buffer(&buffer, 0, 64, 0);
+        Ok(())
+    })
+    .expect("submission");
+}
+
+#[test]
 fn an_unknown_device_name_is_a_clear_error() {
     let err = match Context::new(&ContextOptions {
         device: Some("no-such-gpu-xyz".to_owned()),
         validate: false,
+        sync_validation: false,
         window: None,
         samples: None,
         sample_shading: None,

@@ -580,8 +580,10 @@ impl BenchScene for CaveBench {
             .strip_prefix("depth-")
             .and_then(|d| d.parse().ok())
             .ok_or_else(|| Error::internal("cave bench", format!("variant {variant}")))?;
-        let mut scene = CaveScene::default();
-        scene.depth = depth;
+        let scene = CaveScene {
+            depth,
+            ..CaveScene::default()
+        };
         let model = Arc::new(build(&scene, &|_, _, _| {})?);
         let camera = default_camera(&scene, &model);
         Ok((Box::new(CaveFrame::new(ctx, &scene, model)?), camera))
