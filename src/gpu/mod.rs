@@ -15,6 +15,7 @@ mod shader;
 mod swapchain;
 mod target;
 mod timing;
+mod usage;
 mod validation;
 mod xfb;
 
@@ -22,7 +23,6 @@ mod xfb;
 pub use ash::vk;
 
 pub use crate::pod::{Pod, as_bytes, from_bytes};
-pub use barrier::ImageTransition;
 pub use buffer::{Buffer, BufferDesc, FloatTexels, TexelView};
 pub use commands::Commands;
 pub use context::{Context, ContextOptions, DeviceInfo, probe_devices};
@@ -35,5 +35,6 @@ pub use shader::ShaderModule;
 pub use swapchain::{Presented, Surface, Swapchain};
 pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, TargetFormat};
 pub use timing::{GpuTimer, Span, SpanId};
+pub use usage::{Usage, Use};
 pub use validation::ValidationLog;
 pub use xfb::{CaptureMode, StreamCounts, StreamQueries, XfbStream};

@@ -353,6 +353,7 @@ impl Commands<'_> {
         width: u32,
         height: u32,
     ) {
+        target.color().use_as(self, super::Usage::TransferSrc);
         let layers = vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::COLOR,
             mip_level: 0,

@@ -10,8 +10,8 @@ use glam::{Mat4, Vec4};
 
 use crate::error::Result;
 use crate::gpu::{
-    Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageTransition, Pipeline,
-    PipelineLayout, Pod, Sampler, vk,
+    Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, Pipeline, PipelineLayout, Pod,
+    Sampler, Usage, Use, vk,
 };
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
@@ -170,25 +170,15 @@ impl TemporalPass {
         mode: ResolveMode,
         push: &ResolvePush,
     ) -> Result<()> {
-        let to_attachment = |image: &Image| {
-            ImageTransition::whole(
-                image,
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER
-                        | vk::PipelineStageFlags2::ALL_TRANSFER,
-                    vk::AccessFlags2::NONE,
-                ),
-                ImageTransition::COLOR_WRITTEN,
-            )
-        };
         let mut written = vec![images.shown, images.colour_out];
         if mode != ResolveMode::Settled {
             written.push(images.depth_out);
         }
-        let transitions: Vec<ImageTransition> =
-            written.iter().map(|&image| to_attachment(image)).collect();
-        cmd.transition_images(&transitions);
+        let uses: Vec<Use<'_>> = written
+            .iter()
+            .map(|&image| Use::image_discarding(image, Usage::ColorAttachment))
+            .collect();
+        cmd.uses(&uses);
         let views: Vec<vk::ImageView> = written.iter().map(|image| image.view()).collect();
         let desc = images.shown.desc();
         cmd.begin_rendering_colors(&views, desc.width, desc.height);
@@ -202,17 +192,11 @@ impl TemporalPass {
         cmd.draw(3, 1);
         cmd.end_rendering();
         // The history just written is the next frame's to read.
-        let transitions: Vec<ImageTransition> = written[1..]
+        let uses: Vec<Use<'_>> = written[1..]
             .iter()
-            .map(|&image| {
-                ImageTransition::whole(
-                    image,
-                    ImageTransition::COLOR_WRITTEN,
-                    ImageTransition::FRAGMENT_SAMPLED,
-                )
-            })
+            .map(|&image| Use::image(image, Usage::SampledFragment))
             .collect();
-        cmd.transition_images(&transitions);
+        cmd.uses(&uses);
         Ok(())
     }
 }
