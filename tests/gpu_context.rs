@@ -4,7 +4,7 @@
 mod common;
 
 use glam::Vec4;
-use sediment::gpu::{Buffer, BufferDesc, Context, ContextOptions, vk};
+use sediment::gpu::{Buffer, BufferDesc, Context, ContextOptions, GpuTimer, vk};
 use sediment::render::xfb_selftest;
 
 #[test]
@@ -96,6 +96,30 @@ fn a_test_that_leaves_a_validation_error_fails_when_its_device_drops() {
         Ok(())
     })
     .expect("submission");
+}
+
+#[test]
+fn timer_spans_close_with_their_closure_or_scope() {
+    let ctx = common::gpu();
+    let mut timer = GpuTimer::new(&ctx, "span test", 2).expect("timer");
+    ctx.submit_and_wait("spans", |cmd| {
+        timer.reset(cmd);
+        let value = timer.span(cmd, "closure", |_| Ok(7))?;
+        assert_eq!(value, 7);
+        {
+            let _scope = timer.scope(cmd, "scope")?;
+        }
+        assert!(
+            timer.scope(cmd, "one too many").is_err(),
+            "a third span does not fit a timer of two"
+        );
+        Ok(())
+    })
+    .expect("submission");
+    let spans = timer.read().expect("spans");
+    let names: Vec<&str> = spans.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["closure", "scope"]);
+    assert!(spans.iter().all(|s| s.milliseconds >= 0.0));
 }
 
 #[test]

@@ -34,7 +34,7 @@ pub use sampler::Sampler;
 pub use shader::ShaderModule;
 pub use swapchain::{Presented, Surface, Swapchain};
 pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, TargetFormat};
-pub use timing::{GpuTimer, Span, SpanId};
+pub use timing::{GpuTimer, Span, SpanId, SpanScope};
 pub use usage::{Usage, Use};
 pub use validation::ValidationLog;
 pub use xfb::{CaptureMode, StreamCounts, StreamQueries, XfbStream};

@@ -351,9 +351,7 @@ fn run_alone<T: Pod, P>(
     ctx.submit_and_wait("horizon map", |cmd| {
         timer.reset(cmd);
         horizon.use_as(cmd, Usage::ComputeWrite);
-        let span = timer.begin(cmd, "horizon map")?;
-        record(&pass, cmd)?;
-        timer.end(cmd, span);
+        timer.span(cmd, "horizon map", |cmd| record(&pass, cmd))?;
         horizon.use_as(cmd, Usage::HostRead);
         Ok(())
     })?;
@@ -571,32 +569,31 @@ impl RippleMaps {
         let mut timer = GpuTimer::new(ctx, "ripple maps timer", 2)?;
         ctx.submit_and_wait("ripple maps", |cmd| {
             timer.reset(cmd);
-            let span = timer.begin(cmd, "normal chain")?;
-            cmd.bind_pipeline(&mip, &mip_layout, &[&mip_set]);
-            let mut s = size;
-            for pair in offsets.windows(2) {
-                // The next level reads what the one before wrote.
-                levels.use_as(cmd, Usage::ComputeReadWrite);
-                s /= 2;
-                cmd.push_constants(
-                    &mip_layout,
-                    &MipPush {
-                        src_offset: pair[0],
-                        dst_offset: pair[1],
-                        dst_size: s,
-                        unused: 0,
-                    },
-                )?;
-                cmd.dispatch(s.div_ceil(8), s.div_ceil(8), 1);
-            }
-            timer.end(cmd, span);
+            timer.span(cmd, "normal chain", |cmd| {
+                cmd.bind_pipeline(&mip, &mip_layout, &[&mip_set]);
+                let mut s = size;
+                for pair in offsets.windows(2) {
+                    // The next level reads what the one before wrote.
+                    levels.use_as(cmd, Usage::ComputeReadWrite);
+                    s /= 2;
+                    cmd.push_constants(
+                        &mip_layout,
+                        &MipPush {
+                            src_offset: pair[0],
+                            dst_offset: pair[1],
+                            dst_size: s,
+                            unused: 0,
+                        },
+                    )?;
+                    cmd.dispatch(s.div_ceil(8), s.div_ceil(8), 1);
+                }
+                Ok(())
+            })?;
             horizon.use_as(cmd, Usage::ComputeWrite);
-            let span = timer.begin(cmd, "horizon map")?;
-            match &pass {
-                HorizonPass::Sweep(sweep) => sweep.record(cmd, horizon_height_scale)?,
-                HorizonPass::Walk(brute) => brute.record(cmd, horizon_height_scale)?,
-            }
-            timer.end(cmd, span);
+            timer.span(cmd, "horizon map", |cmd| match &pass {
+                HorizonPass::Sweep(sweep) => sweep.record(cmd, horizon_height_scale),
+                HorizonPass::Walk(brute) => brute.record(cmd, horizon_height_scale),
+            })?;
             cmd.uses(&[
                 Use::buffer(&levels, Usage::HostRead),
                 Use::buffer(&horizon, Usage::HostRead),

@@ -550,18 +550,18 @@ impl Scene for DunesFrame {
             );
             self.surface.set_levels(&levels)?;
         }
-        let span = timer.begin(cmd, "dunes")?;
-        target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
-        // Dunes first, then the sky where no dune covers (the depth test keeps it
-        // there), then the dust, translucent over both.
-        self.surface.draw(cmd, &self.geometry, &v.push)?;
-        self.sky.draw(cmd, &v.sky)?;
-        if v.dust {
-            self.dust.draw(cmd, v.view_proj, v.eye, v.target)?;
-        }
-        target.end(cmd);
-        timer.end(cmd, span);
-        Ok(())
+        timer.span(cmd, "dunes", |cmd| {
+            target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+            // Dunes first, then the sky where no dune covers (the depth test keeps it
+            // there), then the dust, translucent over both.
+            self.surface.draw(cmd, &self.geometry, &v.push)?;
+            self.sky.draw(cmd, &v.sky)?;
+            if v.dust {
+                self.dust.draw(cmd, v.view_proj, v.eye, v.target)?;
+            }
+            target.end(cmd);
+            Ok(())
+        })
     }
 
     /// The dust blew on.
@@ -754,10 +754,9 @@ pub(super) fn desert_light(
         let mut timer = GpuTimer::new(ctx, "sky view timer", 2)?;
         ctx.submit_and_wait("sky view table", |cmd| {
             timer.reset(cmd);
-            let span = timer.begin(cmd, "sky view")?;
-            pass.record(cmd, air, camera.eye.y, elevation, ground_sky)?;
-            timer.end(cmd, span);
-            Ok(())
+            timer.span(cmd, "sky view", |cmd| {
+                pass.record(cmd, air, camera.eye.y, elevation, ground_sky)
+            })
         })?;
         spans.extend(timer.read()?);
         let table = pass.read()?;
@@ -795,10 +794,9 @@ fn shadow_map(ctx: &Arc<Context>, shadow: &DuneShadowPass, sun: Vec3) -> Result<
     let mut timer = GpuTimer::new(ctx, "dune shadow timer", 2)?;
     ctx.submit_and_wait("dune shadow map", |cmd| {
         timer.reset(cmd);
-        let span = timer.begin(cmd, "dune shadow map")?;
-        shadow.record(cmd, [dir.x, dir.z], rise)?;
-        timer.end(cmd, span);
-        Ok(())
+        timer.span(cmd, "dune shadow map", |cmd| {
+            shadow.record(cmd, [dir.x, dir.z], rise)
+        })
     })?;
     timer.read()
 }
