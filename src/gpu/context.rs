@@ -3,6 +3,7 @@
 
 use std::ffi::{CStr, c_char};
 use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use ash::vk;
@@ -275,6 +276,8 @@ pub struct Context {
     supersample: u32,
     /// `ContextOptions::temporal`.
     temporal: bool,
+    /// Pipelines created on this device so far (`pipelines_created`).
+    pipelines: AtomicU64,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
     pub(crate) xfb: ash::ext::transform_feedback::Device,
@@ -532,6 +535,7 @@ impl Context {
                 options.supersample.unwrap_or(1).clamp(1, MAX_SUPERSAMPLE)
             },
             temporal: options.temporal,
+            pipelines: AtomicU64::new(0),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(command_pool),
             xfb: xfb_device,
@@ -594,6 +598,17 @@ impl Context {
     /// How many validation errors are waiting.
     pub fn validation_error_count(&self) -> usize {
         self.validation_log.error_count()
+    }
+
+    /// How many graphics and compute pipelines have been created on this device: each
+    /// is a shader compilation on lavapipe, so what should reuse pipelines (a moved
+    /// sun) is held to creating none.
+    pub fn pipelines_created(&self) -> u64 {
+        self.pipelines.load(Ordering::Relaxed)
+    }
+
+    pub(crate) fn count_pipeline(&self) {
+        self.pipelines.fetch_add(1, Ordering::Relaxed);
     }
 
     pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {

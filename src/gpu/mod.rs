@@ -29,7 +29,9 @@ pub use context::{Context, ContextOptions, DeviceInfo, probe_devices};
 pub use features::{Capability, DeviceReport};
 pub use heap::{keep_freed_memory, minor_page_faults};
 pub use image::{Image, ImageDesc};
-pub use pipeline::{DescriptorSet, GraphicsPipelineDesc, Pipeline, PipelineLayout, VertexLayout};
+pub use pipeline::{
+    Descriptor, DescriptorSet, GraphicsPipelineDesc, Pipeline, PipelineLayout, VertexLayout,
+};
 pub use sampler::Sampler;
 pub use shader::ShaderModule;
 pub use swapchain::{Presented, Surface, Swapchain};

@@ -10,8 +10,8 @@ use glam::{Mat4, Vec4};
 
 use crate::error::Result;
 use crate::gpu::{
-    Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, Pipeline, PipelineLayout, Pod,
-    Sampler, Usage, Use, vk,
+    Commands, Context, Descriptor, DescriptorSet, GraphicsPipelineDesc, Image, Pipeline,
+    PipelineLayout, Pod, Sampler, Usage, Use, vk,
 };
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
@@ -150,14 +150,13 @@ impl TemporalPass {
         depth: &Image,
         history: [&Image; 2],
     ) -> Result<DescriptorSet> {
-        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let set = self.layout.allocate_set(name, 0)?;
-        set.write_image(0, color.view(), read)?;
-        set.write_image(1, depth.view(), vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL)?;
-        set.write_image(2, history[0].view(), read)?;
-        set.write_image(3, history[1].view(), read)?;
-        set.write_sampler(4, &self.sampler)?;
-        set.write_sampler(5, &self.nearest)?;
+        set.write("current", Descriptor::Image(color))?;
+        set.write("depth", Descriptor::Image(depth))?;
+        set.write("history", Descriptor::Image(history[0]))?;
+        set.write("history_depth", Descriptor::Image(history[1]))?;
+        set.write("clamp_sampler", Descriptor::Sampler(&self.sampler))?;
+        set.write("nearest_sampler", Descriptor::Sampler(&self.nearest))?;
         Ok(set)
     }
 

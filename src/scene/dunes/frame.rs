@@ -128,7 +128,7 @@ pub struct DunesFrame {
     maps: RippleMaps,
     shadow: DuneShadowPass,
     grain: Vec<u8>,
-    // Sampled by `surface`, rebuilt with it when the sun moves.
+    // Sampled by `surface`; made again, and rebound, when the sun moves.
     _textures: DuneTextures,
     surface: DuneSurfacePass,
     /// The air, its sky-view table (again whenever the sun moves) and the sky from it.
@@ -419,14 +419,8 @@ impl Scene for DunesFrame {
                 GRAIN_SIZE,
                 detail_texels(self.prints.as_ref(), sun).as_ref(),
             )?;
-            self.surface = DuneSurfacePass::new(
-                ctx,
-                ctx.frame_format(),
-                DESERT_TONE_MAP,
-                &textures,
-                9 * self.scene.dune_size * self.scene.dune_size,
-                switches(&self.scene, self.prints.is_some(), self.shadow_mask),
-            )?;
+            // The same pipelines, pointed at the new textures.
+            self.surface.set_textures(&textures)?;
             self._textures = textures;
             self.sun = sun;
         }
