@@ -644,7 +644,7 @@ impl Context {
     }
 
     /// `submit_and_wait` whose submission also waits on `waits` (each at its stage) and
-    /// signals `signals` (a frame between acquire and present).
+    /// signals `signals`.
     pub(crate) fn submit_and_wait_with(
         &self,
         label: &str,

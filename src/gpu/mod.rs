@@ -1,12 +1,16 @@
-//! The only module that touches ash: context and device choice, memory, buffers and
-//! images, shader modules, pipelines (incl. geometry stage and transform feedback),
-//! the offscreen target and its readback, timestamp spans and XFB helpers.
+//! The only module that touches ash, and the only one that places barriers: context
+//! and device choice, memory, buffers and images that track their last use (a pass
+//! declares a `Usage` and the barrier is derived), shader modules, pipelines (incl.
+//! geometry stage and transform feedback) and descriptors written by name, the
+//! offscreen target and its readback, timestamp spans, a window's frames in flight
+//! and XFB helpers.
 
 mod barrier;
 mod buffer;
 mod commands;
 mod context;
 mod features;
+mod frames;
 mod heap;
 mod image;
 mod pipeline;
@@ -27,6 +31,7 @@ pub use buffer::{Buffer, BufferDesc, FloatTexels, TexelView};
 pub use commands::Commands;
 pub use context::{Context, ContextOptions, DeviceInfo, probe_devices};
 pub use features::{Capability, DeviceReport};
+pub use frames::FramesInFlight;
 pub use heap::{keep_freed_memory, minor_page_faults};
 pub use image::{Image, ImageDesc};
 pub use pipeline::{
