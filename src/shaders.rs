@@ -173,6 +173,66 @@ pub fn reflect(shader: &ShaderSpirv) -> Result<Reflection> {
     })
 }
 
+/// One named resource of a module: its `layout(set, binding)` and the name GLSL gives
+/// it (a block's instance name, else its block name).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct NamedBinding {
+    /// Descriptor-set index.
+    pub set: u32,
+    /// Binding number within the set.
+    pub binding: u32,
+    /// The variable's name in the shader (`ripple_normals`, `frame`).
+    pub name: String,
+}
+
+/// The names of `shader`'s descriptor bindings, read by naga from the SPIR-V (no
+/// validation: the module is the one `check_interface` validates); empty for a module
+/// naga cannot read (a geometry stage, a texel buffer). Read once per module and kept.
+pub fn binding_names(shader: &'static ShaderSpirv) -> Vec<NamedBinding> {
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    static READ: OnceLock<Mutex<HashMap<&'static str, Vec<NamedBinding>>>> = OnceLock::new();
+    let read = READ.get_or_init(Default::default);
+    let mut read = match read.lock() {
+        Ok(r) => r,
+        // Entries are inserted whole; a panic elsewhere leaves the map usable.
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    read.entry(shader.path)
+        .or_insert_with(|| read_binding_names(shader))
+        .clone()
+}
+
+fn read_binding_names(shader: &ShaderSpirv) -> Vec<NamedBinding> {
+    if shader.stage == ShaderStageKind::Geometry {
+        return Vec::new();
+    }
+    let Ok(module) = naga::front::spv::parse_u8_slice(shader.bytes, &Default::default()) else {
+        return Vec::new();
+    };
+    let mut names: Vec<NamedBinding> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, var)| {
+            let rb = var.binding.as_ref()?;
+            // An anonymous block's variable has no name of its own: its block's.
+            let name = var
+                .name
+                .clone()
+                .filter(|n| !n.is_empty())
+                .or_else(|| module.types[var.ty].name.clone())
+                .filter(|n| !n.is_empty())?;
+            Some(NamedBinding {
+                set: rb.group,
+                binding: rb.binding,
+                name,
+            })
+        })
+        .collect();
+    names.sort_by_key(|n| (n.set, n.binding));
+    names
+}
+
 /// Whether naga can read `iface`'s module: not a geometry shader (naga has no such
 /// stage) and no texel buffer (naga reads no buffer images). The others declare their
 /// interface by hand; the GPU tests that build their pipelines hold it (the validation
@@ -236,5 +296,26 @@ pub fn check_interface(iface: &ShaderInterface) -> Result<()> {
                 problems.join("; ")
             ),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bindings_are_named_as_the_glsl_names_them() {
+        let names = binding_names(&compiled::DUNES_SURFACE_FRAG);
+        let find = |name: &str| {
+            names
+                .iter()
+                .find(|n| n.name == name)
+                .map(|n| (n.set, n.binding))
+        };
+        assert_eq!(find("frame"), Some((0, 0)), "{names:?}");
+        assert_eq!(find("ripple_normals"), Some((0, 1)));
+        assert_eq!(find("repeat_sampler"), Some((0, 4)));
+        assert_eq!(find("quads"), Some((0, 7)));
+        assert!(binding_names(&compiled::SPELEOTHEM_RING_GROWTH_GEOM).is_empty());
     }
 }

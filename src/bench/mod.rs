@@ -361,12 +361,12 @@ impl FloorPass {
         } = self;
         ctx.submit_and_wait("fullscreen", |cmd| {
             timer.reset(cmd);
-            let span = timer.begin(cmd, "fullscreen")?;
-            target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
-            sky.draw(cmd, *view_proj, *eye, Vec3::new(0.3, 0.5, 0.2), 1.0)?;
-            target.end(cmd);
-            timer.end(cmd, span);
-            Ok(())
+            timer.span(cmd, "fullscreen", |cmd| {
+                target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+                sky.draw(cmd, *view_proj, *eye, Vec3::new(0.3, 0.5, 0.2), 1.0)?;
+                target.end(cmd);
+                Ok(())
+            })
         })?;
         timer.read()
     }
@@ -382,9 +382,7 @@ fn floor(
     let empty = measure("floor", "empty-submit", opts, &mut || {
         ctx.submit_and_wait("empty", |cmd| {
             timer.reset(cmd);
-            let span = timer.begin(cmd, "empty")?;
-            timer.end(cmd, span);
-            Ok(())
+            timer.span(cmd, "empty", |_| Ok(()))
         })?;
         timer.read()
     })?;

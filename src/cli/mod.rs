@@ -474,6 +474,7 @@ fn options_with(g: &Globals, anti_aliasing: AntiAliasing) -> ContextOptions {
     ContextOptions {
         device: g.device.clone(),
         validate: g.validate,
+        sync_validation: false,
         window: None,
         samples: if temporal {
             g.samples

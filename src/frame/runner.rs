@@ -154,9 +154,8 @@ impl FrameRunner {
         self.timer.reset(cmd);
         scene.record(cmd, &self.target, &mut self.timer)?;
         if let Some(t) = &mut self.temporal {
-            let span = self.timer.begin(cmd, "anti-aliasing")?;
-            t.record(cmd, &self.target)?;
-            self.timer.end(cmd, span);
+            self.timer
+                .span(cmd, "anti-aliasing", |cmd| t.record(cmd, &self.target))?;
         }
         let shown = self.shown();
         if read_back {

@@ -14,7 +14,7 @@ use crate::Size;
 use crate::camera::Jitter;
 use crate::error::Result;
 use crate::gpu::{
-    Commands, Context, DescriptorSet, Image, ImageDesc, ImageTransition, OffscreenTarget, vk,
+    Commands, Context, DescriptorSet, Image, ImageDesc, OffscreenTarget, Usage, Use, vk,
 };
 use crate::render::temporal::{
     HISTORY_DEPTH_FORMAT, HISTORY_FORMAT, ResolveImages, ResolveMode, ResolvePush, TemporalPass,
@@ -146,17 +146,12 @@ impl Temporal {
         let sets = [[bind(0, 0)?, bind(0, 1)?], [bind(1, 0)?, bind(1, 1)?]];
         // Both histories start readable; the first frame starts over and reads neither.
         ctx.submit_and_wait("temporal histories", |cmd| {
-            let images = colour.iter().chain(&depth);
-            let transitions: Vec<ImageTransition> = images
-                .map(|image| {
-                    ImageTransition::whole(
-                        image,
-                        ImageTransition::DISCARDED,
-                        ImageTransition::FRAGMENT_SAMPLED,
-                    )
-                })
+            let uses: Vec<Use<'_>> = colour
+                .iter()
+                .chain(&depth)
+                .map(|image| Use::image_discarding(image, Usage::SampledFragment))
                 .collect();
-            cmd.transition_images(&transitions);
+            cmd.uses(&uses);
             Ok(())
         })?;
         let shown = OffscreenTarget::with_format(

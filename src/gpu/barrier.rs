@@ -1,4 +1,7 @@
-//! Pipeline barriers (synchronization2), written once.
+//! Pipeline barriers (synchronization2), written once: those derived from tracked
+//! resources' uses (`usage`), and the raw ones the wrappers in this module place for
+//! what the tracking does not cover (mip levels one at a time, transform-feedback
+//! counters, swapchain images, timestamps).
 
 use ash::vk;
 
@@ -79,41 +82,12 @@ impl ImageTransition {
         vk::PipelineStageFlags2::TOP_OF_PIPE,
         vk::AccessFlags2::NONE,
     );
-    /// Written as a colour attachment.
-    pub const COLOR_WRITTEN: LayoutScope = (
-        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-    );
-    /// Sampled by fragment shaders.
-    pub const FRAGMENT_SAMPLED: LayoutScope = (
-        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-        vk::AccessFlags2::SHADER_SAMPLED_READ,
-    );
-
-    /// Read by copies and blits.
-    pub const TRANSFER_READ: LayoutScope = (
-        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-        vk::PipelineStageFlags2::ALL_TRANSFER,
-        vk::AccessFlags2::TRANSFER_READ,
-    );
     /// Written by copies and blits.
     pub const TRANSFER_WRITTEN: LayoutScope = (
         vk::ImageLayout::TRANSFER_DST_OPTIMAL,
         vk::PipelineStageFlags2::ALL_TRANSFER,
         vk::AccessFlags2::TRANSFER_WRITE,
     );
-
-    /// Every level and layer of `image` from `from` to `to`.
-    pub fn whole(image: &super::Image, from: LayoutScope, to: LayoutScope) -> Self {
-        Self {
-            image: image.raw(),
-            range: image.full_range(),
-            from,
-            to,
-        }
-    }
 
     /// `range` of `image`, whatever it held, becomes the destination of copies or
     /// blits.
@@ -145,5 +119,55 @@ pub fn images(ctx: &Context, cmd: vk::CommandBuffer, transitions: &[ImageTransit
         .collect();
     let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
     // SAFETY: `cmd` is recording; the images belong to this device.
+    unsafe { ctx.device.cmd_pipeline_barrier2(cmd, &dep) };
+}
+
+/// The barriers derived for tracked images and buffers (`usage::Dependency`), in one
+/// pipeline barrier (none: nothing recorded).
+pub(crate) fn dependencies(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    images: &[(
+        vk::Image,
+        vk::ImageSubresourceRange,
+        super::usage::Dependency,
+    )],
+    buffers: &[(vk::Buffer, super::usage::Dependency)],
+) {
+    if images.is_empty() && buffers.is_empty() {
+        return;
+    }
+    let image_barriers: Vec<vk::ImageMemoryBarrier2<'_>> = images
+        .iter()
+        .map(|(image, range, d)| {
+            vk::ImageMemoryBarrier2::default()
+                .image(*image)
+                .subresource_range(*range)
+                .old_layout(d.old_layout)
+                .new_layout(d.new_layout)
+                .src_stage_mask(d.src_stages)
+                .src_access_mask(d.src_access)
+                .dst_stage_mask(d.dst_stages)
+                .dst_access_mask(d.dst_access)
+        })
+        .collect();
+    let buffer_barriers: Vec<vk::BufferMemoryBarrier2<'_>> = buffers
+        .iter()
+        .map(|(buffer, d)| {
+            vk::BufferMemoryBarrier2::default()
+                .buffer(*buffer)
+                .offset(0)
+                .size(vk::WHOLE_SIZE)
+                .src_stage_mask(d.src_stages)
+                .src_access_mask(d.src_access)
+                .dst_stage_mask(d.dst_stages)
+                .dst_access_mask(d.dst_access)
+        })
+        .collect();
+    let dep = vk::DependencyInfo::default()
+        .image_memory_barriers(&image_barriers)
+        .buffer_memory_barriers(&buffer_barriers);
+    // SAFETY: `cmd` is recording outside a rendering scope; the images and buffers
+    // belong to this device and their owners keep them alive until it has run.
     unsafe { ctx.device.cmd_pipeline_barrier2(cmd, &dep) };
 }

@@ -53,6 +53,8 @@ impl BufferDesc {
 /// An owned `VkBuffer` with its memory. Dropping it frees both; the caller makes sure
 /// the GPU is done with it (sediment's submissions wait on their fence).
 pub struct Buffer {
+    /// The accesses its last use left (see `Buffer::use_as`).
+    state: super::usage::Tracked,
     allocation: Option<Allocation>,
     raw: vk::Buffer,
     desc: BufferDesc,
@@ -104,6 +106,7 @@ impl Buffer {
                 .bind_buffer_memory(raw, allocation.memory(), allocation.offset())
         };
         let buffer = Buffer {
+            state: super::usage::Tracked::new(),
             allocation: Some(allocation),
             raw,
             desc,
@@ -125,6 +128,16 @@ impl Buffer {
         let mut buffer = Buffer::new(ctx, name, BufferDesc::upload(bytes.len() as u64, usage))?;
         buffer.write(0, data)?;
         Ok(buffer)
+    }
+
+    /// Records the barrier that makes the buffer ready for `usage` after its last
+    /// declared use (nothing where none is needed), outside a rendering scope.
+    pub fn use_as(&self, cmd: &super::Commands<'_>, usage: super::Usage) {
+        cmd.uses(&[super::Use::buffer(self, usage)]);
+    }
+
+    pub(crate) fn tracked(&self) -> &super::usage::Tracked {
+        &self.state
     }
 
     /// The `VkBuffer` handle; valid while `self` lives.

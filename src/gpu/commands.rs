@@ -180,53 +180,19 @@ impl Commands<'_> {
         };
     }
 
-    /// Image layout transitions with their scopes, in one barrier.
-    pub fn transition_images(&self, transitions: &[super::ImageTransition]) {
-        super::barrier::images(self.ctx, self.raw, transitions);
-    }
-
     /// A full memory barrier (see `barrier::full`).
-    pub fn full_barrier(&self) {
+    pub(crate) fn full_barrier(&self) {
         super::barrier::full(self.ctx, self.raw);
     }
 
-    /// Transfer writes made visible to every later read (uploads before use).
-    pub fn transfer_to_all_barrier(&self) {
-        super::barrier::memory(
-            self.ctx,
-            self.raw,
-            (
-                vk::PipelineStageFlags2::TRANSFER,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-            (
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                vk::AccessFlags2::MEMORY_READ,
-            ),
-        );
-    }
-
     /// Transfer writes made visible to the host (before reading a readback buffer).
-    pub fn transfer_to_host_barrier(&self) {
+    pub(crate) fn transfer_to_host_barrier(&self) {
         super::barrier::memory(
             self.ctx,
             self.raw,
             (
                 vk::PipelineStageFlags2::TRANSFER,
                 vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-        );
-    }
-
-    /// Shader writes made visible to the host (before reading a host-visible buffer).
-    pub fn shader_to_host_barrier(&self) {
-        super::barrier::memory(
-            self.ctx,
-            self.raw,
-            (
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                vk::AccessFlags2::SHADER_STORAGE_WRITE,
             ),
             (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
         );

@@ -3,6 +3,7 @@
 
 use std::ffi::{CStr, c_char};
 use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use ash::vk;
@@ -22,6 +23,10 @@ pub struct ContextOptions {
     pub device: Option<String>,
     /// Enable VK_LAYER_KHRONOS_validation and record its errors.
     pub validate: bool,
+    /// With `validate`, also check synchronization (the layer's
+    /// `VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT`): missing or too
+    /// narrow barriers become errors. Slower; the GPU tests turn it on.
+    pub sync_validation: bool,
     /// Present to windows of this display (enables the surface and swapchain
     /// extensions); `None` for headless work.
     pub window: Option<raw_window_handle::RawDisplayHandle>,
@@ -48,16 +53,20 @@ pub const DEFAULT_SAMPLES: u32 = 4;
 pub const MAX_SUPERSAMPLE: u32 = 4;
 
 impl ContextOptions {
-    /// Fills unset options from `SEDIMENT_DEVICE` and `SEDIMENT_VALIDATE=1`.
+    /// Fills unset options from `SEDIMENT_DEVICE` and `SEDIMENT_VALIDATE=1`
+    /// (`SEDIMENT_VALIDATE=sync` also checks synchronization).
     pub fn with_env(mut self) -> Self {
+        let asked = std::env::var("SEDIMENT_VALIDATE").unwrap_or_default();
         if self.device.is_none() {
             self.device = std::env::var("SEDIMENT_DEVICE")
                 .ok()
                 .filter(|s| !s.is_empty());
         }
         if !self.validate {
-            self.validate =
-                std::env::var("SEDIMENT_VALIDATE").is_ok_and(|v| !v.is_empty() && v != "0");
+            self.validate = !asked.is_empty() && asked != "0";
+        }
+        if !self.sync_validation {
+            self.sync_validation = asked == "sync";
         }
         self
     }
@@ -104,8 +113,17 @@ fn load_entry() -> Result<ash::Entry> {
     })
 }
 
+/// Which validation the instance enables.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Validation {
+    Off,
+    On,
+    /// With synchronization validation.
+    Sync,
+}
+
 fn create_instance(
-    validate: bool,
+    validation: Validation,
     log: Option<&ValidationLog>,
     window: Option<raw_window_handle::RawDisplayHandle>,
 ) -> Result<InstanceParts> {
@@ -124,8 +142,23 @@ fn create_instance(
     let has_layer = layers
         .iter()
         .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
+    let validate = validation != Validation::Off;
     if validate && !has_layer {
         return Err(Error::NoValidationLayer);
+    }
+    // The layer offers VK_EXT_validation_features, which carries the switch for
+    // synchronization validation.
+    if validation == Validation::Sync {
+        // SAFETY: plain enumeration on a loaded entry, for a layer that is present.
+        let layer_extensions =
+            unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
+                .vk("vkEnumerateInstanceExtensionProperties (validation layer)")?;
+        if !layer_extensions.iter().any(|e| {
+            e.extension_name_as_c_str()
+                .is_ok_and(|n| n == ash::ext::validation_features::NAME)
+        }) {
+            return Err(Error::NoValidationLayer);
+        }
     }
     // SAFETY: plain enumeration on a loaded entry.
     let extensions =
@@ -155,6 +188,12 @@ fn create_instance(
     } else {
         Vec::new()
     };
+    if validation == Validation::Sync {
+        extension_names.push(ash::ext::validation_features::NAME.as_ptr());
+    }
+    let sync_features = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+    let mut features =
+        vk::ValidationFeaturesEXT::default().enabled_validation_features(&sync_features);
     for &wanted in window_extensions {
         // SAFETY: ash-window returns pointers to static NUL-terminated extension names.
         let name = unsafe { CStr::from_ptr(wanted) };
@@ -180,6 +219,9 @@ fn create_instance(
     // vkCreateInstance/vkDestroyInstance themselves.
     if let (Some(m), true) = (messenger_info.as_mut(), has_debug_utils) {
         info = info.push_next(m);
+    }
+    if validation == Validation::Sync {
+        info = info.push_next(&mut features);
     }
     // SAFETY: every pointer in `info` refers to locals that outlive the call.
     let instance =
@@ -211,7 +253,7 @@ fn physical_devices(instance: &ash::Instance) -> Result<Vec<vk::PhysicalDevice>>
 
 /// Reports every device the loader sees, for `sediment info`. Needs no feature.
 pub fn probe_devices() -> Result<Vec<DeviceReport>> {
-    let parts = create_instance(false, None, None)?;
+    let parts = create_instance(Validation::Off, None, None)?;
     let result = physical_devices(&parts.instance).map(|devices| {
         devices
             .into_iter()
@@ -234,6 +276,8 @@ pub struct Context {
     supersample: u32,
     /// `ContextOptions::temporal`.
     temporal: bool,
+    /// Pipelines created on this device so far (`pipelines_created`).
+    pipelines: AtomicU64,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
     pub(crate) xfb: ash::ext::transform_feedback::Device,
@@ -257,8 +301,13 @@ impl Context {
     /// every frame.
     pub fn new(options: &ContextOptions) -> Result<Arc<Self>> {
         let log = Box::<ValidationLog>::default();
+        let validation = match (options.validate, options.sync_validation) {
+            (false, _) => Validation::Off,
+            (true, false) => Validation::On,
+            (true, true) => Validation::Sync,
+        };
         let parts = create_instance(
-            options.validate,
+            validation,
             options.validate.then_some(&*log),
             options.window,
         )?;
@@ -486,6 +535,7 @@ impl Context {
                 options.supersample.unwrap_or(1).clamp(1, MAX_SUPERSAMPLE)
             },
             temporal: options.temporal,
+            pipelines: AtomicU64::new(0),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(command_pool),
             xfb: xfb_device,
@@ -550,6 +600,17 @@ impl Context {
         self.validation_log.error_count()
     }
 
+    /// How many graphics and compute pipelines have been created on this device: each
+    /// is a shader compilation on lavapipe, so what should reuse pipelines (a moved
+    /// sun) is held to creating none.
+    pub fn pipelines_created(&self) -> u64 {
+        self.pipelines.load(Ordering::Relaxed)
+    }
+
+    pub(crate) fn count_pipeline(&self) {
+        self.pipelines.fetch_add(1, Ordering::Relaxed);
+    }
+
     pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
         // A panic while holding the lock cannot leave the allocator's books half-written
         // in a way that matters more than the panic itself; keep going with its state.
@@ -583,7 +644,7 @@ impl Context {
     }
 
     /// `submit_and_wait` whose submission also waits on `waits` (each at its stage) and
-    /// signals `signals` (a frame between acquire and present).
+    /// signals `signals`.
     pub(crate) fn submit_and_wait_with(
         &self,
         label: &str,

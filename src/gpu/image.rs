@@ -83,6 +83,8 @@ impl ImageDesc {
 
 /// An owned device-local `VkImage`, its memory and one view of all its mip levels.
 pub struct Image {
+    /// The layout and accesses its last use left (see `Image::use_as`).
+    state: super::usage::Tracked,
     view: vk::ImageView,
     allocation: Option<Allocation>,
     raw: vk::Image,
@@ -148,6 +150,7 @@ impl Image {
             }
         };
         let mut image = Image {
+            state: super::usage::Tracked::new(),
             view: vk::ImageView::null(),
             allocation: Some(allocation),
             raw,
@@ -404,6 +407,7 @@ impl Image {
                 })
                 .collect();
         super::barrier::images(cmd.ctx, cmd.raw, &transitions);
+        self.state.set_image(super::Usage::SampledFragment);
     }
 
     /// Reads mip level `level` of a sampled RGBA8 image back (tightly packed rows),
@@ -466,6 +470,47 @@ impl Image {
             Ok(())
         })?;
         Ok(readback.mapped()?.to_vec())
+    }
+
+    /// Records the barrier that makes the image ready for `usage` after its last use
+    /// (layout, stages and accesses; nothing where none is needed), outside a
+    /// rendering scope. Every use of a tracked image goes through here or
+    /// [`Commands::uses`](super::Commands::uses).
+    pub fn use_as(&self, cmd: &super::Commands<'_>, usage: super::Usage) {
+        cmd.uses(&[super::Use::image(self, usage)]);
+    }
+
+    /// [`Image::use_as`] where the image is rewritten whole: what it held is discarded.
+    pub fn discard_as(&self, cmd: &super::Commands<'_>, usage: super::Usage) {
+        cmd.uses(&[super::Use::image_discarding(self, usage)]);
+    }
+
+    pub(crate) fn tracked(&self) -> &super::usage::Tracked {
+        &self.state
+    }
+
+    /// Makes `range` ready for `usage` with what it held discarded, waiting for the
+    /// whole image's last use; the whole image is then tracked as in `usage` (the
+    /// caller brings the rest there too, as `record_mips` does).
+    pub(crate) fn discard_range_as(
+        &self,
+        cmd: &super::Commands<'_>,
+        range: vk::ImageSubresourceRange,
+        usage: super::Usage,
+    ) {
+        let (layout, stages, access) = usage.scope();
+        let dependency =
+            self.state
+                .advance(usage, true, true)
+                .unwrap_or(super::usage::Dependency {
+                    src_stages: vk::PipelineStageFlags2::NONE,
+                    src_access: vk::AccessFlags2::NONE,
+                    dst_stages: stages,
+                    dst_access: access,
+                    old_layout: vk::ImageLayout::UNDEFINED,
+                    new_layout: layout,
+                });
+        super::barrier::dependencies(cmd.ctx, cmd.raw, &[(self.raw, range, dependency)], &[]);
     }
 
     /// The `VkImage` handle; destroyed with `self`.

@@ -15,11 +15,13 @@ use crate::shaders::{DescriptorKind, ShaderInterface, ShaderSpirv};
 
 const ENTRY: &CStr = c"main";
 
-/// One descriptor-set layout: its set index, handle and (binding, kind) list.
+/// One descriptor-set layout: its set index, handle, (binding, kind) list and the
+/// names its modules give the bindings.
 struct SetLayout {
     set: u32,
     raw: vk::DescriptorSetLayout,
     bindings: Vec<(u32, DescriptorKind)>,
+    names: Vec<(String, u32)>,
 }
 
 /// Descriptor-set layouts and push-constant range derived from the interfaces of every
@@ -42,7 +44,15 @@ impl PipelineLayout {
             BTreeMap::new();
         let mut push_constant_bytes = 0;
         let mut push_stages = vk::ShaderStageFlags::empty();
+        // set -> (name, binding), from the modules naga reads.
+        let mut names: BTreeMap<u32, Vec<(String, u32)>> = BTreeMap::new();
         for iface in interfaces {
+            for named in crate::shaders::binding_names(iface.shader) {
+                let list = names.entry(named.set).or_default();
+                if !list.contains(&(named.name.clone(), named.binding)) {
+                    list.push((named.name, named.binding));
+                }
+            }
             let stage = stage_flags(iface.shader.stage);
             for b in iface.bindings {
                 let entry = sets
@@ -95,6 +105,7 @@ impl PipelineLayout {
                 set,
                 raw,
                 bindings: bindings.iter().map(|(&b, &(k, _))| (b, k)).collect(),
+                names: names.remove(&set).unwrap_or_default(),
             });
         }
         let raw_sets: Vec<vk::DescriptorSetLayout> =
@@ -154,6 +165,7 @@ impl PipelineLayout {
         let Some(SetLayout {
             raw: raw_layout,
             bindings,
+            names,
             ..
         }) = self.set_layouts.iter().find(|s| s.set == set)
         else {
@@ -202,6 +214,7 @@ impl PipelineLayout {
             pool,
             set,
             bindings: bindings.clone(),
+            names: names.clone(),
             ctx: self.ctx.clone(),
         })
     }
@@ -225,13 +238,84 @@ pub struct DescriptorSet {
     pool: vk::DescriptorPool,
     set: u32,
     bindings: Vec<(u32, DescriptorKind)>,
+    /// (name, binding) as the modules' SPIR-V names them (`shaders::binding_names`).
+    names: Vec<(String, u32)>,
     ctx: Arc<Context>,
+}
+
+/// What a descriptor points at, for [`DescriptorSet::write`].
+#[derive(Clone, Copy)]
+pub enum Descriptor<'a> {
+    /// The whole of a uniform or storage buffer.
+    Buffer(&'a Buffer),
+    /// A uniform texel buffer's view.
+    TexelBuffer(&'a super::TexelView),
+    /// An image's view, in the layout its binding reads it in: sampled colour
+    /// SHADER_READ_ONLY_OPTIMAL, sampled depth DEPTH_READ_ONLY_OPTIMAL, storage
+    /// GENERAL (what `Usage::SampledFragment`, `SampledDepthFragment` and the compute
+    /// uses leave it in).
+    Image(&'a super::Image),
+    /// A sampler.
+    Sampler(&'a super::Sampler),
 }
 
 impl DescriptorSet {
     /// The `vk::DescriptorSet` handle; freed with its pool when `self` drops.
     pub fn raw(&self) -> vk::DescriptorSet {
         self.raw
+    }
+
+    /// The binding the modules call `name`.
+    pub fn binding(&self, name: &str) -> Result<u32> {
+        let mut found = self
+            .names
+            .iter()
+            .filter(|(n, _)| n == name)
+            .map(|&(_, b)| b);
+        match (found.next(), found.next()) {
+            (Some(binding), None) => Ok(binding),
+            (Some(a), Some(b)) => Err(Error::internal(
+                "descriptor write",
+                format!(
+                    "set {} names bindings {a} and {b} \"{name}\" in different stages",
+                    self.set
+                ),
+            )),
+            (None, _) => {
+                let known: Vec<&str> = self.names.iter().map(|(n, _)| n.as_str()).collect();
+                Err(Error::internal(
+                    "descriptor write",
+                    format!(
+                        "set {} has no binding named \"{name}\" (its modules name: {})",
+                        self.set,
+                        known.join(", ")
+                    ),
+                ))
+            }
+        }
+    }
+
+    /// Points the binding the shaders call `name` at `resource`, an image in the
+    /// layout its binding's kind reads it in. Names come from the modules' SPIR-V,
+    /// so a renamed or removed shader variable is an error here rather than a
+    /// descriptor written to the wrong slot.
+    pub fn write(&self, name: &str, resource: Descriptor<'_>) -> Result<()> {
+        let binding = self.binding(name)?;
+        match resource {
+            Descriptor::Buffer(buffer) => self.write_buffer(binding, buffer),
+            Descriptor::TexelBuffer(view) => self.write_texel_buffer(binding, view),
+            Descriptor::Sampler(sampler) => self.write_sampler(binding, sampler),
+            Descriptor::Image(image) => {
+                let layout = match self.kind_of(binding)? {
+                    DescriptorKind::StorageImage => vk::ImageLayout::GENERAL,
+                    _ if image.desc().aspect() == vk::ImageAspectFlags::DEPTH => {
+                        vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL
+                    }
+                    _ => vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                };
+                self.write_image(binding, image.view(), layout)
+            }
+        }
     }
 
     fn kind_of(&self, binding: u32) -> Result<DescriptorKind> {
@@ -576,6 +660,7 @@ impl<'a> GraphicsPipelineDesc<'a> {
             result,
         })?[0];
         ctx.name(raw, self.name);
+        ctx.count_pipeline();
         Ok(Pipeline {
             raw,
             bind_point: vk::PipelineBindPoint::GRAPHICS,
@@ -661,6 +746,7 @@ impl Pipeline {
             result,
         })?[0];
         ctx.name(raw, name);
+        ctx.count_pipeline();
         Ok(Self {
             raw,
             bind_point: vk::PipelineBindPoint::COMPUTE,

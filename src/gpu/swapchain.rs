@@ -9,7 +9,7 @@ use ash::vk;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
 use super::barrier::{self, ImageTransition};
-use super::{Buffer, Commands, Context, OffscreenTarget};
+use super::{Buffer, Commands, Context, FramesInFlight, OffscreenTarget};
 use crate::error::{Error, Result, VkContext};
 
 /// The Vulkan surface of one window.
@@ -74,16 +74,14 @@ pub enum Presented {
     Stale,
 }
 
-/// The swapchain of a surface, its images and the semaphores of one frame in flight.
+/// The swapchain of a surface, its images and the semaphores its presents wait on;
+/// frames are drawn into it through `FramesInFlight` slots.
 pub struct Swapchain {
     loader: ash::khr::swapchain::Device,
     raw: vk::SwapchainKHR,
     images: Vec<vk::Image>,
     format: vk::Format,
     extent: vk::Extent2D,
-    /// Signalled by the acquire, waited on by the frame's submission (which the host
-    /// waits for, so one is enough).
-    acquired: vk::Semaphore,
     /// Per image: signalled by the frame's submission, waited on by its present.
     rendered: Vec<vk::Semaphore>,
     ctx: Arc<Context>,
@@ -183,14 +181,12 @@ impl Swapchain {
             images: Vec::new(),
             format: format.format,
             extent,
-            acquired: vk::Semaphore::null(),
             rendered: Vec::new(),
             ctx: ctx.clone(),
         };
         // SAFETY: the swapchain was just created on this device.
         chain.images =
             unsafe { chain.loader.get_swapchain_images(raw) }.vk("vkGetSwapchainImagesKHR")?;
-        chain.acquired = semaphore(ctx)?;
         for _ in 0..chain.images.len() {
             chain.rendered.push(semaphore(ctx)?);
         }
@@ -215,13 +211,18 @@ impl Swapchain {
         )
     }
 
-    /// The next image to draw into, or `None` when the window changed (recreate).
-    pub fn acquire(&self) -> Result<Option<u32>> {
-        // SAFETY: the semaphore is unsignalled: the last frame's submission, which waited
-        // on it, has completed (`present` waits for it).
+    /// The next image for the frame of `slot` (from `FramesInFlight::next_slot`) to
+    /// draw into, or `None` when the window changed (recreate).
+    pub fn acquire(&self, frames: &FramesInFlight, slot: usize) -> Result<Option<u32>> {
+        // SAFETY: the slot's semaphore is unsignalled: the slot's last submission, which
+        // waited on it, has completed (`next_slot` waited for its fence).
         match unsafe {
-            self.loader
-                .acquire_next_image(self.raw, u64::MAX, self.acquired, vk::Fence::null())
+            self.loader.acquire_next_image(
+                self.raw,
+                u64::MAX,
+                frames.acquired(slot),
+                vk::Fence::null(),
+            )
         } {
             // A suboptimal image still signals the semaphore: draw it (its present
             // reports the swapchain stale), so the semaphore is consumed.
@@ -235,9 +236,12 @@ impl Swapchain {
     }
 
     /// Records the frame with `record` (given the swapchain image, in TRANSFER_DST
-    /// layout), leaves the image ready to present, submits, waits and presents.
+    /// layout) into `slot`, leaves the image ready to present, submits and presents,
+    /// without waiting for the frame: `FramesInFlight` says when it has finished.
     pub fn present(
         &self,
+        frames: &mut FramesInFlight,
+        slot: usize,
         index: u32,
         record: impl FnOnce(&Commands<'_>, vk::Image) -> Result<()>,
     ) -> Result<Presented> {
@@ -252,9 +256,9 @@ impl Swapchain {
             base_array_layer: 0,
             layer_count: 1,
         };
-        self.ctx.submit_and_wait_with(
-            "present frame",
-            &[(self.acquired, vk::PipelineStageFlags2::ALL_COMMANDS)],
+        frames.submit(
+            slot,
+            &[(frames.acquired(slot), vk::PipelineStageFlags2::ALL_COMMANDS)],
             &[rendered],
             |cmd| {
                 barrier::images(
@@ -304,8 +308,8 @@ impl Swapchain {
             .wait_semaphores(&waits)
             .swapchains(&swapchains)
             .image_indices(&indices);
-        // SAFETY: the image was acquired and transitioned to PRESENT_SRC by the finished
-        // submission, which signals `rendered`.
+        // SAFETY: the image was acquired and is transitioned to PRESENT_SRC by the
+        // submission, which signals `rendered` for the present to wait on.
         match unsafe { self.loader.queue_present(self.ctx.queue, &info) } {
             Ok(false) => Ok(Presented::Ok),
             Ok(true) | Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(Presented::Stale),
@@ -323,7 +327,6 @@ impl Drop for Swapchain {
         // semaphores or images any more.
         unsafe {
             let _ = self.ctx.device.device_wait_idle();
-            self.ctx.device.destroy_semaphore(self.acquired, None);
             for &s in &self.rendered {
                 self.ctx.device.destroy_semaphore(s, None);
             }
@@ -353,6 +356,7 @@ impl Commands<'_> {
         width: u32,
         height: u32,
     ) {
+        target.color().use_as(self, super::Usage::TransferSrc);
         let layers = vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::COLOR,
             mip_level: 0,

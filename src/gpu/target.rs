@@ -5,8 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::barrier::{self, ImageTransition};
-use super::{Buffer, BufferDesc, Commands, Context, Image, ImageDesc};
+use super::{Buffer, BufferDesc, Commands, Context, Image, ImageDesc, Usage, Use};
 use crate::error::{Error, Result};
 
 /// sRGB colour: shaders write linear values and the hardware encodes them, so the PNG
@@ -283,75 +282,24 @@ impl OffscreenTarget {
     /// After `end`: the colour and depth of a `sampled` target become readable by
     /// fragment shaders (colour SHADER_READ_ONLY, depth DEPTH_READ_ONLY).
     pub fn to_shader_read(&self, cmd: &Commands<'_>) {
-        barrier::images(
-            cmd.ctx,
-            cmd.raw,
-            &[
-                ImageTransition::whole(
-                    &self.color,
-                    ImageTransition::COLOR_WRITTEN,
-                    ImageTransition::FRAGMENT_SAMPLED,
-                ),
-                ImageTransition {
-                    image: self.depth.raw(),
-                    range: self.depth.full_range(),
-                    from: (
-                        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    ),
-                    to: (
-                        vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL,
-                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                        vk::AccessFlags2::SHADER_SAMPLED_READ,
-                    ),
-                },
-            ],
-        );
+        cmd.uses(&[
+            Use::image(&self.color, Usage::SampledFragment),
+            Use::image(&self.depth, Usage::SampledDepthFragment),
+        ]);
     }
 
     /// Transitions the attachments, clears them and opens a rendering scope with the
     /// viewport set to the whole target; with samples, the colour resolves into the
     /// single-sampled image when the scope closes.
     pub fn begin(&self, cmd: &Commands<'_>, clear: [f32; 4]) {
-        let attachment = |image: &Image| ImageTransition {
-            image: image.raw(),
-            range: image.full_range(),
-            from: (
-                vk::ImageLayout::UNDEFINED,
-                vk::PipelineStageFlags2::TOP_OF_PIPE,
-                vk::AccessFlags2::NONE,
-            ),
-            to: (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-        };
-        let mut transitions = vec![
-            attachment(&self.color),
-            ImageTransition {
-                image: self.depth.raw(),
-                range: self.depth.full_range(),
-                from: (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::TOP_OF_PIPE,
-                    vk::AccessFlags2::NONE,
-                ),
-                to: (
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
-                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
-                ),
-            },
+        let mut uses = vec![
+            Use::image_discarding(&self.color, Usage::ColorAttachment),
+            Use::image_discarding(&self.depth, Usage::DepthAttachment),
         ];
         if let Some(samples) = &self.samples {
-            transitions.push(attachment(samples));
+            uses.push(Use::image_discarding(samples, Usage::ColorAttachment));
         }
-        barrier::images(cmd.ctx, cmd.raw, &transitions);
+        cmd.uses(&uses);
         let clear_color = vk::ClearValue {
             color: vk::ClearColorValue { float32: clear },
         };
@@ -441,66 +389,28 @@ impl OffscreenTarget {
     /// After `end`: leaves colour and depth to be copied from (`copy_attachments_from`
     /// on another target) until the next `begin`. Only where `copies_attachments`.
     pub fn hold_for_copies(&self, cmd: &Commands<'_>) {
-        let (color_written, depth_written) = self.attachment_scopes();
-        barrier::images(
-            cmd.ctx,
-            cmd.raw,
-            &[
-                ImageTransition::whole(&self.color, color_written, ImageTransition::TRANSFER_READ),
-                ImageTransition::whole(&self.depth, depth_written, ImageTransition::TRANSFER_READ),
-            ],
-        );
+        cmd.uses(&[
+            Use::image(&self.color, Usage::TransferSrc),
+            Use::image(&self.depth, Usage::TransferSrc),
+        ]);
     }
 
     /// Replaces colour and depth by `from`'s (a target of the same size and format,
     /// after its `hold_for_copies`), ready for `begin_loaded`. Only where
     /// `copies_attachments`.
     pub fn copy_attachments_from(&self, cmd: &Commands<'_>, from: &OffscreenTarget) {
-        let (color_written, depth_written) = self.attachment_scopes();
-        barrier::images(
-            cmd.ctx,
-            cmd.raw,
-            &[
-                ImageTransition::discard_to_transfer_dst(self.color.raw(), self.color.full_range()),
-                ImageTransition::discard_to_transfer_dst(self.depth.raw(), self.depth.full_range()),
-            ],
-        );
+        cmd.uses(&[
+            Use::image(&from.color, Usage::TransferSrc),
+            Use::image(&from.depth, Usage::TransferSrc),
+            Use::image_discarding(&self.color, Usage::TransferDst),
+            Use::image_discarding(&self.depth, Usage::TransferDst),
+        ]);
         self.copy(cmd, (&from.color, &self.color), vk::ImageAspectFlags::COLOR);
         self.copy(cmd, (&from.depth, &self.depth), vk::ImageAspectFlags::DEPTH);
-        barrier::images(
-            cmd.ctx,
-            cmd.raw,
-            &[
-                ImageTransition::whole(
-                    &self.color,
-                    ImageTransition::TRANSFER_WRITTEN,
-                    color_written,
-                ),
-                ImageTransition::whole(
-                    &self.depth,
-                    ImageTransition::TRANSFER_WRITTEN,
-                    depth_written,
-                ),
-            ],
-        );
-    }
-
-    /// The attachments' layouts and scopes inside a rendering scope (read and written).
-    fn attachment_scopes(&self) -> (barrier::LayoutScope, barrier::LayoutScope) {
-        (
-            (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-            (
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                    | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            ),
-        )
+        cmd.uses(&[
+            Use::image(&self.color, Usage::ColorAttachment),
+            Use::image(&self.depth, Usage::DepthAttachment),
+        ]);
     }
 
     /// One whole-image copy, `from` in TRANSFER_SRC_OPTIMAL to `to` in
@@ -532,11 +442,7 @@ impl OffscreenTarget {
             layer_count: 1,
             ..image.full_range()
         };
-        barrier::images(
-            cmd.ctx,
-            cmd.raw,
-            &[ImageTransition::discard_to_transfer_dst(image.raw(), range)],
-        );
+        image.discard_range_as(cmd, range, Usage::TransferDst);
         let layers = |layer| vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::COLOR,
             mip_level: 0,
@@ -572,7 +478,10 @@ impl OffscreenTarget {
     /// Copies the colour image into the readback buffer (after `end`).
     pub fn copy_out(&self, cmd: &Commands<'_>) -> Result<()> {
         let readback = self.readback()?;
-        self.to_transfer_src(cmd);
+        cmd.uses(&[
+            Use::image(&self.color, Usage::TransferSrc),
+            Use::buffer(readback, Usage::TransferDst),
+        ]);
         let region = [super::image::color_copy_region(self.width, self.height)];
         // SAFETY: the image is in TRANSFER_SRC_OPTIMAL and the buffer holds W*H*4 bytes.
         unsafe {
@@ -584,28 +493,12 @@ impl OffscreenTarget {
                 &region,
             )
         };
-        barrier::memory(
-            cmd.ctx,
-            cmd.raw,
-            (
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-        );
+        readback.use_as(cmd, Usage::HostRead);
         Ok(())
     }
 
     fn to_transfer_src(&self, cmd: &Commands<'_>) {
-        barrier::images(
-            cmd.ctx,
-            cmd.raw,
-            &[ImageTransition::whole(
-                &self.color,
-                ImageTransition::COLOR_WRITTEN,
-                ImageTransition::TRANSFER_READ,
-            )],
-        );
+        self.color.use_as(cmd, Usage::TransferSrc);
     }
 
     fn readback(&self) -> Result<&Buffer> {

@@ -4,9 +4,10 @@
 //! memory barrier follows the start stamp and precedes the end stamp; without them such
 //! work reads as ~0 ms. So every span is `stamp, barrier, work, barrier, stamp`. The
 //! barriers cannot go inside a rendering scope, so a span wraps a whole pass (begin and
-//! end rendering included).
+//! end rendering included): [`GpuTimer::span`] around a closure that records it, or
+//! [`GpuTimer::scope`], which ends the span when it is dropped.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use ash::vk;
 
@@ -31,7 +32,9 @@ pub struct Span {
 pub struct GpuTimer {
     pool: vk::QueryPool,
     capacity: u32,
-    names: Vec<String>,
+    /// The spans opened since `reset`, in query order (a lock so that spans open
+    /// through a shared timer).
+    names: Mutex<Vec<String>>,
     period_ns: f64,
     ctx: Arc<Context>,
 }
@@ -50,15 +53,23 @@ impl GpuTimer {
         Ok(Self {
             pool,
             capacity,
-            names: Vec::new(),
+            names: Mutex::new(Vec::new()),
             period_ns: f64::from(ctx.info().timestamp_period_ns),
             ctx: ctx.clone(),
         })
     }
 
+    fn names(&self) -> MutexGuard<'_, Vec<String>> {
+        match self.names.lock() {
+            Ok(n) => n,
+            // The list is pushed to or cleared whole; a panic leaves it usable.
+            Err(poisoned) => poisoned.into_inner(),
+        }
+    }
+
     /// Forgets earlier spans and resets the queries; record before the first span.
     pub fn reset(&mut self, cmd: &Commands<'_>) {
-        self.names.clear();
+        self.names().clear();
         // SAFETY: `cmd` is recording outside a rendering scope; the range is the pool's.
         unsafe {
             self.ctx
@@ -67,16 +78,46 @@ impl GpuTimer {
         };
     }
 
-    /// Opens a span: start stamp, then a full barrier (see the module comment).
-    pub fn begin(&mut self, cmd: &Commands<'_>, name: &str) -> Result<SpanId> {
-        let index = self.names.len();
-        if index as u32 >= self.capacity {
-            return Err(Error::internal(
-                "GPU timer",
-                format!("more than {} spans in one recording", self.capacity),
-            ));
-        }
-        self.names.push(name.to_owned());
+    /// Records `record` as the span `name`: the span ends after it unless it fails
+    /// (the recording is then abandoned).
+    pub fn span<T>(
+        &self,
+        cmd: &Commands<'_>,
+        name: &str,
+        record: impl FnOnce(&Commands<'_>) -> Result<T>,
+    ) -> Result<T> {
+        let span = self.begin(cmd, name)?;
+        let value = record(cmd)?;
+        self.end(cmd, span);
+        Ok(value)
+    }
+
+    /// Opens the span `name`, which ends when the returned scope is dropped (outside
+    /// any rendering scope, like its start).
+    pub fn scope<'t, 'c>(&'t self, cmd: &'t Commands<'c>, name: &str) -> Result<SpanScope<'t, 'c>> {
+        Ok(SpanScope {
+            id: self.begin(cmd, name)?,
+            timer: self,
+            cmd,
+        })
+    }
+
+    /// Opens a span: start stamp, then a full barrier (see the module comment). Close
+    /// it with [`GpuTimer::end`]; [`GpuTimer::span`] and [`GpuTimer::scope`] pair the
+    /// two.
+    pub fn begin(&self, cmd: &Commands<'_>, name: &str) -> Result<SpanId> {
+        let index = {
+            let mut names = self.names();
+            let index = names.len();
+            if index as u32 >= self.capacity {
+                return Err(Error::internal(
+                    "GPU timer",
+                    format!("more than {} spans in one recording", self.capacity),
+                ));
+            }
+            names.push(name.to_owned());
+            index
+        };
         // SAFETY: the query was reset in this command buffer and is written once.
         unsafe {
             self.ctx.device.cmd_write_timestamp2(
@@ -106,10 +147,11 @@ impl GpuTimer {
 
     /// The spans of the last recording (after its submission finished).
     pub fn read(&self) -> Result<Vec<Span>> {
-        if self.names.is_empty() {
+        let names = self.names().clone();
+        if names.is_empty() {
             return Ok(Vec::new());
         }
-        let mut stamps = vec![0u64; self.names.len() * 2];
+        let mut stamps = vec![0u64; names.len() * 2];
         // SAFETY: every query in the range was written by a completed submission.
         unsafe {
             self.ctx.device.get_query_pool_results(
@@ -120,8 +162,7 @@ impl GpuTimer {
             )
         }
         .vk("vkGetQueryPoolResults (timestamps)")?;
-        Ok(self
-            .names
+        Ok(names
             .iter()
             .enumerate()
             .map(|(i, name)| Span {
@@ -131,6 +172,19 @@ impl GpuTimer {
                     / 1e6,
             })
             .collect())
+    }
+}
+
+/// An open span of a [`GpuTimer`] ([`GpuTimer::scope`]): dropping it ends the span.
+pub struct SpanScope<'t, 'c> {
+    id: SpanId,
+    timer: &'t GpuTimer,
+    cmd: &'t Commands<'c>,
+}
+
+impl Drop for SpanScope<'_, '_> {
+    fn drop(&mut self) {
+        self.timer.end(self.cmd, self.id);
     }
 }
 

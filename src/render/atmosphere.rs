@@ -11,7 +11,7 @@ use super::tone_map::ToneMap;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
-    ImageTransition, Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, TexelView, vk,
+    Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, TexelView, Usage, Use, vk,
 };
 use crate::model::atmosphere::{Atmosphere, MS_SIZE, MultipleScattering};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
@@ -81,13 +81,14 @@ pub static SKY_VIEW_INTERFACE: ShaderInterface = ShaderInterface {
 /// The sky-view compute pass and its table, written twice: RGBA f32 texels in a
 /// host-readable buffer (rows from the nadir up; the frame integrates the ambient
 /// light from it, the tests compare it with the CPU's) and a half-float image, kept in
-/// the GENERAL layout, that the sky samples with bilinear filtering.
+/// the GENERAL layout while the pass writes it and read-only while the sky samples it
+/// with bilinear filtering.
 pub struct SkyViewPass {
     set: DescriptorSet,
     /// Host-readable storage buffer of `SKY_VIEW_WIDTH` x `SKY_VIEW_HEIGHT` RGBA f32
     /// texels (16 bytes each), rows from the nadir up.
     pub table: Buffer,
-    /// The same table as an RGBA16F storage + sampled image, always in GENERAL.
+    /// The same table as an RGBA16F storage + sampled image (sampled after `record`).
     pub image: Image,
     /// Hillaire's Psi_ms table (zeros when multiple scattering is off), its view first
     /// (dropped before the buffer).
@@ -160,21 +161,11 @@ impl SkyViewPass {
         elevation: f32,
         ground_sky: Vec3,
     ) -> Result<()> {
-        let general = |stage, access| (vk::ImageLayout::GENERAL, stage, access);
         // Rewritten whole: what it held (read by earlier frames' skies) is discarded.
-        cmd.transition_images(&[ImageTransition {
-            image: self.image.raw(),
-            range: self.image.full_range(),
-            from: (
-                vk::ImageLayout::UNDEFINED,
-                vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                vk::AccessFlags2::NONE,
-            ),
-            to: general(
-                vk::PipelineStageFlags2::COMPUTE_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            ),
-        }]);
+        cmd.uses(&[
+            Use::image_discarding(&self.image, Usage::ComputeWrite),
+            Use::buffer(&self.table, Usage::ComputeWrite),
+        ]);
         cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
         cmd.push_constants(
             &self.layout,
@@ -196,19 +187,10 @@ impl SkyViewPass {
             },
         )?;
         cmd.dispatch(SKY_VIEW_WIDTH.div_ceil(8), SKY_VIEW_HEIGHT.div_ceil(8), 1);
-        cmd.transition_images(&[ImageTransition {
-            image: self.image.raw(),
-            range: self.image.full_range(),
-            from: general(
-                vk::PipelineStageFlags2::COMPUTE_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            ),
-            to: general(
-                vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                vk::AccessFlags2::SHADER_SAMPLED_READ,
-            ),
-        }]);
-        cmd.shader_to_host_barrier();
+        cmd.uses(&[
+            Use::image(&self.image, Usage::SampledFragment),
+            Use::buffer(&self.table, Usage::HostRead),
+        ]);
         Ok(())
     }
 
@@ -281,7 +263,11 @@ impl AtmosphereSkyPass {
         desc.depth_write = false;
         let sampler = Sampler::linear_clamp(ctx, "sky view sampler")?;
         let set = layout.allocate_set("atmosphere sky set", 0)?;
-        set.write_image(0, table.image.view(), vk::ImageLayout::GENERAL)?;
+        set.write_image(
+            0,
+            table.image.view(),
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
         set.write_sampler(1, &sampler)?;
         Ok(Self {
             set,

@@ -8,7 +8,7 @@ use glam::Vec4;
 use crate::error::Result;
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, FloatTexels, Pipeline, PipelineLayout,
-    Pod, vk,
+    Pod, Usage, vk,
 };
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
@@ -119,8 +119,10 @@ impl DuneShadowPass {
     }
 
     /// Records the map for the sun at horizontal direction `dir` (unit, toward the sun)
-    /// rising `rise` per unit distance.
+    /// rising `rise` per unit distance, with the barriers that make it visible to the
+    /// host.
     pub fn record(&self, cmd: &Commands<'_>, dir: [f32; 2], rise: f32) -> Result<()> {
+        self.visibility.use_as(cmd, Usage::ComputeWrite);
         cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
         cmd.push_constants(
             &self.layout,
@@ -132,6 +134,7 @@ impl DuneShadowPass {
             },
         )?;
         cmd.dispatch(self.res.div_ceil(8), self.res.div_ceil(8), 1);
+        self.visibility.use_as(cmd, Usage::HostRead);
         Ok(())
     }
 }

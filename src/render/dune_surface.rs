@@ -14,8 +14,8 @@ use super::ripple_maps::RippleMaps;
 use super::tone_map::ToneMap;
 use crate::error::Result;
 use crate::gpu::{
-    Buffer, BufferDesc, Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageDesc,
-    Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, VertexLayout, vk,
+    Buffer, BufferDesc, Commands, Context, Descriptor, DescriptorSet, GraphicsPipelineDesc, Image,
+    ImageDesc, Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, VertexLayout, vk,
 };
 use crate::model::mesh::Mesh;
 use crate::model::ripple_maps::{horizon_chain_toward, tile_azimuth};
@@ -394,14 +394,8 @@ impl DuneSurfacePass {
         // so far ripples keep their coarse relief instead of fading to a flat 1x1.
         let repeat = Sampler::linear_repeat_max_lod(ctx, "dune repeat sampler", 3.0)?;
         let set = layout.allocate_set("dune surface set", 0)?;
-        let ro = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        set.write_buffer(FRAME.binding, &frame)?;
-        set.write_image(NORMALS.binding, textures.normals.view(), ro)?;
-        set.write_image(FIELD.binding, textures.field.view(), ro)?;
-        set.write_image(GRAIN.binding, textures.grain.view(), ro)?;
-        set.write_sampler(REPEAT.binding, &repeat)?;
-        set.write_image(HEIGHTS.binding, textures.heights.view(), ro)?;
-        set.write_image(DETAIL.binding, textures.detail.view(), ro)?;
+        set.write("frame", Descriptor::Buffer(&frame))?;
+        set.write("repeat_sampler", Descriptor::Sampler(&repeat))?;
         let levels = Buffer::new(
             ctx,
             "dune quad levels",
@@ -410,7 +404,7 @@ impl DuneSurfacePass {
                 vk::BufferUsageFlags::STORAGE_BUFFER,
             ),
         )?;
-        set.write_buffer(LEVELS.binding, &levels)?;
+        set.write("quads", Descriptor::Buffer(&levels))?;
         let mut pass = Self {
             set,
             _sampler: repeat,
@@ -423,8 +417,25 @@ impl DuneSurfacePass {
             layout,
             ctx: ctx.clone(),
         };
+        pass.set_textures(textures)?;
         pass.set_switches(switches)?;
         Ok(pass)
+    }
+
+    /// Samples `textures` from the next draw on (made again when the sun moves): the
+    /// descriptors are rewritten, the pipelines kept. Call between frames, when no
+    /// submission reading the old textures is pending.
+    pub fn set_textures(&mut self, textures: &DuneTextures) -> Result<()> {
+        for (name, image) in [
+            ("ripple_normals", &textures.normals),
+            ("dune_field", &textures.field),
+            ("sand_grain", &textures.grain),
+            ("dune_heights", &textures.heights),
+            ("detail_map", &textures.detail),
+        ] {
+            self.set.write(name, Descriptor::Image(image))?;
+        }
+        Ok(())
     }
 
     /// The switches of the next draws; builds their pipeline the first time.

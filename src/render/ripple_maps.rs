@@ -9,7 +9,7 @@ use std::sync::Arc;
 use crate::error::{Error, Result};
 use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, DescriptorSet, FloatTexels, GpuTimer, Pipeline,
-    PipelineLayout, Pod, Span, vk,
+    PipelineLayout, Pod, Span, Usage, Use, vk,
 };
 use crate::model::ripple_maps::normal_level0;
 use crate::model::sand::Heightfield;
@@ -153,7 +153,7 @@ pub struct HorizonSweep {
     // The texel view before the buffer it views.
     _texels: FloatTexels,
     _heights: Buffer,
-    _hull: Buffer,
+    hull: Buffer,
     size: u32,
     directions: u32,
     /// Pairs of opposite directions a dispatch.
@@ -256,7 +256,7 @@ impl HorizonSweep {
             set,
             _texels: texels,
             _heights: heights,
-            _hull: hull,
+            hull,
             size,
             directions,
             per_dispatch,
@@ -264,14 +264,13 @@ impl HorizonSweep {
     }
 
     /// Records the sweep: one dispatch per group of direction pairs whose stacks fit
-    /// the budget, a barrier between (they reuse the stacks).
+    /// the budget, each after the one before has done with the stacks it reuses. The
+    /// caller declares the map's use (`Usage::ComputeWrite`).
     pub fn record(&self, cmd: &Commands, height_scale: f32) -> Result<()> {
         cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
         let mut first = 0;
         while first < self.directions / 2 {
-            if first > 0 {
-                cmd.full_barrier();
-            }
+            self.hull.use_as(cmd, Usage::ComputeReadWrite);
             cmd.push_constants(
                 &self.layout,
                 &SweepPush {
@@ -351,10 +350,9 @@ fn run_alone<T: Pod, P>(
     let mut timer = GpuTimer::new(ctx, "horizon map timer", 1)?;
     ctx.submit_and_wait("horizon map", |cmd| {
         timer.reset(cmd);
-        let span = timer.begin(cmd, "horizon map")?;
-        record(&pass, cmd)?;
-        timer.end(cmd, span);
-        cmd.shader_to_host_barrier();
+        horizon.use_as(cmd, Usage::ComputeWrite);
+        timer.span(cmd, "horizon map", |cmd| record(&pass, cmd))?;
+        horizon.use_as(cmd, Usage::HostRead);
         Ok(())
     })?;
     let ms = timer.read()?.first().map_or(0.0, |s| s.milliseconds);
@@ -571,32 +569,35 @@ impl RippleMaps {
         let mut timer = GpuTimer::new(ctx, "ripple maps timer", 2)?;
         ctx.submit_and_wait("ripple maps", |cmd| {
             timer.reset(cmd);
-            let span = timer.begin(cmd, "normal chain")?;
-            cmd.bind_pipeline(&mip, &mip_layout, &[&mip_set]);
-            let mut s = size;
-            for pair in offsets.windows(2) {
-                s /= 2;
-                cmd.push_constants(
-                    &mip_layout,
-                    &MipPush {
-                        src_offset: pair[0],
-                        dst_offset: pair[1],
-                        dst_size: s,
-                        unused: 0,
-                    },
-                )?;
-                cmd.dispatch(s.div_ceil(8), s.div_ceil(8), 1);
-                // The next level reads what this one wrote.
-                cmd.full_barrier();
-            }
-            timer.end(cmd, span);
-            let span = timer.begin(cmd, "horizon map")?;
-            match &pass {
-                HorizonPass::Sweep(sweep) => sweep.record(cmd, horizon_height_scale)?,
-                HorizonPass::Walk(brute) => brute.record(cmd, horizon_height_scale)?,
-            }
-            timer.end(cmd, span);
-            cmd.shader_to_host_barrier();
+            timer.span(cmd, "normal chain", |cmd| {
+                cmd.bind_pipeline(&mip, &mip_layout, &[&mip_set]);
+                let mut s = size;
+                for pair in offsets.windows(2) {
+                    // The next level reads what the one before wrote.
+                    levels.use_as(cmd, Usage::ComputeReadWrite);
+                    s /= 2;
+                    cmd.push_constants(
+                        &mip_layout,
+                        &MipPush {
+                            src_offset: pair[0],
+                            dst_offset: pair[1],
+                            dst_size: s,
+                            unused: 0,
+                        },
+                    )?;
+                    cmd.dispatch(s.div_ceil(8), s.div_ceil(8), 1);
+                }
+                Ok(())
+            })?;
+            horizon.use_as(cmd, Usage::ComputeWrite);
+            timer.span(cmd, "horizon map", |cmd| match &pass {
+                HorizonPass::Sweep(sweep) => sweep.record(cmd, horizon_height_scale),
+                HorizonPass::Walk(brute) => brute.record(cmd, horizon_height_scale),
+            })?;
+            cmd.uses(&[
+                Use::buffer(&levels, Usage::HostRead),
+                Use::buffer(&horizon, Usage::HostRead),
+            ]);
             Ok(())
         })?;
         drop(pass);

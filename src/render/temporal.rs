@@ -10,8 +10,8 @@ use glam::{Mat4, Vec4};
 
 use crate::error::Result;
 use crate::gpu::{
-    Commands, Context, DescriptorSet, GraphicsPipelineDesc, Image, ImageTransition, Pipeline,
-    PipelineLayout, Pod, Sampler, vk,
+    Commands, Context, Descriptor, DescriptorSet, GraphicsPipelineDesc, Image, Pipeline,
+    PipelineLayout, Pod, Sampler, Usage, Use, vk,
 };
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
@@ -150,14 +150,13 @@ impl TemporalPass {
         depth: &Image,
         history: [&Image; 2],
     ) -> Result<DescriptorSet> {
-        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let set = self.layout.allocate_set(name, 0)?;
-        set.write_image(0, color.view(), read)?;
-        set.write_image(1, depth.view(), vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL)?;
-        set.write_image(2, history[0].view(), read)?;
-        set.write_image(3, history[1].view(), read)?;
-        set.write_sampler(4, &self.sampler)?;
-        set.write_sampler(5, &self.nearest)?;
+        set.write("current", Descriptor::Image(color))?;
+        set.write("depth", Descriptor::Image(depth))?;
+        set.write("history", Descriptor::Image(history[0]))?;
+        set.write("history_depth", Descriptor::Image(history[1]))?;
+        set.write("clamp_sampler", Descriptor::Sampler(&self.sampler))?;
+        set.write("nearest_sampler", Descriptor::Sampler(&self.nearest))?;
         Ok(set)
     }
 
@@ -170,25 +169,15 @@ impl TemporalPass {
         mode: ResolveMode,
         push: &ResolvePush,
     ) -> Result<()> {
-        let to_attachment = |image: &Image| {
-            ImageTransition::whole(
-                image,
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER
-                        | vk::PipelineStageFlags2::ALL_TRANSFER,
-                    vk::AccessFlags2::NONE,
-                ),
-                ImageTransition::COLOR_WRITTEN,
-            )
-        };
         let mut written = vec![images.shown, images.colour_out];
         if mode != ResolveMode::Settled {
             written.push(images.depth_out);
         }
-        let transitions: Vec<ImageTransition> =
-            written.iter().map(|&image| to_attachment(image)).collect();
-        cmd.transition_images(&transitions);
+        let uses: Vec<Use<'_>> = written
+            .iter()
+            .map(|&image| Use::image_discarding(image, Usage::ColorAttachment))
+            .collect();
+        cmd.uses(&uses);
         let views: Vec<vk::ImageView> = written.iter().map(|image| image.view()).collect();
         let desc = images.shown.desc();
         cmd.begin_rendering_colors(&views, desc.width, desc.height);
@@ -202,17 +191,11 @@ impl TemporalPass {
         cmd.draw(3, 1);
         cmd.end_rendering();
         // The history just written is the next frame's to read.
-        let transitions: Vec<ImageTransition> = written[1..]
+        let uses: Vec<Use<'_>> = written[1..]
             .iter()
-            .map(|&image| {
-                ImageTransition::whole(
-                    image,
-                    ImageTransition::COLOR_WRITTEN,
-                    ImageTransition::FRAGMENT_SAMPLED,
-                )
-            })
+            .map(|&image| Use::image(image, Usage::SampledFragment))
             .collect();
-        cmd.transition_images(&transitions);
+        cmd.uses(&uses);
         Ok(())
     }
 }

@@ -30,9 +30,15 @@ use crate::error::{Error, Result};
 use crate::export::asset::Asset;
 use crate::frame::{FrameRunner, Scene, Time};
 use crate::gpu::Span;
-use crate::gpu::{Buffer, BufferDesc, Context, ContextOptions, Presented, Surface, Swapchain, vk};
+use crate::gpu::{
+    Buffer, BufferDesc, Context, ContextOptions, FramesInFlight, Presented, Surface, Swapchain, vk,
+};
 use crate::input::{Key, Scripted, ScriptedKey};
 use camera_control::CameraControl;
+
+/// Frame slots: the next frame acquires its image and lays out its panel while the
+/// GPU draws the last one.
+const FRAMES_IN_FLIGHT: usize = 2;
 
 /// Builds the scene to show once the window's device exists.
 pub type SceneBuilder = Box<dyn FnOnce(&Arc<Context>) -> Result<Box<dyn Scene>>>;
@@ -143,12 +149,15 @@ struct App<'a> {
 }
 
 /// Everything that lives while the window is open. Field order is drop order: the
-/// swapchain before the surface before the window.
+/// frames in flight (waited for) before what they read, the swapchain before the
+/// surface before the window.
 struct State {
+    frames: FramesInFlight,
     scene: Box<dyn Scene>,
     /// The offscreen target at the window's size (made with the first swapchain).
     runner: Option<FrameRunner>,
-    overlay_buffer: Option<Buffer>,
+    /// The panel's pixels, one buffer per frame slot (a frame in flight reads its own).
+    overlay_buffers: Vec<Buffer>,
     swapchain: Option<Swapchain>,
     surface: Surface,
     ctx: Arc<Context>,
@@ -166,6 +175,11 @@ struct State {
     last_gpu: Vec<Span>,
     /// A screenshot to write after the next frame.
     pending: Option<PathBuf>,
+    /// A frame was submitted and its spans not yet taken in (`settle`).
+    unsettled: bool,
+    /// Frames settled but not yet in the report: their spans, and whether the scene's
+    /// clock still changed them.
+    settled: Vec<(Vec<Span>, bool)>,
 }
 
 impl ApplicationHandler for App<'_> {
@@ -229,9 +243,10 @@ impl App<'_> {
             .ok_or_else(|| Error::internal("view", "the scene was already shown"))?;
         let scene = build(&ctx)?;
         Ok(State {
+            frames: FramesInFlight::new(&ctx, "view frame", FRAMES_IN_FLIGHT)?,
             scene,
             runner: None,
-            overlay_buffer: None,
+            overlay_buffers: Vec::new(),
             swapchain: None,
             surface,
             ctx,
@@ -248,6 +263,8 @@ impl App<'_> {
             fps: 0.0,
             last_gpu: Vec::new(),
             pending: None,
+            unsettled: false,
+            settled: Vec::new(),
         })
     }
 
@@ -368,6 +385,8 @@ impl State {
                 self.camera.fly(f, r, u, 0.25);
             }
             other => {
+                // A scene's key may rewrite what the frame in flight reads.
+                self.settle()?;
                 // A scene's key changes what it shows in ways depth does not tell (a
                 // light, a look): what temporal anti-aliasing accumulated is dropped.
                 let took = match self.scene.interactive() {
@@ -417,6 +436,9 @@ impl State {
         if !self.stale && self.swapchain.is_some() {
             return Ok(true);
         }
+        // The swapchain, the target and the panel's buffers are replaced: nothing may
+        // be drawing into or from them.
+        self.settle()?;
         self.swapchain = None;
         let chain = Swapchain::new(
             &self.ctx,
@@ -439,19 +461,53 @@ impl State {
                 )?)
             }
         }
-        self.overlay_buffer = Some(Buffer::new(
-            &self.ctx,
-            "overlay pixels",
-            BufferDesc::upload(
-                u64::from(w) * u64::from(h) * 4,
-                vk::BufferUsageFlags::TRANSFER_SRC,
-            ),
-        )?);
+        self.overlay_buffers = (0..FRAMES_IN_FLIGHT)
+            .map(|slot| {
+                Buffer::new(
+                    &self.ctx,
+                    &format!("overlay pixels {slot}"),
+                    BufferDesc::upload(
+                        u64::from(w) * u64::from(h) * 4,
+                        vk::BufferUsageFlags::TRANSFER_SRC,
+                    ),
+                )
+            })
+            .collect::<Result<_>>()?;
         self.swapchain = Some(chain);
         self.stale = false;
         Ok(true)
     }
 
+    /// Waits for the frame in flight, if any, and takes in its spans (handing them to
+    /// the scene too). What writes anything a frame reads — the scene's `set_frame`
+    /// and keys, a new swapchain or target — comes after this.
+    fn settle(&mut self) -> Result<()> {
+        if !self.unsettled {
+            return Ok(());
+        }
+        self.frames.wait_all()?;
+        self.unsettled = false;
+        if let Some(runner) = self.runner.as_mut() {
+            self.last_gpu = runner.finish(self.scene.as_mut())?;
+            let clock = self.scene.animated() && self.scene.steps().is_some();
+            self.settled.push((self.last_gpu.clone(), clock));
+        }
+        Ok(())
+    }
+
+    /// Moves the settled frames' spans into `report`.
+    fn report_settled(&mut self, report: &mut ViewReport) {
+        for (spans, clock) in self.settled.drain(..) {
+            report.gpu_spans.push(spans);
+            if clock {
+                report.clock_frames = report.gpu_spans.len();
+            }
+        }
+    }
+
+    /// One frame: its image acquired and its panel laid out while the last frame may
+    /// still be drawing, then (once that one has finished) the scene set, recorded,
+    /// submitted and presented without waiting for it.
     fn frame(&mut self, report: &mut ViewReport) -> Result<()> {
         let now = Instant::now();
         let seconds = now.duration_since(self.last_frame).as_secs_f32().min(0.25);
@@ -462,19 +518,16 @@ impl State {
             std::thread::sleep(std::time::Duration::from_millis(30));
             return Ok(());
         }
-        let (Some(chain), Some(runner), Some(pixels)) = (
-            self.swapchain.as_ref(),
-            self.runner.as_mut(),
-            self.overlay_buffer.as_mut(),
-        ) else {
+        let slot = self.frames.next_slot()?;
+        let Some(chain) = self.swapchain.as_ref() else {
             return Ok(());
         };
-        let Some(index) = chain.acquire()? else {
+        let Some(index) = chain.acquire(&self.frames, slot)? else {
             self.stale = true;
             return Ok(());
         };
         let (w, h) = chain.size();
-        runner.set_frame(self.scene.as_mut(), &self.camera.camera(), Time::Tick)?;
+        let bgra = chain.is_bgra();
         let panel = if self.overlay {
             let mut lines = vec![format!(
                 "sediment view {}  {:.1} fps  cpu {:.1} ms  gpu {:.2} ms ({})  {}",
@@ -498,16 +551,28 @@ impl State {
             if !message.is_empty() {
                 lines.push(message);
             }
-            overlay::panel(&lines, w, h, chain.is_bgra())
+            overlay::panel(&lines, w, h, bgra)
         } else {
             None
         };
-        if let Some(p) = &panel {
+        if let (Some(p), Some(pixels)) = (&panel, self.overlay_buffers.get_mut(slot)) {
             pixels.write(0, &p.pixels)?;
         }
+        // The scene keeps one copy of what it writes for the GPU: the last frame must
+        // be done with it first.
+        self.settle()?;
+        self.report_settled(report);
+        let (Some(chain), Some(runner), Some(pixels)) = (
+            self.swapchain.as_ref(),
+            self.runner.as_mut(),
+            self.overlay_buffers.get(slot),
+        ) else {
+            return Ok(());
+        };
+        runner.set_frame(self.scene.as_mut(), &self.camera.camera(), Time::Tick)?;
         let save = self.pending.is_some();
         let scene = &mut self.scene;
-        let presented = chain.present(index, |cmd, image| {
+        let presented = chain.present(&mut self.frames, slot, index, |cmd, image| {
             // Only a frame to be saved is read back.
             runner.record(cmd, scene.as_mut(), save)?;
             cmd.blit_target(runner.shown(), image, chain.format(), w, h);
@@ -516,29 +581,28 @@ impl State {
             }
             Ok(())
         })?;
+        self.unsettled = true;
         if presented == Presented::Stale {
             self.stale = true;
         }
-        let spans = runner.finish(self.scene.as_mut())?;
         if let Some(path) = self.pending.take() {
+            self.settle()?;
+            self.report_settled(report);
             self.screenshot(&path)?;
         }
-        self.last_gpu = spans;
         let frame_ms = now.elapsed().as_secs_f64() * 1e3;
         self.fps = 0.9 * self.fps + 0.1 * (1e3 / frame_ms.max(1e-3));
         report.frames += 1;
         report.frame_ms.push(frame_ms);
-        report.gpu_spans.push(self.last_gpu.clone());
-        if self.scene.animated() && self.scene.steps().is_some() {
-            report.clock_frames = report.gpu_spans.len();
-        }
         report.size = Size::new(w, h);
         self.frame += 1;
         Ok(())
     }
 
     /// At exit: the scene's asset (when asked for) and the validation errors.
-    fn finish(self, report: &mut ViewReport, title: Option<&str>) -> Result<()> {
+    fn finish(mut self, report: &mut ViewReport, title: Option<&str>) -> Result<()> {
+        self.settle()?;
+        self.report_settled(report);
         self.ctx.wait_idle()?;
         if let Some(title) = title {
             report.asset = match self.scene.exportable() {

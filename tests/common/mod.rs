@@ -17,25 +17,50 @@ use std::sync::Arc;
 
 use sediment::gpu::{Context, ContextOptions};
 
+/// A test's device: an `Arc<Context>` (it derefs to one) with the validation layer and
+/// its synchronization checks on, which fails the test when it is dropped if the layer
+/// reported an error that the test did not take (`Context::take_validation_errors`):
+/// every GPU test is checked without asking for it.
+pub struct Gpu {
+    ctx: Arc<Context>,
+}
+
+impl std::ops::Deref for Gpu {
+    type Target = Arc<Context>;
+
+    fn deref(&self) -> &Arc<Context> {
+        &self.ctx
+    }
+}
+
+impl Drop for Gpu {
+    fn drop(&mut self) {
+        // A test already failing says why; a second panic would abort the process.
+        if !std::thread::panicking() {
+            assert_no_validation_errors(&self.ctx);
+        }
+    }
+}
+
 /// A device with the validation layer on. With no Vulkan device, no driver or no
 /// layer this fails the test with the packages to install — never a silent skip.
-pub fn gpu() -> Arc<Context> {
+pub fn gpu() -> Gpu {
     gpu_with_samples(None)
 }
 
 /// `gpu()` whose frames take `samples` per pixel (`None`: the default, 4).
-pub fn gpu_with_samples(samples: Option<u32>) -> Arc<Context> {
+pub fn gpu_with_samples(samples: Option<u32>) -> Gpu {
     gpu_with_shading(samples, None)
 }
 
 /// `gpu_with_samples` whose speleothems shade once per sample or once per pixel
 /// (`sample_shading`, `None`: the default, per sample headless).
-pub fn gpu_with_shading(samples: Option<u32>, sample_shading: Option<bool>) -> Arc<Context> {
+pub fn gpu_with_shading(samples: Option<u32>, sample_shading: Option<bool>) -> Gpu {
     gpu_configured(samples, sample_shading, None)
 }
 
 /// `gpu()` with temporal anti-aliasing (one jittered sample a pixel, frames averaged).
-pub fn gpu_temporal() -> Arc<Context> {
+pub fn gpu_temporal() -> Gpu {
     gpu_options(ContextOptions {
         temporal: true,
         ..ContextOptions::default()
@@ -48,7 +73,7 @@ pub fn gpu_configured(
     samples: Option<u32>,
     sample_shading: Option<bool>,
     supersample: Option<u32>,
-) -> Arc<Context> {
+) -> Gpu {
     gpu_options(ContextOptions {
         samples,
         sample_shading,
@@ -57,13 +82,15 @@ pub fn gpu_configured(
     })
 }
 
-/// A validated device on `SEDIMENT_DEVICE` (if set) with `options` otherwise.
-pub fn gpu_options(options: ContextOptions) -> Arc<Context> {
+/// A device validated with synchronization checks on `SEDIMENT_DEVICE` (if set) with
+/// `options` otherwise.
+pub fn gpu_options(options: ContextOptions) -> Gpu {
     let options = ContextOptions {
         device: std::env::var("SEDIMENT_DEVICE")
             .ok()
             .filter(|s| !s.is_empty()),
         validate: true,
+        sync_validation: true,
         window: None,
         ..options
     };
@@ -74,7 +101,7 @@ pub fn gpu_options(options: ContextOptions) -> Arc<Context> {
                 "GPU test device: {} | driver {} {} | Vulkan {}",
                 info.name, info.driver_name, info.driver_info, info.api_version
             );
-            ctx
+            Gpu { ctx }
         }
         Err(e) => panic!(
             "GPU tests need a Vulkan device with validation layers: {e}\n\
@@ -84,14 +111,15 @@ pub fn gpu_options(options: ContextOptions) -> Arc<Context> {
     }
 }
 
-/// Runs `body` on a validated device and fails if the validation layer reported any
-/// error meanwhile.
+/// Runs `body` on a validated device; the device's guard fails the test if the
+/// validation layer reported any error meanwhile.
 pub fn with_gpu(body: impl FnOnce(&Arc<Context>)) {
-    let ctx = gpu();
-    body(&ctx);
-    assert_no_validation_errors(&ctx);
+    let gpu = gpu();
+    body(&gpu);
 }
 
+/// Fails the test if the validation layer reported errors on `ctx` since they were
+/// last taken (the `Gpu` guard does this on drop; call it to check at a point).
 pub fn assert_no_validation_errors(ctx: &Context) {
     let errors = ctx.take_validation_errors();
     assert!(

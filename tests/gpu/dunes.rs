@@ -599,3 +599,46 @@ fn footprints_change_fig18_only_near_the_walk() {
         assert_eq!(far, 0, "{far} pixels changed away from the walk");
     });
 }
+
+#[test]
+fn moving_the_sun_rebinds_the_textures_without_building_a_pipeline() {
+    use sediment::frame::Scene;
+    use sediment::input::Key;
+    common::with_gpu(|ctx| {
+        let scene = small("fig17");
+        let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
+        let size = Size::new(160, 120);
+        let camera = dunes::default_camera(&scene, &terrain);
+        let mut frame = dunes::DunesFrame::new(ctx, scene.clone(), &terrain).expect("frame");
+        let mut runner = sediment::frame::FrameRunner::new(ctx, size).expect("runner");
+        let at = sediment::frame::Time::At(0);
+        runner.render(&mut frame, &camera, at).expect("render");
+        let built = ctx.pipelines_created();
+        // The viewer's key: the sun 10 degrees round.
+        assert!(
+            frame
+                .interactive()
+                .expect("the dunes take keys")
+                .key(ctx, Key::Left)
+                .expect("key"),
+            "the key moves the sun"
+        );
+        let (moved, _) = runner.render(&mut frame, &camera, at).expect("render");
+        assert_eq!(
+            ctx.pipelines_created(),
+            built,
+            "a moved sun made new textures and built no pipeline"
+        );
+        // And the frame is the one drawn for that sun from the start.
+        let turned = DunesScene {
+            sun_azimuth: (scene.sun_azimuth - 10.0).rem_euclid(360.0),
+            ..scene
+        };
+        let fresh = render_desert(ctx, &turned, &terrain, size, Some(&camera)).image;
+        assert_eq!(
+            common::difference(&moved, &fresh).1.max,
+            0,
+            "the rebound textures draw what new ones do"
+        );
+    });
+}

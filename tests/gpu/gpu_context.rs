@@ -4,7 +4,7 @@
 use crate::common;
 
 use glam::Vec4;
-use sediment::gpu::{Buffer, BufferDesc, Context, ContextOptions, vk};
+use sediment::gpu::{Buffer, BufferDesc, Context, ContextOptions, GpuTimer, vk};
 use sediment::render::xfb_selftest;
 
 #[test]
@@ -56,10 +56,78 @@ fn validation_errors_are_recorded() {
 }
 
 #[test]
+fn synchronization_hazards_are_recorded() {
+    let ctx = common::gpu();
+    // Two fills of one buffer with no barrier between them: a write-after-write hazard
+    // that only synchronization validation reports.
+    let buffer = Buffer::new(
+        &ctx,
+        "hazard canary",
+        BufferDesc::gpu_only(64, vk::BufferUsageFlags::TRANSFER_DST),
+    )
+    .expect("buffer");
+    ctx.submit_and_wait("hazard canary", |cmd| {
+        cmd.fill_buffer(&buffer, 0, 64, 0);
+        cmd.fill_buffer(&buffer, 0, 64, 1);
+        Ok(())
+    })
+    .expect("submission");
+    let errors = ctx.take_validation_errors();
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains("SYNC-HAZARD-WRITE-AFTER-WRITE")),
+        "expected a write-after-write hazard, got {errors:?}"
+    );
+}
+
+#[test]
+#[should_panic(expected = "1 validation error(s)")]
+fn a_test_that_leaves_a_validation_error_fails_when_its_device_drops() {
+    let ctx = common::gpu();
+    let buffer = Buffer::new(
+        &ctx,
+        "guard canary",
+        BufferDesc::upload(64, vk::BufferUsageFlags::UNIFORM_BUFFER),
+    )
+    .expect("buffer");
+    ctx.submit_and_wait("guard canary", |cmd| {
+        cmd.fill_buffer(&buffer, 0, 64, 0);
+        Ok(())
+    })
+    .expect("submission");
+}
+
+#[test]
+fn timer_spans_close_with_their_closure_or_scope() {
+    let ctx = common::gpu();
+    let mut timer = GpuTimer::new(&ctx, "span test", 2).expect("timer");
+    ctx.submit_and_wait("spans", |cmd| {
+        timer.reset(cmd);
+        let value = timer.span(cmd, "closure", |_| Ok(7))?;
+        assert_eq!(value, 7);
+        {
+            let _scope = timer.scope(cmd, "scope")?;
+        }
+        assert!(
+            timer.scope(cmd, "one too many").is_err(),
+            "a third span does not fit a timer of two"
+        );
+        Ok(())
+    })
+    .expect("submission");
+    let spans = timer.read().expect("spans");
+    let names: Vec<&str> = spans.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["closure", "scope"]);
+    assert!(spans.iter().all(|s| s.milliseconds >= 0.0));
+}
+
+#[test]
 fn an_unknown_device_name_is_a_clear_error() {
     let err = match Context::new(&ContextOptions {
         device: Some("no-such-gpu-xyz".to_owned()),
         validate: false,
+        sync_validation: false,
         window: None,
         samples: None,
         sample_shading: None,

@@ -250,49 +250,49 @@ impl Scene for CaveFrame {
         timer: &mut GpuTimer,
     ) -> Result<()> {
         if let Some(g) = self.grown.as_mut().filter(|g| !g.done) {
-            let span = timer.begin(cmd, "ring growth")?;
-            g.growth.record(cmd, g.plan.passes)?;
-            timer.end(cmd, span);
+            timer.span(cmd, "ring growth", |cmd| {
+                g.growth.record(cmd, g.plan.passes)
+            })?;
             g.done = true;
         }
-        let span = timer.begin(cmd, "cave")?;
-        target.begin(cmd, [FOG.x, FOG.y, FOG.z, 1.0]);
-        let (faces, edges) = &self.walls[usize::from(!self.smooth)];
-        let missing = || Error::internal("cave view", "the shown wall was not uploaded");
-        let faces = faces.as_ref().ok_or_else(missing)?;
-        match (self.wireframe, edges) {
-            (true, Some(lines)) => {
-                self.pass.draw(cmd, faces, Style::UnderLines(FOG))?;
-                self.pass
-                    .draw(cmd, lines, Style::Lines(Vec3::new(0.55, 0.6, 0.5)))?;
+        timer.span(cmd, "cave", |cmd| {
+            target.begin(cmd, [FOG.x, FOG.y, FOG.z, 1.0]);
+            let (faces, edges) = &self.walls[usize::from(!self.smooth)];
+            let missing = || Error::internal("cave view", "the shown wall was not uploaded");
+            let faces = faces.as_ref().ok_or_else(missing)?;
+            match (self.wireframe, edges) {
+                (true, Some(lines)) => {
+                    self.pass.draw(cmd, faces, Style::UnderLines(FOG))?;
+                    self.pass
+                        .draw(cmd, lines, Style::Lines(Vec3::new(0.55, 0.6, 0.5)))?;
+                }
+                _ => self.pass.draw(
+                    cmd,
+                    faces,
+                    Style::Lit {
+                        albedo: ROCK,
+                        shininess: 8.0,
+                        specular: 0.04,
+                    },
+                )?,
             }
-            _ => self.pass.draw(
-                cmd,
-                faces,
-                Style::Lit {
-                    albedo: ROCK,
-                    shininess: 8.0,
-                    specular: 0.04,
-                },
-            )?,
-        }
-        if let Some(short) = &self.short {
-            self.pass.draw(
-                cmd,
-                short,
-                Style::Lit {
-                    albedo: CALCITE,
-                    shininess: 24.0,
-                    specular: 0.12,
-                },
-            )?;
-        }
-        if let Some(g) = &self.grown {
-            g.surface.draw(cmd, g.growth.source())?;
-        }
-        target.end(cmd);
-        timer.end(cmd, span);
-        Ok(())
+            if let Some(short) = &self.short {
+                self.pass.draw(
+                    cmd,
+                    short,
+                    Style::Lit {
+                        albedo: CALCITE,
+                        shininess: 24.0,
+                        specular: 0.12,
+                    },
+                )?;
+            }
+            if let Some(g) = &self.grown {
+                g.surface.draw(cmd, g.growth.source())?;
+            }
+            target.end(cmd);
+            Ok(())
+        })
     }
 
     fn status(&self) -> Vec<String> {

@@ -130,7 +130,7 @@ pub struct DunesFrame {
     maps: RippleMaps,
     shadow: DuneShadowPass,
     grain: Vec<u8>,
-    // Sampled by `surface`, rebuilt with it when the sun moves.
+    // Sampled by `surface`; made again, and rebound, when the sun moves.
     _textures: DuneTextures,
     surface: DuneSurfacePass,
     /// The air, its sky-view table (again whenever the sun moves) and the sky from it.
@@ -412,14 +412,8 @@ impl Scene for DunesFrame {
                 GRAIN_SIZE,
                 detail_texels(self.prints.as_ref(), sun).as_ref(),
             )?;
-            self.surface = DuneSurfacePass::new(
-                ctx,
-                ctx.frame_format(),
-                DESERT_TONE_MAP,
-                &textures,
-                9 * self.scene.dune_size * self.scene.dune_size,
-                switches(&self.scene, self.prints.is_some(), self.shadow_mask),
-            )?;
+            // The same pipelines, pointed at the new textures.
+            self.surface.set_textures(&textures)?;
             self._textures = textures;
             self.sun = sun;
         }
@@ -543,18 +537,18 @@ impl Scene for DunesFrame {
             );
             self.surface.set_levels(&levels)?;
         }
-        let span = timer.begin(cmd, "dunes")?;
-        target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
-        // Dunes first, then the sky where no dune covers (the depth test keeps it
-        // there), then the dust, translucent over both.
-        self.surface.draw(cmd, &self.geometry, &v.push)?;
-        self.sky.draw(cmd, &v.sky)?;
-        if v.dust {
-            self.dust.draw(cmd, v.view_proj, v.eye, v.target)?;
-        }
-        target.end(cmd);
-        timer.end(cmd, span);
-        Ok(())
+        timer.span(cmd, "dunes", |cmd| {
+            target.begin(cmd, [0.0, 0.0, 0.0, 1.0]);
+            // Dunes first, then the sky where no dune covers (the depth test keeps it
+            // there), then the dust, translucent over both.
+            self.surface.draw(cmd, &self.geometry, &v.push)?;
+            self.sky.draw(cmd, &v.sky)?;
+            if v.dust {
+                self.dust.draw(cmd, v.view_proj, v.eye, v.target)?;
+            }
+            target.end(cmd);
+            Ok(())
+        })
     }
 
     /// The dust blew on.
@@ -774,10 +768,9 @@ pub(super) fn desert_light(
         let mut timer = GpuTimer::new(ctx, "sky view timer", 2)?;
         ctx.submit_and_wait("sky view table", |cmd| {
             timer.reset(cmd);
-            let span = timer.begin(cmd, "sky view")?;
-            pass.record(cmd, air, camera.eye.y, elevation, ground_sky)?;
-            timer.end(cmd, span);
-            Ok(())
+            timer.span(cmd, "sky view", |cmd| {
+                pass.record(cmd, air, camera.eye.y, elevation, ground_sky)
+            })
         })?;
         spans.extend(timer.read()?);
         let table = pass.read()?;
@@ -815,10 +808,9 @@ fn shadow_map(ctx: &Arc<Context>, shadow: &DuneShadowPass, sun: Vec3) -> Result<
     let mut timer = GpuTimer::new(ctx, "dune shadow timer", 2)?;
     ctx.submit_and_wait("dune shadow map", |cmd| {
         timer.reset(cmd);
-        let span = timer.begin(cmd, "dune shadow map")?;
-        shadow.record(cmd, [dir.x, dir.z], rise)?;
-        timer.end(cmd, span);
-        Ok(())
+        timer.span(cmd, "dune shadow map", |cmd| {
+            shadow.record(cmd, [dir.x, dir.z], rise)
+        })
     })?;
     timer.read()
 }

@@ -271,10 +271,7 @@ impl GrowthFrame {
             let clock = Instant::now();
             ctx.submit_and_wait("ring growth", |cmd| {
                 timer.reset(cmd);
-                let span = timer.begin(cmd, "ring growth")?;
-                growth.record(cmd, n)?;
-                timer.end(cmd, span);
-                Ok(())
+                timer.span(cmd, "ring growth", |cmd| growth.record(cmd, n))
             })?;
             total_ms += if on_gpu {
                 timer.read()?.iter().map(|s| s.milliseconds).sum()
@@ -471,24 +468,24 @@ impl Scene for GrowthFrame {
             }
         }
         if self.growth.path().on_gpu() {
-            let span = timer.begin(cmd, "ring growth")?;
-            self.growth.record(cmd, self.passes_now)?;
-            timer.end(cmd, span);
+            timer.span(cmd, "ring growth", |cmd| {
+                self.growth.record(cmd, self.passes_now)
+            })?;
         } else {
             let t = Instant::now();
             self.growth.record(cmd, self.passes_now)?;
             self.cpu_ms = t.elapsed().as_secs_f64() * 1e3;
         }
-        let span = timer.begin(cmd, "shading")?;
-        match &mut self.chamber {
-            Some(c) => c.begin_frame(cmd, target, self.camera.as_ref())?,
-            None => target.begin(cmd, CLEAR),
-        }
-        self.surface
-            .draw_with(cmd, self.growth.source(), self.lod.as_ref())?;
-        target.end(cmd);
-        timer.end(cmd, span);
-        Ok(())
+        timer.span(cmd, "shading", |cmd| {
+            match &mut self.chamber {
+                Some(c) => c.begin_frame(cmd, target, self.camera.as_ref())?,
+                None => target.begin(cmd, CLEAR),
+            }
+            self.surface
+                .draw_with(cmd, self.growth.source(), self.lod.as_ref())?;
+            target.end(cmd);
+            Ok(())
+        })
     }
 
     fn after(&mut self, spans: &[Span]) -> Result<()> {

@@ -92,22 +92,22 @@ impl Scene for CutAwayFrame {
         target: &OffscreenTarget,
         timer: &mut GpuTimer,
     ) -> Result<()> {
-        let span = timer.begin(cmd, "cut-away")?;
-        target.begin(cmd, [0.02, 0.02, 0.025, 1.0]);
-        for (mesh, color, spec) in &self.parts {
-            self.pass.draw(
-                cmd,
-                mesh,
-                &ObjectPush {
-                    model: Mat4::IDENTITY,
-                    albedo: color.extend(1.0),
-                    material: Vec4::new(20.0, *spec, 0.0, 0.0),
-                },
-            )?;
-        }
-        target.end(cmd);
-        timer.end(cmd, span);
-        Ok(())
+        timer.span(cmd, "cut-away", |cmd| {
+            target.begin(cmd, [0.02, 0.02, 0.025, 1.0]);
+            for (mesh, color, spec) in &self.parts {
+                self.pass.draw(
+                    cmd,
+                    mesh,
+                    &ObjectPush {
+                        model: Mat4::IDENTITY,
+                        albedo: color.extend(1.0),
+                        material: Vec4::new(20.0, *spec, 0.0, 0.0),
+                    },
+                )?;
+            }
+            target.end(cmd);
+            Ok(())
+        })
     }
 
     fn status(&self) -> Vec<String> {

@@ -85,29 +85,29 @@ impl Scene for RockFrame {
         // Sky colour behind the rock, already in the linear space the sRGB target
         // expects.
         let clear = [0.05, 0.07, 0.10, 1.0];
-        let span = timer.begin(cmd, "lit mesh")?;
-        target.begin(cmd, clear);
-        self.pass.draw(
-            cmd,
-            &self.ground,
-            &ObjectPush {
-                model: Mat4::IDENTITY,
-                albedo: Vec4::new(0.07, 0.065, 0.06, 1.0),
-                material: Vec4::new(8.0, 0.02, 0.0, 0.0),
-            },
-        )?;
-        self.pass.draw(
-            cmd,
-            &self.rock,
-            &ObjectPush {
-                model: Mat4::IDENTITY,
-                albedo: self.albedo.extend(1.0),
-                material: Vec4::new(24.0, 0.08, 0.0, 0.0),
-            },
-        )?;
-        target.end(cmd);
-        timer.end(cmd, span);
-        Ok(())
+        timer.span(cmd, "lit mesh", |cmd| {
+            target.begin(cmd, clear);
+            self.pass.draw(
+                cmd,
+                &self.ground,
+                &ObjectPush {
+                    model: Mat4::IDENTITY,
+                    albedo: Vec4::new(0.07, 0.065, 0.06, 1.0),
+                    material: Vec4::new(8.0, 0.02, 0.0, 0.0),
+                },
+            )?;
+            self.pass.draw(
+                cmd,
+                &self.rock,
+                &ObjectPush {
+                    model: Mat4::IDENTITY,
+                    albedo: self.albedo.extend(1.0),
+                    material: Vec4::new(24.0, 0.08, 0.0, 0.0),
+                },
+            )?;
+            target.end(cmd);
+            Ok(())
+        })
     }
 
     fn status(&self) -> Vec<String> {
