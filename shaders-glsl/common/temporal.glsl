@@ -58,6 +58,47 @@ vec4 history_at(vec2 uv) {
     float weight = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
     return clamp(sum / weight, 0.0, 1.0);
 }
+
+// Variance clipping (Salvi 2016) of the reprojected history against this frame's
+// five-pixel cross (a 3x3 square clipped no better in tests/gpu/anti_aliasing.rs and
+// reads 4 more texels): the history is pulled along the line to the box's centre
+// (Karis 2014: a clip keeps its hue where a clamp per channel would shift it) until it
+// lies in the box of the neighbourhood's mean +- CLIP_SIGMA standard deviations, cut
+// by its minimum and maximum. A history that passed the depth test but is not what this
+// frame sees there (a surface's edge reprojected a pixel off, a highlight or a
+// reflection that moved with the view) is brought to a colour this frame could hold,
+// so no ghost of the last view stays in the mean. Only while the camera moves: a
+// still camera keeps its whole mean, which the neighbourhood of one jittered sample
+// would cut at every edge.
+const float CLIP_SIGMA = 1.0;
+
+vec4 clip_history(vec4 history, ivec2 p) {
+    vec3 h = history.rgb;
+    ivec2 top = textureSize(sampler2D(current, clamp_sampler), 0) - 1;
+    vec3 m1 = vec3(0.0);
+    vec3 m2 = vec3(0.0);
+    vec3 lo = vec3(1e9);
+    vec3 hi = vec3(-1e9);
+    const ivec2 TAPS[5] = ivec2[5](ivec2(0, 0), ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+    for (int i = 0; i < 5; ++i) {
+        ivec2 q = clamp(p + TAPS[i], ivec2(0), top);
+        vec3 s = texelFetch(sampler2D(current, clamp_sampler), q, 0).rgb;
+        m1 += s;
+        m2 += s * s;
+        lo = min(lo, s);
+        hi = max(hi, s);
+    }
+    vec3 mean = m1 / 5.0;
+    vec3 sigma = sqrt(max(m2 / 5.0 - mean * mean, vec3(0.0)));
+    vec3 box_lo = max(lo, mean - CLIP_SIGMA * sigma);
+    vec3 box_hi = min(hi, mean + CLIP_SIGMA * sigma);
+    vec3 centre = 0.5 * (box_lo + box_hi);
+    vec3 extent = 0.5 * (box_hi - box_lo) + 1e-4;
+    vec3 v = h - centre;
+    vec3 a = abs(v / extent);
+    float m = max(a.x, max(a.y, a.z));
+    return vec4(m > 1.0 ? centre + v / m : h, history.a);
+}
 #endif
 layout(location = 0) out vec4 out_color;
 layout(location = 1) out vec4 out_history;
@@ -82,9 +123,9 @@ void main() {
     float expected = last.z / last.w;
     bool inside = last.w > 0.0 && all(greaterThanEqual(uv, vec2(0.0)))
         && all(lessThanEqual(uv, vec2(1.0)));
-    vec4 h = history_at(uv);
     float seen = textureLod(sampler2D(history_depth, nearest_sampler), uv, 0.0).r;
 #endif
+#ifdef STILL
     // The surface the history saw is still there if its depth lies within the depths
     // of this frame's 2x2 quad (the other three through fine derivatives: the quad is
     // shaded together, so they cost no fetch), widened by their change from pixel to
@@ -99,6 +140,22 @@ void main() {
     float hi = max(max(expected, expected + ex * sx), max(expected + ey * sy, expected + ex * sx + exy * sy));
     float widen = resolve.params.y * (abs(ex) + abs(ey)) + 1e-6;
     bool same = seen >= lo - widen && seen <= hi + widen;
+#else
+    // While the camera moves, the quad's range is too wide at an edge: a pixel the
+    // move uncovered (its sample on the far side, the quad holding both) would keep
+    // the near surface's history, and the neighbourhood's box (which holds both sides
+    // there too) would let most of it through: the ghost a move leaves. So the history
+    // must lie on this pixel's own surface, within its depth's change toward the
+    // neighbour on the same side of any edge (the smaller of the two, each way).
+    ivec2 top = textureSize(sampler2D(depth, nearest_sampler), 0) - 1;
+    float dl = texelFetch(sampler2D(depth, nearest_sampler), max(p - ivec2(1, 0), ivec2(0)), 0).r;
+    float dr = texelFetch(sampler2D(depth, nearest_sampler), min(p + ivec2(1, 0), top), 0).r;
+    float dd = texelFetch(sampler2D(depth, nearest_sampler), max(p - ivec2(0, 1), ivec2(0)), 0).r;
+    float du = texelFetch(sampler2D(depth, nearest_sampler), min(p + ivec2(0, 1), top), 0).r;
+    float own = min(abs(dr - d), abs(d - dl)) + min(abs(du - d), abs(d - dd));
+    bool same = abs(seen - expected) <= resolve.params.y * own + 1e-6;
+    vec4 h = clip_history(history_at(uv), p);
+#endif
     bool kept = inside && same && resolve.params.z < 0.5;
 #endif
     // (A select, not a weight of 0: a history never written may hold NaNs.)

@@ -99,6 +99,8 @@ pub struct Temporal {
     /// The scene changed beyond the camera this frame (`Scene::animated`).
     animated: bool,
     start_over: bool,
+    /// Frames resolved since the camera last moved (or the mean started over).
+    since_moved: u32,
 }
 
 impl Temporal {
@@ -178,6 +180,7 @@ impl Temporal {
             last: None,
             animated: false,
             start_over: true,
+            since_moved: 0,
         })
     }
 
@@ -219,6 +222,17 @@ impl Temporal {
             (true, false) => (ResolveMode::Settled, STILL_FRAMES, KEEP_ALL),
             (true, true) => (ResolveMode::Still, ANIMATED_FRAMES, SAME_SURFACE),
             (false, _) => (ResolveMode::Moving, MOVING_FRAMES, SAME_SURFACE),
+        };
+        self.since_moved = if still { self.since_moved + 1 } else { 0 };
+        // Once the camera stops, the mean it carries is worth one frame, not the
+        // MOVING_FRAMES it held: it was reprojected and clipped while the camera moved,
+        // softer than the still frames' own samples and with what the clip let through
+        // at edges. Counted as one, it is a twelfth of the mean ten still frames later
+        // (a fifth of it counted as four).
+        let frames = if still {
+            frames.min(self.since_moved as f32)
+        } else {
+            frames
         };
         // The first frame after a start writes the depth its history saw.
         let mode = if self.last.is_none() && mode == ResolveMode::Settled {
