@@ -59,6 +59,9 @@ vec4 history_at(vec2 uv) {
     return clamp(sum / weight, 0.0, 1.0);
 }
 
+#endif
+
+#ifndef SETTLED
 // Variance clipping (Salvi 2016) of the reprojected history against this frame's
 // five-pixel cross (a 3x3 square clipped no better in tests/gpu/anti_aliasing.rs and
 // reads 4 more texels): the history is pulled along the line to the box's centre
@@ -67,9 +70,10 @@ vec4 history_at(vec2 uv) {
 // by its minimum and maximum. A history that passed the depth test but is not what this
 // frame sees there (a surface's edge reprojected a pixel off, a highlight or a
 // reflection that moved with the view) is brought to a colour this frame could hold,
-// so no ghost of the last view stays in the mean. Only while the camera moves: a
-// still camera keeps its whole mean, which the neighbourhood of one jittered sample
-// would cut at every edge.
+// so no ghost of the last view stays in the mean; under a still camera over a scene
+// that changes (growth), what changed is followed within a frame or two instead of
+// trailing. Not when nothing moves: a still picture keeps its whole mean, which the
+// neighbourhood of one jittered sample would cut at every edge.
 const float CLIP_SIGMA = 1.0;
 
 vec4 clip_history(vec4 history, ivec2 p) {
@@ -113,7 +117,7 @@ void main() {
 #else
     float d = texelFetch(sampler2D(depth, nearest_sampler), p, 0).r;
 #ifdef STILL
-    vec4 h = texelFetch(sampler2D(history, clamp_sampler), p, 0);
+    vec4 h = clip_history(texelFetch(sampler2D(history, clamp_sampler), p, 0), p);
     float seen = texelFetch(sampler2D(history_depth, nearest_sampler), p, 0).r;
     float expected = d;
     bool inside = true;

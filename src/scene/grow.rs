@@ -142,7 +142,7 @@ crate::params! {
         /// Mineral colour (Table 1): calcareous, iron, manganese, copper, malachite.
         [growth, "Table 1"] mineral: Mineral = Mineral::Calcareous, "NAME", "", check::any();
         /// How strongly the mineral colours the calcite.
-        [growth, "Table 1"] mineral_intensity: f32 = 0.8, "F", "", check::within(0.0..=1.0);
+        [growth, "Table 1"] mineral_intensity: f32 = 1.0, "F", "", check::within(0.0..=1.0);
         /// Grow from a climate record instead of Table 2: holocene (the synthetic
         /// record sediment ships, examples/holocene.csv) or a timeline CSV (rows of
         /// calendar year, temperature C, drip interval s, excess Ca mol/m^3, as `layers`

@@ -37,22 +37,26 @@ pub fn brightest_hue_saturation(image: &image::RgbaImage) -> (f64, f64) {
             mean[c] += f64::from(p[c]) / 255.0 / k as f64;
         }
     }
-    let (max, min) = (
-        mean.iter().copied().fold(f64::MIN, f64::max),
-        mean.iter().copied().fold(f64::MAX, f64::min),
-    );
+    let (hue, saturation, _) = hsv(mean);
+    (hue, saturation)
+}
+
+/// Hue (degrees), saturation and value (HSV) of an sRGB colour, channels 0..=1.
+pub fn hsv(rgb: [f64; 3]) -> (f64, f64, f64) {
+    let max = rgb.iter().copied().fold(f64::MIN, f64::max);
+    let min = rgb.iter().copied().fold(f64::MAX, f64::min);
     let d = max - min;
     let saturation = if max > 0.0 { d / max } else { 0.0 };
     let hue = if d <= 0.0 {
         0.0
-    } else if max == mean[0] {
-        60.0 * ((mean[1] - mean[2]) / d).rem_euclid(6.0)
-    } else if max == mean[1] {
-        60.0 * ((mean[2] - mean[0]) / d + 2.0)
+    } else if max == rgb[0] {
+        60.0 * ((rgb[1] - rgb[2]) / d).rem_euclid(6.0)
+    } else if max == rgb[1] {
+        60.0 * ((rgb[2] - rgb[0]) / d + 2.0)
     } else {
-        60.0 * ((mean[0] - mean[1]) / d + 4.0)
+        60.0 * ((rgb[0] - rgb[1]) / d + 4.0)
     };
-    (hue, saturation)
+    (hue, saturation, max)
 }
 
 /// Hue (degrees) and saturation of an RGB colour.

@@ -62,7 +62,7 @@ impl Default for GrowthParams {
             wind_direction_degrees: 0.0,
             wind_intensity: 0.0,
             mineral: Mineral::Calcareous,
-            mineral_intensity: 0.8,
+            mineral_intensity: 1.0,
         }
     }
 }
