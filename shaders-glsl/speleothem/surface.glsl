@@ -1,4 +1,4 @@
-// Wet calcite (Tortelli & Walter 4.2): normal mapping for ruggedness (a mip chain, its
+// Wet calcite (Tortelli & Walter 4.2): the lamp's soft shadows (`shadow.glsl`), normal mapping for ruggedness (a mip chain, its
 // strength `--bump`, Toksvig's factor where the filtered normals spread), the lamp,
 // environment mapping of the chamber as sediment rendered it into a cube map
 // (Schlick's Fresnel, blurrier mips where the surface is rough), tone mapping
@@ -7,6 +7,7 @@
 // makes alias inside the silhouette, where multisampling alone does not reach).
 #include "lighting.glsl"
 #include "tonemap.glsl"
+#include "shadow.glsl"
 
 layout(set = 0, binding = 0) uniform Frame {
     mat4 view_proj;
@@ -46,6 +47,7 @@ const float SHININESS = 48.0;
 
 void main() {
     vec3 n = normalize(gl_FrontFacing ? in_normal : -in_normal);
+    vec3 geometric = n;
     vec3 t = normalize(in_tangent - n * dot(in_tangent, n));
     vec3 b = cross(n, t);
     // The seam-free u (Tarini): the copy whose screen-space change is smaller.
@@ -84,6 +86,8 @@ void main() {
     vec3 l;
     vec3 radiance;
     light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, radiance);
+    float visible = shadow_visibility(in_world, geometric);
+    radiance *= visible;
     vec3 albedo = in_color;
     vec3 ambient = mix(frame.ground_color.rgb, frame.sky_color.rgb, 0.5 + 0.5 * nf.y);
     vec3 h = normalize(l + v);
@@ -97,6 +101,9 @@ void main() {
     // Blinn-Phong shininess as a roughness (sqrt(2 / (s + 2))), spread over the chain.
     float lod = surface.look.y * sqrt(2.0 / (shininess + 2.0));
     vec3 env = textureLod(samplerCube(environment, environment_sampler), r, lod).rgb;
+    // The cube holds the lamp: a surface in shadow does not see it mirrored either
+    // (the reflection toward it takes the shadow, fading out over the blurred lamp).
+    env *= mix(1.0, visible, smoothstep(0.75, 0.95, dot(r, l)));
     hdr += surface.look.x * fresnel * env;
     out_color = vec4(tonemap(hdr, frame.params.x), 1.0);
 }

@@ -40,7 +40,7 @@ pub use pipeline::{
 pub use sampler::Sampler;
 pub use shader::ShaderModule;
 pub use swapchain::{Presented, Surface, Swapchain};
-pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, TargetFormat};
+pub use target::{COLOR_FORMAT, DEPTH_FORMAT, DepthTarget, OffscreenTarget, TargetFormat};
 pub use timing::{GpuTimer, Span, SpanId, SpanScope};
 pub use usage::{Usage, Use};
 pub use validation::ValidationLog;

@@ -426,6 +426,7 @@ pub struct VertexLayout {
 }
 
 /// A graphics pipeline, described as plain data and built with `build`.
+#[derive(Clone)]
 pub struct GraphicsPipelineDesc<'a> {
     /// Debug-utils name given to the created `vk::Pipeline`.
     pub name: &'a str,

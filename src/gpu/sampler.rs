@@ -59,6 +59,24 @@ impl Sampler {
         Self::create(ctx, name, &info)
     }
 
+    /// Depth comparison (a shadow map): bilinear over the four texels' pass/fail
+    /// (LESS_OR_EQUAL against the reference), one level; outside the map the border
+    /// compares as the far plane, so what the map does not cover is lit.
+    pub fn depth_compare(ctx: &Arc<Context>, name: &str) -> Result<Self> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_BORDER)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_BORDER)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_BORDER)
+            .border_color(vk::BorderColor::FLOAT_OPAQUE_WHITE)
+            .compare_enable(true)
+            .compare_op(vk::CompareOp::LESS_OR_EQUAL)
+            .max_lod(0.0);
+        Self::create(ctx, name, &info)
+    }
+
     /// Trilinear filtering over every mip level, clamped to the edge (a cube map read
     /// at a level chosen by roughness).
     pub fn linear_clamp_mips(ctx: &Arc<Context>, name: &str) -> Result<Self> {

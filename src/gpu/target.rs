@@ -530,3 +530,82 @@ impl OffscreenTarget {
         })
     }
 }
+
+/// A single-sampled depth image drawn alone (no colour) and then sampled: a shadow
+/// map. Created cleared to the far plane and readable, so a pass can bind it before
+/// anything was drawn into it.
+pub struct DepthTarget {
+    depth: Image,
+    size: u32,
+}
+
+impl DepthTarget {
+    /// A `size`² depth target of `DEPTH_FORMAT`, cleared to 1 and left readable by
+    /// fragment shaders.
+    pub fn new(ctx: &Arc<Context>, name: &str, size: u32) -> Result<Self> {
+        let depth = Image::new(
+            ctx,
+            name,
+            ImageDesc::new_2d(
+                size,
+                size,
+                DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            ),
+        )?;
+        let target = Self { depth, size };
+        ctx.submit_and_wait("clear depth target", |cmd| {
+            target.begin(cmd);
+            target.end(cmd);
+            Ok(())
+        })?;
+        Ok(target)
+    }
+
+    /// Side in texels.
+    pub fn size(&self) -> u32 {
+        self.size
+    }
+
+    /// The depth view (sample it after `end`).
+    pub fn view(&self) -> vk::ImageView {
+        self.depth.view()
+    }
+
+    /// Clears the depth to 1 and opens a depth-only rendering scope over the whole
+    /// image, the viewport set to it.
+    pub fn begin(&self, cmd: &Commands<'_>) {
+        cmd.uses(&[Use::image_discarding(&self.depth, Usage::DepthAttachment)]);
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(self.depth.view())
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let info = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D { x: 0, y: 0 },
+                extent: vk::Extent2D {
+                    width: self.size,
+                    height: self.size,
+                },
+            })
+            .layer_count(1)
+            .depth_attachment(&depth_attachment);
+        // SAFETY: `cmd` is recording outside a rendering scope; the barrier above put
+        // the depth in DEPTH_ATTACHMENT_OPTIMAL.
+        unsafe { cmd.ctx.device.cmd_begin_rendering(cmd.raw, &info) };
+        cmd.set_viewport(self.size, self.size);
+    }
+
+    /// Closes the scope and leaves the depth readable by fragment shaders.
+    pub fn end(&self, cmd: &Commands<'_>) {
+        cmd.end_rendering();
+        cmd.uses(&[Use::image(&self.depth, Usage::SampledDepthFragment)]);
+    }
+}

@@ -83,6 +83,23 @@ pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     push_constant_bytes: size_of::<ObjectPush>() as u32,
 };
 
+const SHADOWED_BINDINGS: &[DescriptorBinding] = &[
+    FRAME_BINDING,
+    super::shadow_map::BINDINGS[0],
+    super::shadow_map::BINDINGS[1],
+    super::shadow_map::BINDINGS[2],
+    super::shadow_map::BINDINGS[3],
+    super::shadow_map::BINDINGS[4],
+];
+
+/// `lit_mesh_shadowed.frag`: `lit_mesh.frag` with the lamp's light through its shadow
+/// map (set 1, `render::shadow_map::BINDINGS`).
+pub static SHADOWED_FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
+    shader: &compiled::LIT_MESH_LIT_MESH_SHADOWED_FRAG,
+    bindings: SHADOWED_BINDINGS,
+    push_constant_bytes: size_of::<ObjectPush>() as u32,
+};
+
 /// The vertex layout of [`LitVertex`] (shared by every pass drawing lit meshes).
 pub fn lit_vertex_layout() -> VertexLayout {
     VertexLayout {
@@ -174,10 +191,13 @@ impl FrameSlot {
 /// Pipeline, layout and per-frame uniforms of the lit-mesh pass.
 pub struct LitMeshPass {
     frame_set: DescriptorSet,
+    /// The lamp's shadow map (set 1), for a pass made `shadowed`.
+    shadow_set: Option<DescriptorSet>,
     frame_buffer: Buffer,
     pipeline: Pipeline,
     /// What the pipeline was built for (`set_tone_map` rebuilds it).
     target: TargetFormat,
+    fragment: &'static ShaderInterface,
     cull: vk::CullModeFlags,
     tone: ToneMap,
     layout: PipelineLayout,
@@ -188,12 +208,22 @@ impl LitMeshPass {
     /// Back faces culled (counter-clockwise front faces), drawing into `target`
     /// through the operator `tone`.
     pub fn new(ctx: &Arc<Context>, target: TargetFormat, tone: ToneMap) -> Result<Self> {
-        Self::with_culling(ctx, target, vk::CullModeFlags::BACK, tone)
+        Self::with_culling(ctx, target, vk::CullModeFlags::BACK, tone, None)
+    }
+
+    /// `new`, the lamp's light through `shadow`'s map (which must outlive the pass).
+    pub fn shadowed(
+        ctx: &Arc<Context>,
+        target: TargetFormat,
+        tone: ToneMap,
+        shadow: &super::shadow_map::ShadowMap,
+    ) -> Result<Self> {
+        Self::with_culling(ctx, target, vk::CullModeFlags::BACK, tone, Some(shadow))
     }
 
     /// Drawing both faces (a mirrored projection, as a cube map's faces are).
     pub fn two_sided(ctx: &Arc<Context>, target: TargetFormat, tone: ToneMap) -> Result<Self> {
-        Self::with_culling(ctx, target, vk::CullModeFlags::NONE, tone)
+        Self::with_culling(ctx, target, vk::CullModeFlags::NONE, tone, None)
     }
 
     fn with_culling(
@@ -201,13 +231,15 @@ impl LitMeshPass {
         target: TargetFormat,
         cull: vk::CullModeFlags,
         tone: ToneMap,
+        shadow: Option<&super::shadow_map::ShadowMap>,
     ) -> Result<Self> {
-        let layout = PipelineLayout::new(
-            ctx,
-            "lit mesh layout",
-            &[&VERTEX_INTERFACE, &FRAGMENT_INTERFACE],
-        )?;
-        let pipeline = Self::pipeline(ctx, &layout, target, cull, tone)?;
+        let fragment = if shadow.is_some() {
+            &SHADOWED_FRAGMENT_INTERFACE
+        } else {
+            &FRAGMENT_INTERFACE
+        };
+        let layout = PipelineLayout::new(ctx, "lit mesh layout", &[&VERTEX_INTERFACE, fragment])?;
+        let pipeline = Self::pipeline(ctx, &layout, fragment, target, cull, tone)?;
         let frame_buffer = Buffer::new(
             ctx,
             "lit mesh frame uniforms",
@@ -218,11 +250,21 @@ impl LitMeshPass {
         )?;
         let frame_set = layout.allocate_set("lit mesh frame set", 0)?;
         frame_set.write_buffer(FRAME_BINDING.binding, &frame_buffer)?;
+        let shadow_set = match shadow {
+            Some(shadow) => {
+                let set = layout.allocate_set("lit mesh shadow set", 1)?;
+                shadow.write_into(&set)?;
+                Some(set)
+            }
+            None => None,
+        };
         Ok(Self {
             frame_set,
+            shadow_set,
             frame_buffer,
             pipeline,
             target,
+            fragment,
             cull,
             tone,
             layout,
@@ -233,12 +275,13 @@ impl LitMeshPass {
     fn pipeline(
         ctx: &Arc<Context>,
         layout: &PipelineLayout,
+        fragment: &ShaderInterface,
         target: TargetFormat,
         cull: vk::CullModeFlags,
         tone: ToneMap,
     ) -> Result<Pipeline> {
         let mut desc = GraphicsPipelineDesc::new("lit mesh", VERTEX_INTERFACE.shader)
-            .fragment(FRAGMENT_INTERFACE.shader)
+            .fragment(fragment.shader)
             .vertex_layout(lit_vertex_layout())
             .target(target)
             .specialize(&tone.constants());
@@ -249,7 +292,14 @@ impl LitMeshPass {
     /// Tone-maps the next draws with `tone` (builds its pipeline when it changes).
     pub fn set_tone_map(&mut self, tone: ToneMap) -> Result<()> {
         if tone != self.tone {
-            self.pipeline = Self::pipeline(&self.ctx, &self.layout, self.target, self.cull, tone)?;
+            self.pipeline = Self::pipeline(
+                &self.ctx,
+                &self.layout,
+                self.fragment,
+                self.target,
+                self.cull,
+                tone,
+            )?;
             self.tone = tone;
         }
         Ok(())
@@ -299,7 +349,10 @@ impl LitMeshPass {
         mesh: &GpuMesh,
         object: &ObjectPush,
     ) -> Result<()> {
-        cmd.bind_pipeline(&self.pipeline, &self.layout, &[set]);
+        match &self.shadow_set {
+            Some(shadow) => cmd.bind_pipeline(&self.pipeline, &self.layout, &[set, shadow]),
+            None => cmd.bind_pipeline(&self.pipeline, &self.layout, &[set]),
+        }
         cmd.push_constants(&self.layout, object)?;
         mesh.record_draw(cmd);
         Ok(())

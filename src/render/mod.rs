@@ -15,6 +15,7 @@ pub mod ring_growth_append;
 pub mod ring_growth_compute;
 pub mod ring_growth_cpu;
 pub mod ripple_maps;
+pub mod shadow_map;
 pub mod sky;
 pub mod speleothem_lod;
 pub mod speleothem_surface;
@@ -40,6 +41,7 @@ pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
         &sky::FRAGMENT_INTERFACE,
         &lit_mesh::VERTEX_INTERFACE,
         &lit_mesh::FRAGMENT_INTERFACE,
+        &lit_mesh::SHADOWED_FRAGMENT_INTERFACE,
         &ripple_maps::NORMAL_MIP_INTERFACE,
         &ripple_maps::HORIZON_INTERFACE,
         &ripple_maps::HORIZON_LINEAR_INTERFACE,

@@ -10,6 +10,7 @@ use super::environment::EnvironmentMap;
 use super::growth::MeshSource;
 use super::lit_mesh::FrameUniforms;
 use super::ring_growth::ring_vertex_layout;
+use super::shadow_map::{self, ShadowMap};
 use super::speleothem_lod::CaptureLod;
 use super::tone_map::ToneMap;
 use crate::error::Result;
@@ -67,11 +68,16 @@ const FRAGMENT_BINDINGS: &[DescriptorBinding] = &[
     NORMAL_SAMPLER,
     ENVIRONMENT,
     ENVIRONMENT_SAMPLER,
+    shadow_map::BINDINGS[0],
+    shadow_map::BINDINGS[1],
+    shadow_map::BINDINGS[2],
+    shadow_map::BINDINGS[3],
+    shadow_map::BINDINGS[4],
 ];
 
 /// `speleothem/surface.frag` (shaded once per pixel): the frame buffer (0), the calcite
 /// normal map and its repeating sampler (2, 3), the environment cube and its sampler
-/// (4, 5), `SurfacePush`.
+/// (4, 5), the lamp's shadow map (set 1), `SurfacePush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::SPELEOTHEM_SURFACE_FRAG,
     bindings: FRAGMENT_BINDINGS,
@@ -112,6 +118,15 @@ pub fn speleothem_info(plan: &GrowthPlan, passes: u32) -> Vec<Vec4> {
 /// The surface pass and its resources.
 pub struct SpeleothemSurfacePass {
     set: DescriptorSet,
+    /// The lamp's shadow map (set 1).
+    shadow_set: DescriptorSet,
+    /// The speleothems seen from the lamp, depth only, into its shadow map: set 0
+    /// with the lamp's view in its own frame buffer, and the surface's and caps'
+    /// stages without fragments.
+    caster_set: DescriptorSet,
+    caster_frame: Buffer,
+    casters: Pipeline,
+    caster_caps: Pipeline,
     _sampler: Sampler,
     _normal_map: Image,
     info: Buffer,
@@ -132,15 +147,15 @@ pub struct SpeleothemSurfacePass {
 impl SpeleothemSurfacePass {
     /// Builds the surface pipeline and its caps variant (no culling) for `target`
     /// through the operator `tone`, a 128² calcite normal map from `seed`, and the
-    /// info buffer for `plan`'s whole growth; binds `environment`'s cube, which must
-    /// outlive the pass.
+    /// info buffer for `plan`'s whole growth; binds `environment`'s cube and
+    /// `shadow`'s map, which must outlive the pass.
     pub fn new(
         ctx: &Arc<Context>,
         target: TargetFormat,
         tone: ToneMap,
         plan: &GrowthPlan,
         seed: u64,
-        environment: &EnvironmentMap,
+        (environment, shadow): (&EnvironmentMap, &ShadowMap),
     ) -> Result<Self> {
         // Per sample, the bump detail inside the silhouettes is anti-aliased too
         // (tests/gpu/anti_aliasing.rs), at the price of shading every sample.
@@ -195,8 +210,48 @@ impl SpeleothemSurfacePass {
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         )?;
         set.write_sampler(ENVIRONMENT_SAMPLER.binding, environment.sampler())?;
+        let shadow_set = layout.allocate_set("speleothem shadow set", 1)?;
+        shadow.write_into(&shadow_set)?;
+        let mut caster_frame = Buffer::new(
+            ctx,
+            "speleothem caster frame",
+            BufferDesc::upload(
+                size_of::<FrameUniforms>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+        )?;
+        caster_frame.write(0, std::slice::from_ref(&shadow.caster_frame_uniforms()))?;
+        // Every binding written, though the casters read only the first two: lavapipe
+        // (Mesa 22.3) reads each descriptor of a bound set and crashes on an empty one.
+        let caster_set = layout.allocate_set("speleothem caster set", 0)?;
+        caster_set.write_buffer(FRAME.binding, &caster_frame)?;
+        caster_set.write_buffer(SPELEOTHEMS.binding, &info)?;
+        caster_set.write_image(
+            NORMAL_MAP.binding,
+            normal_map.view(),
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        caster_set.write_sampler(NORMAL_SAMPLER.binding, &sampler)?;
+        caster_set.write_image(
+            ENVIRONMENT.binding,
+            environment.view(),
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        caster_set.write_sampler(ENVIRONMENT_SAMPLER.binding, environment.sampler())?;
+        let casters = ShadowMap::caster_desc("speleothem casters", VERTEX_INTERFACE.shader)
+            .vertex_layout(ring_vertex_layout());
+        let caster_caps = casters
+            .clone()
+            .geometry(CAP_GEOMETRY_INTERFACE.shader)
+            .build(ctx, &layout)?;
+        let casters = casters.build(ctx, &layout)?;
         Ok(Self {
             set,
+            shadow_set,
+            caster_set,
+            caster_frame,
+            casters,
+            caster_caps,
             _sampler: sampler,
             _normal_map: normal_map,
             info,
@@ -284,6 +339,28 @@ impl SpeleothemSurfacePass {
         self.info.write(0, &speleothem_info(plan, passes))
     }
 
+    /// The lamp's view for the next `draw_casters` (`ShadowMap::caster_frame_uniforms`).
+    pub fn set_caster_frame(&mut self, frame: &FrameUniforms) -> Result<()> {
+        self.caster_frame.write(0, std::slice::from_ref(frame))
+    }
+
+    /// Draws the current mesh and its caps, depth only, into an open shadow map
+    /// (`ShadowMap::record`).
+    pub fn draw_casters(
+        &self,
+        cmd: &Commands<'_>,
+        source: MeshSource<'_>,
+        lod: Option<&CaptureLod>,
+    ) -> Result<()> {
+        self.record_draws(
+            cmd,
+            source,
+            lod,
+            (&self.casters, &self.caster_caps),
+            &[&self.caster_set],
+        )
+    }
+
     /// Draws the current mesh inside an open rendering scope, then the caps of its
     /// open fronts.
     pub fn draw(&self, cmd: &Commands<'_>, source: MeshSource<'_>) -> Result<()> {
@@ -297,13 +374,28 @@ impl SpeleothemSurfacePass {
         source: MeshSource<'_>,
         lod: Option<&CaptureLod>,
     ) -> Result<()> {
-        let pipelines: &[&Pipeline] = if self.caps_on {
-            &[&self.pipeline, &self.caps]
-        } else {
-            &[&self.pipeline]
-        };
+        self.record_draws(
+            cmd,
+            source,
+            lod,
+            (&self.pipeline, &self.caps),
+            &[&self.set, &self.shadow_set],
+        )
+    }
+
+    /// The mesh through `surface`, then the caps of its open fronts through `caps`.
+    fn record_draws(
+        &self,
+        cmd: &Commands<'_>,
+        source: MeshSource<'_>,
+        lod: Option<&CaptureLod>,
+        (surface, caps): (&Pipeline, &Pipeline),
+        sets: &[&DescriptorSet],
+    ) -> Result<()> {
+        let both = [surface, caps];
+        let pipelines: &[&Pipeline] = if self.caps_on { &both } else { &both[..1] };
         for &pipeline in pipelines {
-            cmd.bind_pipeline(pipeline, &self.layout, &[&self.set]);
+            cmd.bind_pipeline(pipeline, &self.layout, sets);
             cmd.push_constants(&self.layout, &self.push)?;
             match source {
                 MeshSource::Counted { buffer, vertices } => {
@@ -313,12 +405,11 @@ impl SpeleothemSurfacePass {
                 MeshSource::Captured(stream) => stream.draw(cmd, VERTEX_STRIDE, 1)?,
                 MeshSource::Appended { frozen, front } => {
                     // The fronts are all in `front`: only it can need caps.
-                    let parts: &[(&crate::gpu::XfbStream, f32)] =
-                        if std::ptr::eq(pipeline, &self.caps) {
-                            &[(front, 0.0)]
-                        } else {
-                            &[(frozen, 1.0), (front, 0.0)]
-                        };
+                    let parts: &[(&crate::gpu::XfbStream, f32)] = if std::ptr::eq(pipeline, caps) {
+                        &[(front, 0.0)]
+                    } else {
+                        &[(frozen, 1.0), (front, 0.0)]
+                    };
                     for &(part, shifted) in parts {
                         let mut push = self.push;
                         push.params.w = shifted;

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::camera::{Camera, Jitter};
 
 use crate::render::lighting::Lighting;
+use crate::render::shadow_map::Spot;
 
 use crate::error::{Error, Result};
 use crate::model::speleothem::climate;
@@ -191,6 +192,9 @@ crate::params! {
         /// Strength of the environment-mapped reflection of the chamber (the wet film);
         /// 0 turns it off.
         [look, "Look"] environment: f32 = 1.0, "F", "", check::within(0.0..=4.0);
+        /// Soft shadows from the lamp (a shadow map, percentage-closer soft shadows) on
+        /// the speleothems, floor and ceiling; the viewer's `h` turns them on and off.
+        [look, "Look"] shadows: bool = true, "on|off", "", check::any();
         /// The lamp's colour: neutral (white: the minerals show their own colours) or
         /// warm.
         [look, "Look"] lamp: Lamp = Lamp::Neutral, "neutral|warm", "", check::any();
@@ -299,6 +303,7 @@ impl GrowScene {
             exposure: self.exposure,
             bump: self.bump,
             environment: self.environment,
+            shadows: self.shadows,
             lamp: self.lamp,
             color: self.color,
         }
@@ -468,6 +473,8 @@ pub struct Look {
     pub bump: f32,
     /// Strength of the environment-mapped reflection (the wet film), 0..=4.
     pub environment: f32,
+    /// Soft shadows from the lamp (`--shadows`).
+    pub shadows: bool,
     /// The lamp's colour (`--lamp`).
     pub lamp: Lamp,
     /// What colours the speleothems (`--color`).
@@ -481,6 +488,7 @@ impl Default for Look {
             exposure: 1.0,
             bump: 1.0,
             environment: 1.0,
+            shadows: true,
             lamp: Lamp::Neutral,
             color: ColorBy::Mineral,
         }
@@ -543,6 +551,26 @@ pub fn lamp_lighting(scene: &GrowthScene, look: &Look) -> Lighting {
         ground_color: ground,
         exposure: look.exposure,
         tonemap: look.tonemap,
+    }
+}
+
+/// The lamp's radius: the emissive sphere the reflections show and the shadows'
+/// penumbrae come from.
+pub fn lamp_radius(scene: &GrowthScene) -> f32 {
+    0.04 * (scene.ceiling_y - scene.floor_y)
+}
+
+/// The lamp as its shadow map sees it: aimed at the chamber's middle, covering the
+/// speleothem sites and the floor and ceiling their shadows fall on (half as far
+/// again beyond them).
+pub fn lamp_spot(scene: &GrowthScene) -> Spot {
+    let height = scene.ceiling_y - scene.floor_y;
+    let sites = (2.0 * scene.extent * scene.extent + 0.25 * height * height).sqrt();
+    Spot {
+        position: lamp_lighting(scene, &Look::default()).sun_direction,
+        radius: lamp_radius(scene),
+        centre: Vec3::new(0.0, 0.5 * (scene.floor_y + scene.ceiling_y), 0.0),
+        reach: 1.5 * sites,
     }
 }
 

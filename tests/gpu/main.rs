@@ -20,6 +20,7 @@ mod ring_growth;
 mod ripple_maps;
 mod rock_frame;
 mod shader_interfaces;
+mod shadows;
 mod speleothem_caps;
 mod speleothem_lod;
 mod view_session;

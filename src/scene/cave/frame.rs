@@ -29,6 +29,7 @@ use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
 use crate::render::lighting::Lighting;
 use crate::render::lit_mesh::{GpuMesh, ObjectPush};
+use crate::render::shadow_map::ShadowMap;
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
 use crate::render::tone_map::ToneMap;
 
@@ -40,9 +41,11 @@ const FOG: Vec3 = Vec3::new(0.012, 0.011, 0.012);
 struct Grown {
     plan: GrowthPlan,
     growth: Box<dyn Growth>,
-    // Reads the environment map: declared (and dropped) before it.
+    // Reads the environment and shadow maps: declared (and dropped) before them.
     surface: SpeleothemSurfacePass,
     _environment: EnvironmentMap,
+    /// Off: the cave's lamp rides on the camera, where its shadows hide.
+    _shadow: ShadowMap,
     /// The growth ran (in the first frame recorded).
     done: bool,
 }
@@ -140,6 +143,7 @@ impl CaveFrame {
             Some(g) => {
                 let plan = g.plan()?;
                 let environment = cave_environment(ctx, scene, &model)?;
+                let shadow = ShadowMap::new(ctx, 1)?;
                 Some(Grown {
                     // Append-only: all passes in one submission at O(one ring) each.
                     growth: GrowthPath::XfbAppend.start(ctx, &plan)?,
@@ -149,9 +153,10 @@ impl CaveFrame {
                         cave_lighting().tonemap,
                         &plan,
                         scene.seed,
-                        &environment,
+                        (&environment, &shadow),
                     )?,
                     _environment: environment,
+                    _shadow: shadow,
                     plan,
                     done: false,
                 })

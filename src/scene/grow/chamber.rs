@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::{GrowthScene, Look, lamp_lighting};
+use super::{GrowthScene, Look, lamp_lighting, lamp_radius};
 use crate::Size;
 use crate::camera::{Camera, Jitter};
 use crate::error::Result;
@@ -18,6 +18,7 @@ use crate::model::noise::fbm;
 use crate::render::environment::EnvironmentMap;
 use crate::render::lighting::Lighting;
 use crate::render::lit_mesh::{FrameSlot, FrameUniforms, GpuMesh, LitMeshPass, ObjectPush};
+use crate::render::shadow_map::ShadowMap;
 use crate::render::tone_map::ToneMap;
 
 pub(super) const ROCK: ObjectPush = ObjectPush {
@@ -70,6 +71,9 @@ pub(super) struct Chamber {
     pub(super) still: bool,
     /// The last frame's camera without its sample's jitter.
     pub(super) last_camera: Option<Camera>,
+    /// What the shadows on the rock depend on (the passes grown when the shadow map
+    /// was drawn, or none): part of the kept rock's key.
+    pub(super) shadow_key: Option<u32>,
     /// Times the rock was drawn (into a frame or a kept target).
     pub(super) rock_draws: u64,
     pub(super) floor: GpuMesh,
@@ -80,13 +84,19 @@ pub(super) struct Chamber {
 }
 
 impl Chamber {
-    /// The rock drawn through the operator `tone`.
-    pub(super) fn new(ctx: &Arc<Context>, scene: &GrowthScene, tone: ToneMap) -> Result<Self> {
+    /// The rock drawn through the operator `tone`, in the shadows of `shadow`'s map
+    /// (which must outlive the chamber).
+    pub(super) fn new(
+        ctx: &Arc<Context>,
+        scene: &GrowthScene,
+        tone: ToneMap,
+        shadow: &ShadowMap,
+    ) -> Result<Self> {
         let (floor, ceiling) = chamber_meshes(scene);
-        let lamp_radius = 0.04 * (scene.ceiling_y - scene.floor_y);
+        let lamp_radius = lamp_radius(scene);
         let lighting = lamp_lighting(scene, &Look::default());
         let at = lighting.sun_direction;
-        let rock = LitMeshPass::new(ctx, ctx.frame_format(), tone)?;
+        let rock = LitMeshPass::shadowed(ctx, ctx.frame_format(), tone, shadow)?;
         Ok(Self {
             kept: LayerCache::new(ctx),
             kept_frames: (0..layer_cache::SLOTS)
@@ -96,6 +106,7 @@ impl Chamber {
             aspect: 1.0,
             still: false,
             last_camera: None,
+            shadow_key: None,
             rock_draws: 0,
             rock,
             floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
@@ -119,9 +130,11 @@ impl Chamber {
             .filter(|c| self.still && c.jitter != Jitter::default() && LayerCache::serves(target));
         if let Some(camera) = camera {
             let lighting = &self.lighting;
+            let shadow_key = self.shadow_key;
             let key = |frame: &FrameUniforms| {
                 let mut key = crate::gpu::as_bytes(std::slice::from_ref(frame)).to_vec();
                 key.extend_from_slice(lighting.tonemap.to_string().as_bytes());
+                key.extend_from_slice(&shadow_key.map_or(u64::MAX, u64::from).to_le_bytes());
                 key
             };
             let size = Size::new(target.width(), target.height());

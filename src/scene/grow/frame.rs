@@ -18,7 +18,7 @@ use super::chamber::{CLEAR, Chamber, ENVIRONMENT_SIZE};
 use super::export::{cut_away_render, export_asset, write_rings_csv};
 use super::{
     ColorBy, GrowScene, GrowthScene, Lamp, Look, PRESETS, SpeleothemScene, default_camera,
-    lamp_lighting,
+    lamp_lighting, lamp_spot,
 };
 use crate::camera::{Camera, Jitter};
 use crate::error::{Error, Result};
@@ -36,6 +36,7 @@ use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
 use crate::render::lighting::Lighting;
+use crate::render::shadow_map::{self, ShadowMap};
 use crate::render::speleothem_lod::CaptureLod;
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
 use crate::render::tone_map::ToneMap;
@@ -60,11 +61,14 @@ pub struct GrowthFrame {
     look: Look,
     plan: GrowthPlan,
     growth: Box<dyn Growth>,
-    // Reads `environment`: declared (and dropped) before it.
+    // Read `environment` and `shadow`: declared (and dropped) before them.
     surface: SpeleothemSurfacePass,
-    environment: EnvironmentMap,
     /// `None` for the bench's bare speleothems (under a fixed light).
     chamber: Option<Chamber>,
+    environment: EnvironmentMap,
+    shadow: ShadowMap,
+    /// The passes grown when the shadow map was last drawn (`None`: to draw).
+    shadow_drawn: Option<u32>,
     bare_lighting: Option<Lighting>,
     /// Passes grown in the frame being recorded.
     passes_now: u32,
@@ -101,8 +105,14 @@ impl GrowthFrame {
 
     /// The speleothems of `scene` in their chamber, shaded with its look.
     pub fn with_look(ctx: &Arc<Context>, scene: SpeleothemScene, path: GrowthPath) -> Result<Self> {
-        let chamber = Some(Chamber::new(ctx, &scene.growth, scene.look.tonemap)?);
-        Self::with(ctx, scene, path, chamber, None)
+        let shadow = ShadowMap::new(ctx, shadow_map::DEFAULT_SIZE)?;
+        let chamber = Some(Chamber::new(
+            ctx,
+            &scene.growth,
+            scene.look.tonemap,
+            &shadow,
+        )?);
+        Self::with(ctx, scene, path, (chamber, shadow), None)
     }
 
     /// The speleothems alone (no chamber: an empty reflection) under `lighting`.
@@ -121,10 +131,13 @@ impl GrowthFrame {
             ctx,
             SpeleothemScene {
                 growth: scene,
-                look,
+                look: Look {
+                    shadows: false,
+                    ..look
+                },
             },
             path,
-            None,
+            (None, ShadowMap::new(ctx, 1)?),
             Some(lighting),
         )
     }
@@ -133,7 +146,7 @@ impl GrowthFrame {
         ctx: &Arc<Context>,
         scene: SpeleothemScene,
         path: GrowthPath,
-        chamber: Option<Chamber>,
+        (chamber, mut shadow): (Option<Chamber>, ShadowMap),
         bare_lighting: Option<Lighting>,
     ) -> Result<Self> {
         let SpeleothemScene {
@@ -142,13 +155,14 @@ impl GrowthFrame {
         } = scene;
         let plan = scene.plan()?;
         let environment = EnvironmentMap::new(ctx, ENVIRONMENT_SIZE)?;
+        shadow.set_spot(&lamp_spot(&scene), look.shadows)?;
         let mut surface = SpeleothemSurfacePass::new(
             ctx,
             ctx.frame_format(),
             look.tonemap,
             &plan,
             scene.seed,
-            &environment,
+            (&environment, &shadow),
         )?;
         surface.set_look(look.bump, look.environment);
         surface.set_age_colours((look.color == ColorBy::Age).then_some(plan.passes));
@@ -156,6 +170,8 @@ impl GrowthFrame {
             growth: path.start(ctx, &plan)?,
             surface,
             environment,
+            shadow,
+            shadow_drawn: None,
             chamber,
             bare_lighting,
             passes_now: 0,
@@ -372,14 +388,20 @@ impl GrowthFrame {
             self.lighting().tonemap,
             &plan,
             self.scene.seed,
-            &self.environment,
+            (&self.environment, &self.shadow),
         )?;
+        self.shadow_drawn = None;
         self.surface.set_look(self.look.bump, self.look.environment);
         self.surface
             .set_age_colours((self.look.color == ColorBy::Age).then_some(plan.passes));
         if self.chamber.is_some() {
             // The chamber's relief follows the seed: its reflection too.
-            self.chamber = Some(Chamber::new(ctx, &self.scene, self.look.tonemap)?);
+            self.chamber = Some(Chamber::new(
+                ctx,
+                &self.scene,
+                self.look.tonemap,
+                &self.shadow,
+            )?);
             self.render_environment(ctx)?;
         }
         self.plan = plan;
@@ -396,7 +418,7 @@ impl GrowthFrame {
     pub const CONTROLS: &'static [&'static str] = &[
         "space pause  n one pass  r restart  t reseed  [ ] pass every k frames",
         "p pil  i drip  c co2  left/right wind dir  up/down wind  m mineral  -/= its intensity",
-        "b normal map  g environment map  o tone mapping  , . exposure  l lamp",
+        "b normal map  g environment map  h shadows  o tone mapping  , . exposure  l lamp",
     ];
 }
 
@@ -449,6 +471,8 @@ impl Scene for GrowthFrame {
         }
         self.surface.set_tone_map(lighting.tonemap)?;
         self.surface
+            .set_caster_frame(&self.shadow.caster_frame_uniforms())?;
+        self.surface
             .set_frame(&frame, &self.plan, self.passes_done() + self.passes_now)
     }
 
@@ -475,6 +499,25 @@ impl Scene for GrowthFrame {
             let t = Instant::now();
             self.growth.record(cmd, self.passes_now)?;
             self.cpu_ms = t.elapsed().as_secs_f64() * 1e3;
+        }
+        // The growth recorded above counts its passes as done.
+        let grown = self.passes_done();
+        if self.shadow.on() && self.shadow_drawn != Some(grown) {
+            let (shadow, surface, chamber) = (&self.shadow, &self.surface, &self.chamber);
+            let (source, lod) = (self.growth.source(), self.lod.as_ref());
+            timer.span(cmd, "shadow map", |cmd| {
+                shadow.record(cmd, |cmd| {
+                    if let Some(c) = chamber {
+                        shadow.draw_mesh(cmd, &c.floor, glam::Mat4::IDENTITY)?;
+                        shadow.draw_mesh(cmd, &c.ceiling, glam::Mat4::IDENTITY)?;
+                    }
+                    surface.draw_casters(cmd, source, lod)
+                })
+            })?;
+            self.shadow_drawn = Some(grown);
+        }
+        if let Some(c) = &mut self.chamber {
+            c.shadow_key = self.shadow.on().then_some(grown);
         }
         timer.span(cmd, "shading", |cmd| {
             match &mut self.chamber {
@@ -651,6 +694,14 @@ impl Interactive for GrowthFrame {
                 self.look.environment = cycle(&[0.0, 0.5, 1.0, 2.0], self.look.environment);
                 self.surface.set_look(self.look.bump, self.look.environment);
                 self.live.message = format!("environment reflection {}", self.look.environment);
+            }
+            Key::Char('h') => {
+                self.look.shadows = !self.look.shadows;
+                self.shadow
+                    .set_spot(&lamp_spot(&self.scene), self.look.shadows)?;
+                self.shadow_drawn = None;
+                let on = if self.look.shadows { "on" } else { "off" };
+                self.live.message = format!("shadows {on}");
             }
             Key::Char('o') => {
                 self.look.tonemap = cycle(&ToneMap::ALL, self.look.tonemap);
