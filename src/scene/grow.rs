@@ -193,7 +193,7 @@ crate::params! {
         /// 0 turns it off.
         [look, "Look"] environment: f32 = 1.0, "F", "", check::within(0.0..=4.0);
         /// Soft shadows from the lamp (a shadow map, percentage-closer soft shadows) on
-        /// the speleothems, floor and ceiling; the viewer's `h` turns them on and off.
+        /// the speleothems, floor and ceiling; the viewer's `u` turns them on and off.
         [look, "Look"] shadows: bool = true, "on|off", "", check::any();
         /// The lamp's colour: neutral (white: the minerals show their own colours) or
         /// warm.

@@ -320,6 +320,16 @@ fn the_grow_viewers_tone_mapping_key_matches_the_headless_option() {
 }
 
 #[test]
+fn the_grow_viewers_shadow_key_matches_the_headless_option() {
+    // `u` turns the lamp's shadows off: the viewer then draws what `--shadows off`
+    // draws headless (fig9f: columns that shadow the floor, so the two differ).
+    let x = Xvfb::start();
+    let dir = common::cli::scratch("view-shadows");
+    let grow = ["--preset", "fig9f", "--passes", "6"];
+    view_matches_headless(&x, &dir, "grow", &grow, "0:u", &["--shadows", "off"], "-o");
+}
+
+#[test]
 fn cave_dunes_and_layers_views_match_their_headless_renders_and_toggles() {
     let x = Xvfb::start();
     let dir = common::cli::scratch("view-scenes");

@@ -418,7 +418,7 @@ impl GrowthFrame {
     pub const CONTROLS: &'static [&'static str] = &[
         "space pause  n one pass  r restart  t reseed  [ ] pass every k frames",
         "p pil  i drip  c co2  left/right wind dir  up/down wind  m mineral  -/= its intensity",
-        "b normal map  g environment map  h shadows  o tone mapping  , . exposure  l lamp",
+        "b normal map  g environment map  u shadows  o tone mapping  , . exposure  l lamp",
     ];
 }
 
@@ -517,7 +517,13 @@ impl Scene for GrowthFrame {
             self.shadow_drawn = Some(grown);
         }
         if let Some(c) = &mut self.chamber {
-            c.shadow_key = self.shadow.on().then_some(grown);
+            let key = self.shadow.on().then_some(grown);
+            // New shadows on the rock: what was kept per camera sample is stale, and
+            // so would be anything kept now while the growth goes on; drawn directly.
+            if c.shadow_key != key {
+                c.still = false;
+            }
+            c.shadow_key = key;
         }
         timer.span(cmd, "shading", |cmd| {
             match &mut self.chamber {
@@ -695,7 +701,7 @@ impl Interactive for GrowthFrame {
                 self.surface.set_look(self.look.bump, self.look.environment);
                 self.live.message = format!("environment reflection {}", self.look.environment);
             }
-            Key::Char('h') => {
+            Key::Char('u') => {
                 self.look.shadows = !self.look.shadows;
                 self.shadow
                     .set_spot(&lamp_spot(&self.scene), self.look.shadows)?;
