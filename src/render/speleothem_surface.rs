@@ -195,21 +195,26 @@ impl SpeleothemSurfacePass {
             true,
         )?;
         let sampler = Sampler::linear_repeat(ctx, "calcite normal sampler")?;
-        let set = layout.allocate_set("speleothem surface set", 0)?;
-        set.write_buffer(FRAME.binding, &frame)?;
-        set.write_buffer(SPELEOTHEMS.binding, &info)?;
-        set.write_image(
-            NORMAL_MAP.binding,
-            normal_map.view(),
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )?;
-        set.write_sampler(NORMAL_SAMPLER.binding, &sampler)?;
-        set.write_image(
-            ENVIRONMENT.binding,
-            environment.view(),
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )?;
-        set.write_sampler(ENVIRONMENT_SAMPLER.binding, environment.sampler())?;
+        // Set 0 with the camera's frame (the surface) or the lamp's (the casters).
+        let set_0 = |name: &str, frame: &Buffer| -> Result<DescriptorSet> {
+            let set = layout.allocate_set(name, 0)?;
+            set.write_buffer(FRAME.binding, frame)?;
+            set.write_buffer(SPELEOTHEMS.binding, &info)?;
+            set.write_image(
+                NORMAL_MAP.binding,
+                normal_map.view(),
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            )?;
+            set.write_sampler(NORMAL_SAMPLER.binding, &sampler)?;
+            set.write_image(
+                ENVIRONMENT.binding,
+                environment.view(),
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            )?;
+            set.write_sampler(ENVIRONMENT_SAMPLER.binding, environment.sampler())?;
+            Ok(set)
+        };
+        let set = set_0("speleothem surface set", &frame)?;
         let shadow_set = layout.allocate_set("speleothem shadow set", 1)?;
         shadow.write_into(&shadow_set)?;
         let mut caster_frame = Buffer::new(
@@ -223,21 +228,7 @@ impl SpeleothemSurfacePass {
         caster_frame.write(0, std::slice::from_ref(&shadow.caster_frame_uniforms()))?;
         // Every binding written, though the casters read only the first two: lavapipe
         // (Mesa 22.3) reads each descriptor of a bound set and crashes on an empty one.
-        let caster_set = layout.allocate_set("speleothem caster set", 0)?;
-        caster_set.write_buffer(FRAME.binding, &caster_frame)?;
-        caster_set.write_buffer(SPELEOTHEMS.binding, &info)?;
-        caster_set.write_image(
-            NORMAL_MAP.binding,
-            normal_map.view(),
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )?;
-        caster_set.write_sampler(NORMAL_SAMPLER.binding, &sampler)?;
-        caster_set.write_image(
-            ENVIRONMENT.binding,
-            environment.view(),
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )?;
-        caster_set.write_sampler(ENVIRONMENT_SAMPLER.binding, environment.sampler())?;
+        let caster_set = set_0("speleothem caster set", &caster_frame)?;
         let casters = ShadowMap::caster_desc("speleothem casters", VERTEX_INTERFACE.shader)
             .vertex_layout(ring_vertex_layout());
         let caster_caps = casters
