@@ -24,7 +24,7 @@ layout(location = 1) in vec3 in_normal[];
 layout(location = 2) in vec3 in_tangent[];
 layout(location = 3) in vec3 in_uv[];
 layout(location = 4) in vec3 in_color[];
-layout(location = 5) in vec3 in_tip_centre[];
+layout(location = 5) in vec4 in_tip_centre[];
 layout(location = 6) in float in_id[];
 layout(location = 7) in vec3 in_growth[];
 
@@ -33,6 +33,8 @@ layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec3 out_tangent;
 layout(location = 3) out vec3 out_uv;
 layout(location = 4) out vec3 out_color;
+// The axis (w 0: a cap, which no light crosses in `surface.glsl`'s sense).
+layout(location = 5) out vec4 out_axis;
 
 void corner(int k, vec3 world, vec3 normal) {
     out_world = world;
@@ -40,6 +42,7 @@ void corner(int k, vec3 world, vec3 normal) {
     out_tangent = in_tangent[k];
     out_uv = in_uv[k];
     out_color = in_color[k];
+    out_axis = vec4(in_tip_centre[k].xyz, 0.0);
     gl_Position = frame.view_proj * vec4(world, 1.0);
     EmitVertex();
 }
@@ -66,7 +69,7 @@ void main() {
     if (length(in_world[a] - in_world[b]) < 1e-6) {
         return;
     }
-    vec3 c = in_tip_centre[a];
+    vec3 c = in_tip_centre[a].xyz;
     vec3 g = in_growth[a];
     // Counter-clockwise seen from outside, along the growth direction.
     if (dot(cross(in_world[b] - in_world[a], c - in_world[a]), g) < 0.0) {

@@ -1,8 +1,10 @@
-// Wet calcite (Tortelli & Walter 4.2): the lamp's soft shadows (`shadow.glsl`), normal mapping for ruggedness (a mip chain, its
-// strength `--bump`, Toksvig's factor where the filtered normals spread), the lamp,
-// environment mapping of the chamber as sediment rendered it into a cube map
-// (Schlick's Fresnel, blurrier mips where the surface is rough), tone mapping
-// (Ashikhmin 2002 by default). The body of `surface.frag` (shaded once per pixel) and
+// Wet calcite (Tortelli & Walter 4.2): the lamp's soft shadows (`shadow.glsl`), normal
+// mapping for ruggedness (a mip chain, its strength `--bump`, Toksvig's factor where
+// the filtered normals spread), the lamp, a film of water over the calcite (a clear
+// coat reflecting the chamber, lamp included, from the cube map sediment rendered of
+// it, through Schlick's Fresnel for water; `--environment` its strength), tone mapping
+// (Ashikhmin 2002 by default), and light through the calcite (`--subsurface`): the
+// lamp seen through thin tips, straws and edges. The body of `surface.frag` (shaded once per pixel) and
 // `surface_per_sample.frag` (once per sample: the bump detail and the highlights it
 // makes alias inside the silhouette, where multisampling alone does not reach).
 #include "lighting.glsl"
@@ -27,6 +29,7 @@ layout(set = 0, binding = 5) uniform sampler environment_sampler;
 layout(push_constant) uniform Surface {
     vec4 params;
     vec4 look;
+    vec4 light;
 } surface;
 
 // `sample`-interpolated inputs make the stage run once per sample.
@@ -40,10 +43,98 @@ layout(location = 1) SHADED vec3 in_normal;
 layout(location = 2) SHADED vec3 in_tangent;
 layout(location = 3) SHADED vec3 in_uv;
 layout(location = 4) SHADED vec3 in_color;
+// xyz a point on the speleothem's axis (its tip ring's centre); w 1 on its wall, 0 on
+// a cap.
+layout(location = 5) SHADED vec4 in_axis;
 
 layout(location = 0) out vec4 out_color;
 
 const float SHININESS = 48.0;
+// The water film: its GGX roughness (still water over the rings, not a mirror: the
+// drip's ripples), water's reflectance at normal incidence ((1.33 - 1)^2 /
+// (1.33 + 1)^2), and the share of the normal map's relief its surface keeps (water
+// fills the finer hollows).
+const float FILM_ALPHA = 0.015;
+const float WATER_F0 = 0.02;
+const float FILM_RELIEF = 0.15;
+
+// Schlick's Fresnel for water at incidence cosine `c` (clamped: a unit vectors' dot
+// product can pass 1 by a rounding, and pow of a negative base is undefined).
+float water_fresnel(float c) {
+    return WATER_F0 + (1.0 - WATER_F0) * pow(clamp(1.0 - c, 0.0, 1.0), 5.0);
+}
+
+// The film's highlight of the lamp, a sphere of radius `radius` at `lamp`, per unit of
+// the radiance it sends to `world`: GGX (Walter et al. 2007) with the height-correlated
+// Smith visibility (Heitz 2014) and Schlick's Fresnel for water, toward the point of
+// the sphere nearest the mirror direction `r`, the lobe widened by the sphere's
+// angular size and renormalised so the sphere gives what a point lamp would (Karis
+// 2013). Times n.l, and pi: a lamp's `radiance` lights a white diffuser to 1 here.
+float film_highlight(vec3 n, vec3 v, vec3 r, vec3 world, vec3 lamp, float radius, float alpha) {
+    vec3 to = lamp - world;
+    vec3 across = dot(to, r) * r - to;
+    vec3 l = normalize(to + across * clamp(radius / max(length(across), 1e-6), 0.0, 1.0));
+    float nl = dot(n, l);
+    if (nl <= 0.0) {
+        return 0.0;
+    }
+    float wide = clamp(alpha + radius / (2.0 * length(to)), 0.0, 1.0);
+    float norm = (alpha / wide) * (alpha / wide);
+    float a2 = wide * wide;
+    float nv = max(dot(n, v), 1e-4);
+    vec3 h = normalize(l + v);
+    float nh = max(dot(n, h), 0.0);
+    float k = nh * nh * (a2 - 1.0) + 1.0;
+    float d = a2 / (3.14159265 * k * k);
+    float vis = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2));
+    float f = water_fresnel(dot(v, h));
+    return 3.14159265 * norm * d * vis * f * nl;
+}
+
+// Calcite's mean free path for light, in scene units (metres): how far light crosses
+// the crystals before it is scattered or absorbed. A few centimetres of speleothem
+// calcite let a lamp through (the glow of a backlit soda straw); a pillar does not.
+const float CALCITE_FREE_PATH = 0.015;
+
+// The lamp's light that crosses the speleothem to come out at `world` (`--subsurface`),
+// per unit of its radiance there, before the albedo: thickness-based transmission.
+// Lamp light falls on the far side of the ring (cosine `entering` = -n.l there and
+// here alike, the chord being symmetric) and crosses it along l: for a ring of radius
+// r, with radial normal n and l_perp the part of l across the vertical axis, the chord
+// is 2 r (-n.l) / |l_perp|^2 long, and exp(-chord / CALCITE_FREE_PATH) of the light
+// gets through and leaves diffusely. The ring's radius is the distance from the tip's
+// axis along n: exact while the speleothem grows straight down or up (wind slants
+// the rings' centres, and the radius is then off by the slant). `chord` is returned
+// for the far side's shadow test.
+float transmitted(vec3 world, vec3 n, vec3 l, vec4 axis, out float chord) {
+    chord = 0.0;
+    vec2 nr = n.xz;
+    float nr_len = length(nr);
+    float lp2 = dot(l.xz, l.xz);
+    if (axis.w < 0.5 || nr_len < 1e-3 || lp2 < 1e-4) {
+        return 0.0;
+    }
+    nr /= nr_len;
+    float entering = -dot(nr, l.xz);
+    if (entering <= 0.0) {
+        return 0.0;
+    }
+    float radius = max(dot(world.xz - axis.xz, nr), 0.0);
+    chord = 2.0 * radius * entering / lp2;
+    return entering * exp(-chord / CALCITE_FREE_PATH);
+}
+
+// Lekner & Dorf (1988): the albedo of a rough surface of albedo `a` under water. The
+// water's surface reflects WATER_DIFFUSE_R of diffuse light from outside; from inside
+// it lets out (1 - WATER_DIFFUSE_R) / n^2 and reflects the rest, p, back down to the
+// calcite, so the light goes back and forth: (1 - R) a (1 - p) / (1 - p a).
+const float WATER_DIFFUSE_R = 0.066;
+const float WATER_N = 1.33;
+vec3 wet_albedo(vec3 a) {
+    float out_share = (1.0 - WATER_DIFFUSE_R) / (WATER_N * WATER_N);
+    float p = 1.0 - out_share;
+    return (1.0 - WATER_DIFFUSE_R) * a * out_share / (1.0 - p * a);
+}
 
 void main() {
     vec3 n = normalize(gl_FrontFacing ? in_normal : -in_normal);
@@ -88,22 +179,56 @@ void main() {
     light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, radiance);
     float visible = shadow_visibility(in_world, geometric);
     radiance *= visible;
-    vec3 albedo = in_color;
+    float film = surface.look.x;
+    float wet = clamp(film, 0.0, 1.0);
+    // Under the film the calcite is darker and its colour deeper: light it scatters back
+    // is partly reflected down again at the water's surface (Lekner & Dorf 1988).
+    vec3 albedo = mix(in_color, wet_albedo(in_color), wet);
     vec3 ambient = mix(frame.ground_color.rgb, frame.sky_color.rgb, 0.5 + 0.5 * nf.y);
     vec3 h = normalize(l + v);
     float spec = 0.35 * (shininess + 8.0) / 25.1327 * pow(max(dot(n, h), 0.0), shininess)
                * max(dot(n, l), 0.0);
+    // Under water the calcite's own sheen fades: its reflectance against water,
+    // ((1.66 - 1.33) / (1.66 + 1.33))^2 = 0.012, is a fifth of that against air.
+    spec *= 1.0 - 0.8 * wet;
     vec3 hdr = albedo * ambient + radiance * (albedo * max(dot(nf, l), 0.0) + vec3(spec));
-    // Wet film: the chamber's reflection, Fresnel-weighted, from a mip whose blur
-    // matches the surface's roughness.
-    vec3 r = reflect(-v, n);
-    float fresnel = 0.04 + 0.96 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
-    // Blinn-Phong shininess as a roughness (sqrt(2 / (s + 2))), spread over the chain.
-    float lod = surface.look.y * sqrt(2.0 / (shininess + 2.0));
+    if (surface.light.x > 0.5) {
+        float chord;
+        float through = transmitted(in_world, geometric, l, in_axis, chord);
+        if (through > 1e-3) {
+            // The far side, where the light enters, in the lamp's shadows or not.
+            vec3 radiance_in;
+            light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, radiance_in);
+            hdr += albedo * radiance_in * through
+                 * shadow_visibility(in_world + l * chord, l);
+        }
+    }
+    // The film: its surface follows the rings with part of the bumps' relief; where
+    // the filtered bumps spread it is rougher (as Toksvig's factor for the calcite).
+    vec3 nc = normalize(t * (tn.x * bump * FILM_RELIEF) + b * (tn.y * bump * FILM_RELIEF)
+                        + geometric * tn.z);
+    // A bump may turn the film's normal from the camera, which it cannot see there:
+    // bent back to face it (else Fresnel's grazing reflectance, near 1, would blacken
+    // the calcite below in specks).
+    float facing = dot(nc, v);
+    if (facing < 0.2) {
+        nc = normalize(nc + v * (0.2 - facing));
+    }
+    float alpha = sqrt(FILM_ALPHA * FILM_ALPHA + spread * bump * FILM_RELIEF);
+    vec3 r = reflect(-v, nc);
+    float fresnel = water_fresnel(dot(nc, v));
+    // The mip whose texels subtend the lobe's width, alpha radians: a face of 2^y
+    // texels spans pi / 2.
+    float lod = clamp(surface.look.y + 1.0 + log2(alpha / 3.14159265), 0.0, surface.look.y);
     vec3 env = textureLod(samplerCube(environment, environment_sampler), r, lod).rgb;
-    // The cube holds the lamp: a surface in shadow does not see it mirrored either
-    // (the reflection toward it takes the shadow, fading out over the blurred lamp).
-    env *= mix(1.0, visible, smoothstep(0.75, 0.95, dot(r, l)));
-    hdr += surface.look.x * fresnel * env;
+    // The cube holds the chamber without the lamp: the lamp's highlight is drawn from
+    // where it is, not from where the cube's centre sees it.
+    vec3 glint = radiance * film_highlight(nc, v, r, in_world, frame.sun_dir.xyz,
+                                           shadow.params.w, alpha);
+    // What the film reflects the calcite below does not receive: on average over the
+    // film's bumps, the share its mean surface reflects (each bump's own would
+    // speckle the calcite where bumps turn to grazing).
+    float mean_fresnel = water_fresnel(dot(geometric, v));
+    hdr = hdr * (1.0 - wet * mean_fresnel) + film * (fresnel * env + glint);
     out_color = vec4(tonemap(hdr, frame.params.x), 1.0);
 }

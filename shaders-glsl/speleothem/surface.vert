@@ -25,6 +25,8 @@ layout(push_constant) uniform Surface {
     // rings of the whole growth when colouring by age (0: by mineral), w the share of
     // a pixel's side one sample shades (1 / sqrt(samples per pixel))
     vec4 look;
+    // x 1 with light through the calcite (`surface.glsl`), else 0
+    vec4 light;
 } surface;
 
 layout(location = 0) in vec4 in_pos_id;
@@ -36,9 +38,9 @@ layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec3 out_tangent;
 layout(location = 3) out vec3 out_uv;
 layout(location = 4) out vec3 out_color;
-// For the cap pass (`cap.geom`): the tip ring's centre, the ring ID, and the growth
-// direction.
-layout(location = 5) out vec3 out_tip_centre;
+// The tip ring's centre (a point on the axis; w 1: on the wall), and for the cap pass
+// (`cap.geom`) the ring ID and the growth direction.
+layout(location = 5) out vec4 out_tip_centre;
 layout(location = 6) out float out_id;
 layout(location = 7) out vec3 out_growth;
 
@@ -81,7 +83,7 @@ void main() {
     // it left the front; add the current total (model::speleothem::unfreeze).
     vec3 p = in_pos_id.xyz + n_radial * (misc.z * surface.params.w);
     out_world = p;
-    out_tip_centre = speleothems.info[3u * sp + 2u].xyz;
+    out_tip_centre = vec4(speleothems.info[3u * sp + 2u].xyz, 1.0);
     out_id = in_pos_id.w;
     out_growth = g;
     gl_Position = frame.view_proj * vec4(p, 1.0);

@@ -34,8 +34,10 @@ pub struct SurfacePush {
     /// the rings of the whole growth when colouring by age (0: by mineral), w the
     /// share of a pixel's side one sample shades (1 / sqrt(samples per pixel)).
     pub look: Vec4,
+    /// x 1 with light through the calcite (`--subsurface`), else 0; yzw unused.
+    pub light: Vec4,
 }
-// SAFETY: repr(C), two Vec4.
+// SAFETY: repr(C), three Vec4.
 unsafe impl Pod for SurfacePush {}
 
 const FRAME: DescriptorBinding = DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
@@ -263,6 +265,7 @@ impl SpeleothemSurfacePass {
                     0.0,
                     (target.samples.as_raw() as f32).sqrt().recip(),
                 ),
+                light: Vec4::new(1.0, 0.0, 0.0, 0.0),
             },
         })
     }
@@ -312,6 +315,11 @@ impl SpeleothemSurfacePass {
     pub fn set_look(&mut self, bump: f32, environment: f32) {
         self.push.params.z = bump;
         self.push.look.x = environment;
+    }
+
+    /// Lets the lamp's light through thin calcite (on unless turned off).
+    pub fn set_subsurface(&mut self, on: bool) {
+        self.push.light.x = if on { 1.0 } else { 0.0 };
     }
 
     /// Colour each ring by its age, over `rings` rings in all (`None`: by mineral).

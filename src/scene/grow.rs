@@ -189,12 +189,16 @@ crate::params! {
         [look, "Look"] exposure: f32 = 1.0, "F", "", check::above_to(0.0, 64.0);
         /// Normal-map strength (the calcite's ruggedness); 0 is smooth.
         [look, "Look"] bump: f32 = 1.0, "F", "", check::within(0.0..=4.0);
-        /// Strength of the environment-mapped reflection of the chamber (the wet film);
-        /// 0 turns it off.
+        /// Strength of the film of water over the calcite: the wet calcite's darker
+        /// colour, the lamp's highlights on the film and its reflection of the chamber
+        /// (an environment map); 0 is dry calcite.
         [look, "Look"] environment: f32 = 1.0, "F", "", check::within(0.0..=4.0);
         /// Soft shadows from the lamp (a shadow map, percentage-closer soft shadows) on
         /// the speleothems, floor and ceiling; the viewer's `u` turns them on and off.
         [look, "Look"] shadows: bool = true, "on|off", "", check::any();
+        /// Light through the calcite: the lamp shines through thin tips, straws and
+        /// edges lit from behind (1.5 cm mean free path); the viewer's `y`.
+        [look, "Look"] subsurface: bool = true, "on|off", "", check::any();
         /// The lamp's colour: neutral (white: the minerals show their own colours) or
         /// warm.
         [look, "Look"] lamp: Lamp = Lamp::Neutral, "neutral|warm", "", check::any();
@@ -304,6 +308,7 @@ impl GrowScene {
             bump: self.bump,
             environment: self.environment,
             shadows: self.shadows,
+            subsurface: self.subsurface,
             lamp: self.lamp,
             color: self.color,
         }
@@ -471,10 +476,12 @@ pub struct Look {
     pub exposure: f32,
     /// Normal-map strength, 0..=4 (0: smooth calcite).
     pub bump: f32,
-    /// Strength of the environment-mapped reflection (the wet film), 0..=4.
+    /// Strength of the water film over the calcite (`--environment`), 0..=4.
     pub environment: f32,
     /// Soft shadows from the lamp (`--shadows`).
     pub shadows: bool,
+    /// Light through the calcite (`--subsurface`).
+    pub subsurface: bool,
     /// The lamp's colour (`--lamp`).
     pub lamp: Lamp,
     /// What colours the speleothems (`--color`).
@@ -489,6 +496,7 @@ impl Default for Look {
             bump: 1.0,
             environment: 1.0,
             shadows: true,
+            subsurface: true,
             lamp: Lamp::Neutral,
             color: ColorBy::Mineral,
         }

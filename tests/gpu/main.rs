@@ -23,4 +23,5 @@ mod shader_interfaces;
 mod shadows;
 mod speleothem_caps;
 mod speleothem_lod;
+mod subsurface;
 mod view_session;

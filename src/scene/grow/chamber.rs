@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::{GrowthScene, Look, lamp_lighting, lamp_radius};
+use super::{GrowthScene, Look, lamp_lighting};
 use crate::Size;
 use crate::camera::{Camera, Jitter};
 use crate::error::Result;
@@ -55,8 +55,7 @@ fn chamber_meshes(scene: &GrowthScene) -> (Mesh, Mesh) {
     (floor, ceiling)
 }
 
-/// The chamber's rock, its pass and the lamp (an emissive sphere, drawn only into
-/// the environment map).
+/// The chamber's rock and its pass.
 pub(super) struct Chamber {
     pub(super) rock: LitMeshPass,
     /// The rock drawn once per camera sample while the camera stands still, and
@@ -78,9 +77,6 @@ pub(super) struct Chamber {
     pub(super) rock_draws: u64,
     pub(super) floor: GpuMesh,
     pub(super) ceiling: GpuMesh,
-    pub(super) lamp: GpuMesh,
-    /// The lamp sphere's radius.
-    pub(super) lamp_radius: f32,
 }
 
 impl Chamber {
@@ -93,9 +89,7 @@ impl Chamber {
         shadow: &ShadowMap,
     ) -> Result<Self> {
         let (floor, ceiling) = chamber_meshes(scene);
-        let lamp_radius = lamp_radius(scene);
         let lighting = lamp_lighting(scene, &Look::default());
-        let at = lighting.sun_direction;
         let rock = LitMeshPass::shadowed(ctx, ctx.frame_format(), tone, shadow)?;
         Ok(Self {
             kept: LayerCache::new(ctx),
@@ -111,8 +105,6 @@ impl Chamber {
             rock,
             floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
             ceiling: GpuMesh::upload(ctx, "cave ceiling", &ceiling)?,
-            lamp: GpuMesh::upload(ctx, "lamp", &Mesh::sphere(at, lamp_radius, 8))?,
-            lamp_radius,
         })
     }
 
@@ -180,8 +172,10 @@ impl Chamber {
         Ok(())
     }
 
-    /// Renders the chamber — floor, ceiling, the lamp — into `env` from the middle of
-    /// the chamber, lit as the frame is but without tone mapping.
+    /// Renders the chamber — floor and ceiling — into `env` from the middle of the
+    /// chamber, lit as the frame is but without tone mapping. Not the lamp: the
+    /// speleothems draw its highlight from where it is (`surface.glsl`), where the
+    /// cube would show it as the chamber's middle sees it.
     pub(super) fn render_environment(
         &self,
         ctx: &Arc<Context>,
@@ -194,14 +188,6 @@ impl Chamber {
             tonemap: ToneMap::Linear,
             exposure: 1.0,
             ..lighting.clone()
-        };
-        // The sphere's radiance gives the irradiance of the point light it stands for:
-        // I / d^2 = L pi r^2 / d^2.
-        let emission = 1.0 / (std::f32::consts::PI * self.lamp_radius * self.lamp_radius);
-        let lamp = ObjectPush {
-            model: Mat4::IDENTITY,
-            albedo: lighting.sun_color.extend(1.0),
-            material: Vec4::new(1.0, 0.0, emission, 0.0),
         };
         env.render(
             ctx,
@@ -218,11 +204,7 @@ impl Chamber {
                 },
                 1.0,
             ),
-            &[
-                (&self.floor, ROCK),
-                (&self.ceiling, ROCK),
-                (&self.lamp, lamp),
-            ],
+            &[(&self.floor, ROCK), (&self.ceiling, ROCK)],
         )
     }
 }

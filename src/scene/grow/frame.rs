@@ -165,6 +165,7 @@ impl GrowthFrame {
             (&environment, &shadow),
         )?;
         surface.set_look(look.bump, look.environment);
+        surface.set_subsurface(look.subsurface);
         surface.set_age_colours((look.color == ColorBy::Age).then_some(plan.passes));
         let mut frame = Self {
             growth: path.start(ctx, &plan)?,
@@ -392,6 +393,7 @@ impl GrowthFrame {
         )?;
         self.shadow_drawn = None;
         self.surface.set_look(self.look.bump, self.look.environment);
+        self.surface.set_subsurface(self.look.subsurface);
         self.surface
             .set_age_colours((self.look.color == ColorBy::Age).then_some(plan.passes));
         if self.chamber.is_some() {
@@ -418,7 +420,8 @@ impl GrowthFrame {
     pub const CONTROLS: &'static [&'static str] = &[
         "space pause  n one pass  r restart  t reseed  [ ] pass every k frames",
         "p pil  i drip  c co2  left/right wind dir  up/down wind  m mineral  -/= its intensity",
-        "b normal map  g environment map  u shadows  o tone mapping  , . exposure  l lamp",
+        "b normal map  g water film  u shadows  y light through calcite  o tone mapping",
+        ", . exposure  l lamp",
     ];
 }
 
@@ -699,7 +702,7 @@ impl Interactive for GrowthFrame {
             Key::Char('g') => {
                 self.look.environment = cycle(&[0.0, 0.5, 1.0, 2.0], self.look.environment);
                 self.surface.set_look(self.look.bump, self.look.environment);
-                self.live.message = format!("environment reflection {}", self.look.environment);
+                self.live.message = format!("water film {}", self.look.environment);
             }
             Key::Char('u') => {
                 self.look.shadows = !self.look.shadows;
@@ -708,6 +711,12 @@ impl Interactive for GrowthFrame {
                 self.shadow_drawn = None;
                 let on = if self.look.shadows { "on" } else { "off" };
                 self.live.message = format!("shadows {on}");
+            }
+            Key::Char('y') => {
+                self.look.subsurface = !self.look.subsurface;
+                self.surface.set_subsurface(self.look.subsurface);
+                let on = if self.look.subsurface { "on" } else { "off" };
+                self.live.message = format!("light through the calcite {on}");
             }
             Key::Char('o') => {
                 self.look.tonemap = cycle(&ToneMap::ALL, self.look.tonemap);
