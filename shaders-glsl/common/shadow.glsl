@@ -53,6 +53,21 @@ vec2 shadow_tap(int i, float phi) {
     return r * vec2(cos(a), sin(a));
 }
 
+// Whether `world` (normal `n`) sees the lamp's centre, 0..1: one bilinear 2x2
+// comparison, no penumbra. For light that is blurred anyway (through the calcite), at
+// a fraction of `shadow_visibility`'s 32 taps (llvmpipe runs a branch's taps whether
+// or not a pixel takes it).
+float shadow_visibility_hard(vec3 world, vec3 n) {
+    float dist = length(shadow.light.xyz - world);
+    vec4 c = shadow.view_proj * vec4(world + n * (1.5 * shadow.range.z * dist), 1.0);
+    vec3 ndc = c.xyz / max(c.w, 1e-6);
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    bool outside = c.w <= 0.0 || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))
+                || ndc.z >= 1.0 || shadow.params.x < 0.5;
+    float lit = texture(sampler2DShadow(shadow_map, shadow_compare), vec3(uv, ndc.z));
+    return outside ? 1.0 : lit;
+}
+
 // The share of the lamp seen from `world` (normal `n`, facing the lamp), 0..1.
 float shadow_visibility(vec3 world, vec3 n) {
     if (shadow.params.x < 0.5) {

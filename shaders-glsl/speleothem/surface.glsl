@@ -196,11 +196,12 @@ void main() {
         float chord;
         float through = transmitted(in_world, geometric, l, in_axis, chord);
         if (through > 1e-3) {
-            // The far side, where the light enters, in the lamp's shadows or not.
+            // The far side, where the light enters, in the lamp's shadow or not (its
+            // centre's: the light through is soft anyway).
             vec3 radiance_in;
             light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, radiance_in);
             hdr += albedo * radiance_in * through
-                 * shadow_visibility(in_world + l * chord, l);
+                 * shadow_visibility_hard(in_world + l * chord, l);
         }
     }
     // The film: its surface follows the rings with part of the bumps' relief; where
