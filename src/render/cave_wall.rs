@@ -1,6 +1,7 @@
-//! The cave pass: walls and speleothems lit by a directional light, the camera's
-//! lamp and fog (`cave_wall.frag` over `lit_mesh.vert`), or drawn as wireframe over
-//! dark, depth-biased faces (the paper's Fig. 5a/c).
+//! The cave pass: walls and speleothems lit by a directional light, the head lamp
+//! beside the camera with its soft shadows, and fog (`cave_wall.frag` over
+//! `lit_mesh.vert`), or drawn as wireframe over dark, depth-biased faces (the paper's
+//! Fig. 5a/c).
 
 use std::sync::Arc;
 
@@ -12,6 +13,7 @@ use crate::gpu::{
     PipelineLayout, Pod, TargetFormat, vk,
 };
 use crate::render::lit_mesh::{self, FrameUniforms, GpuMesh, ObjectPush};
+use crate::render::shadow_map::{self, ShadowMap};
 use crate::render::tone_map::ToneMap;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
@@ -25,23 +27,36 @@ pub struct CaveFrame {
     pub lamp: Vec4,
     /// rgb: fog colour; w: density per metre.
     pub fog: Vec4,
+    /// xyz: where the lamp is.
+    pub lamp_at: Vec4,
 }
-// SAFETY: repr(C), FrameUniforms (Pod, 16-byte multiple) then two Vec4, no padding.
+// SAFETY: repr(C), FrameUniforms (Pod, 16-byte multiple) then three Vec4, no padding.
 unsafe impl Pod for CaveFrame {}
 
 const FRAME_BINDING: DescriptorBinding =
     DescriptorBinding::new(0, 0, DescriptorKind::UniformBuffer);
 
-/// `cave_wall.frag`: the `CaveFrame` uniform buffer (set 0, binding 0) and `ObjectPush`.
+const BINDINGS: &[DescriptorBinding] = &[
+    FRAME_BINDING,
+    shadow_map::BINDINGS[0],
+    shadow_map::BINDINGS[1],
+    shadow_map::BINDINGS[2],
+    shadow_map::BINDINGS[3],
+    shadow_map::BINDINGS[4],
+];
+
+/// `cave_wall.frag`: the `CaveFrame` uniform buffer (set 0, binding 0), the lamp's
+/// shadow map (set 1) and `ObjectPush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::CAVE_CAVE_WALL_FRAG,
-    bindings: &[FRAME_BINDING],
+    bindings: BINDINGS,
     push_constant_bytes: size_of::<ObjectPush>() as u32,
 };
 
 /// Pipelines for filled faces, depth-biased faces under wireframe, and lines.
 pub struct CaveWallPass {
     frame_set: DescriptorSet,
+    shadow_set: DescriptorSet,
     frame_buffer: Buffer,
     fill: Pipeline,
     fill_under_lines: Pipeline,
@@ -69,8 +84,14 @@ pub enum Style {
 
 impl CaveWallPass {
     /// Builds the three pipelines for `target` over `lit_mesh.vert`, tone-mapping with
-    /// `tone`, and the host-visible `CaveFrame` uniform buffer they share.
-    pub fn new(ctx: &Arc<Context>, target: TargetFormat, tone: ToneMap) -> Result<Self> {
+    /// `tone`, and the host-visible `CaveFrame` uniform buffer they share; the lamp's
+    /// shadows from `shadow` (which must outlive the pass).
+    pub fn new(
+        ctx: &Arc<Context>,
+        target: TargetFormat,
+        tone: ToneMap,
+        shadow: &ShadowMap,
+    ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
             "cave layout",
@@ -101,8 +122,11 @@ impl CaveWallPass {
         )?;
         let frame_set = layout.allocate_set("cave frame set", 0)?;
         frame_set.write_buffer(FRAME_BINDING.binding, &frame_buffer)?;
+        let shadow_set = layout.allocate_set("cave shadow set", 1)?;
+        shadow.write_into(&shadow_set)?;
         Ok(Self {
             frame_set,
+            shadow_set,
             frame_buffer,
             fill,
             fill_under_lines,
@@ -127,7 +151,7 @@ impl CaveWallPass {
             Style::UnderLines(c) => (&self.fill_under_lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
             Style::Lines(c) => (&self.lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
         };
-        cmd.bind_pipeline(pipeline, &self.layout, &[&self.frame_set]);
+        cmd.bind_pipeline(pipeline, &self.layout, &[&self.frame_set, &self.shadow_set]);
         cmd.push_constants(
             &self.layout,
             &ObjectPush {

@@ -77,24 +77,35 @@ pub struct Spot {
 /// cover sees this cone of it.
 const MAX_FOV_DEGREES: f32 = 150.0;
 
-impl Spot {
-    /// The map's uniforms for a `size`² map, `on` or not: a square frustum from the
-    /// lamp toward the sphere's centre just enclosing the sphere (at most
-    /// `MAX_FOV_DEGREES`), near and far planes around it.
+/// A lamp's view for its map: from `position` toward `target`, a square cone
+/// `half_angle` wide each way (radians), depths `near..far` from the lamp.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aim {
+    /// The lamp's centre.
+    pub position: Vec3,
+    /// A point on the cone's axis.
+    pub target: Vec3,
+    /// Half the cone's width, radians, (0, MAX_FOV_DEGREES / 2].
+    pub half_angle: f32,
+    /// The nearest depth the map holds (> 0).
+    pub near: f32,
+    /// The farthest (> `near`).
+    pub far: f32,
+    /// The lamp's radius (0: a point, hard shadows).
+    pub radius: f32,
+}
+
+impl Aim {
+    /// The map's uniforms for a `size`² map, `on` or not.
     pub fn uniforms(&self, size: u32, on: bool) -> ShadowUniforms {
-        let to = self.centre - self.position;
-        let dist = to.length().max(1e-4);
-        let dir = to / dist;
-        let half = if self.reach < dist {
-            (self.reach / dist).asin()
-        } else {
-            f32::MAX
-        }
-        .min(0.5 * MAX_FOV_DEGREES.to_radians());
-        let near = (dist - self.reach).max(0.02 * dist).max(1e-3);
-        let far = (dist + self.reach).max(near * 1.01);
+        let dir = (self.target - self.position).normalize_or(Vec3::NEG_Z);
+        let half = self
+            .half_angle
+            .clamp(1e-3, 0.5 * MAX_FOV_DEGREES.to_radians());
+        let near = self.near.max(1e-4);
+        let far = self.far.max(near * 1.01);
         let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
-        let view = glam::camera::rh::view::look_at_mat4(self.position, self.centre, up);
+        let view = glam::camera::rh::view::look_at_mat4(self.position, self.position + dir, up);
         let proj = glam::camera::rh::proj::vulkan::perspective(2.0 * half, 1.0, near, far);
         let tan = half.tan();
         ShadowUniforms {
@@ -108,6 +119,35 @@ impl Spot {
             range: Vec4::new(near, far, 2.0 * tan / size as f32, WIDEST),
             light: self.position.extend(1.0),
         }
+    }
+}
+
+impl Spot {
+    /// A square frustum from the lamp toward the sphere's centre just enclosing the
+    /// sphere (at most `MAX_FOV_DEGREES`), near and far planes around it.
+    pub fn aim(&self) -> Aim {
+        let to = self.centre - self.position;
+        let dist = to.length().max(1e-4);
+        let half = if self.reach < dist {
+            (self.reach / dist).asin()
+        } else {
+            f32::MAX
+        }
+        .min(0.5 * MAX_FOV_DEGREES.to_radians());
+        let near = (dist - self.reach).max(0.02 * dist).max(1e-3);
+        Aim {
+            position: self.position,
+            target: self.centre,
+            half_angle: half,
+            near,
+            far: (dist + self.reach).max(near * 1.01),
+            radius: self.radius,
+        }
+    }
+
+    /// The map's uniforms for a `size`² map, `on` or not (see [`Spot::aim`]).
+    pub fn uniforms(&self, size: u32, on: bool) -> ShadowUniforms {
+        self.aim().uniforms(size, on)
     }
 }
 
@@ -185,7 +225,12 @@ impl ShadowMap {
     /// Aims the map from `spot` and turns it on or off (off: every receiver lit, the
     /// map not drawn).
     pub fn set_spot(&mut self, spot: &Spot, on: bool) -> Result<()> {
-        self.uniforms = spot.uniforms(self.target.size(), on);
+        self.set_aim(&spot.aim(), on)
+    }
+
+    /// Aims the map along `aim` and turns it on or off.
+    pub fn set_aim(&mut self, aim: &Aim, on: bool) -> Result<()> {
+        self.uniforms = aim.uniforms(self.target.size(), on);
         self.buffer.write(0, std::slice::from_ref(&self.uniforms))?;
         self.caster_frame
             .write(0, std::slice::from_ref(&self.caster_frame_uniforms()))

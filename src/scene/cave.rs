@@ -111,6 +111,10 @@ crate::params! {
         [top, "Look"] wireframe: bool = false, "on|off", "", check::any();
         /// Fog density.
         [top, "Look"] fog: f32 = 0.04, "D", "per metre", check::within(0.0..=1.0);
+        /// Soft shadows from the head lamp (a shadow map redrawn as the camera moves,
+        /// percentage-closer soft shadows) on the walls and speleothems; the viewer's
+        /// `u` turns them on and off.
+        [top, "Look"] shadows: bool = true, "on|off", "", check::any();
         /// Camera position x,y,z in metres (the cave spans 0..cave_size on each axis;
         /// the passage runs along x with its floor at y = cave_size / 4); default: down
         /// the passage from near its start.

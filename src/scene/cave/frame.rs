@@ -1,7 +1,7 @@
 //! The cave's frame: the wall (smoothed or blocky, lit or wireframe), the
 //! Short-profile speleothems or the same sites grown on a growth path (append-only, all
-//! passes in the first frame), seen by a camera carrying a lamp under the paper's
-//! directional light, with fog.
+//! passes in the first frame), seen by a camera carrying a lamp (with its soft
+//! shadows) under the paper's directional light, with fog.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -29,7 +29,7 @@ use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
 use crate::render::lighting::Lighting;
 use crate::render::lit_mesh::{GpuMesh, ObjectPush};
-use crate::render::shadow_map::ShadowMap;
+use crate::render::shadow_map::{self, Aim, ShadowMap};
 use crate::render::speleothem_surface::SpeleothemSurfacePass;
 use crate::render::tone_map::ToneMap;
 
@@ -41,11 +41,10 @@ const FOG: Vec3 = Vec3::new(0.012, 0.011, 0.012);
 struct Grown {
     plan: GrowthPlan,
     growth: Box<dyn Growth>,
-    // Reads the environment and shadow maps: declared (and dropped) before them.
+    // Reads the environment map (and the frame's shadow map): declared (and dropped)
+    // before them.
     surface: SpeleothemSurfacePass,
     _environment: EnvironmentMap,
-    /// Off: the cave's lamp rides on the camera, where its shadows hide.
-    _shadow: ShadowMap,
     /// The growth ran (in the first frame recorded).
     done: bool,
 }
@@ -123,6 +122,45 @@ pub struct CaveFrame {
     lamp: Vec3,
     depth: u32,
     message: String,
+    /// The lamp's soft shadows are on.
+    shadows: bool,
+    /// The camera (unjittered) and aspect the shadow map is aimed for.
+    shadow_for: Option<(Camera, f32)>,
+    /// The map must be drawn again (a new aim, wall or growth).
+    shadow_stale: bool,
+    // Read by `pass` and the grown speleothems' surface: declared (and dropped) after
+    // them.
+    shadow: ShadowMap,
+}
+
+/// Where the lamp is carried for a camera: a hand's width beside and above the eye
+/// (35 cm right, 25 cm up in a cave of the default 24 m), so its shadows show as
+/// rims beside what casts them (at the eye they would hide behind it).
+pub fn lamp_position(camera: &Camera, cave_size: f32) -> Vec3 {
+    let s = cave_size / 24.0;
+    let forward = (camera.target - camera.eye).normalize_or(Vec3::X);
+    let right = forward.cross(camera.up).normalize_or(Vec3::Z);
+    let up = right.cross(forward);
+    camera.eye + (0.35 * right + 0.25 * up) * s
+}
+
+/// The lamp's shadow map aimed along the camera's view, wide enough for the camera's
+/// whole frame (its half-diagonal and 10 degrees more), from 5 cm to twice the cave's
+/// side (in a default cave), the lamp 12 cm across (a lantern: its penumbrae soft).
+fn lamp_aim(camera: &Camera, aspect: f32, cave_size: f32) -> Aim {
+    let s = cave_size / 24.0;
+    let position = lamp_position(camera, cave_size);
+    let forward = (camera.target - camera.eye).normalize_or(Vec3::X);
+    let tan = (0.5 * camera.fov_y_degrees.to_radians()).tan();
+    let half_diagonal = (tan * (1.0 + aspect * aspect).sqrt()).atan();
+    Aim {
+        position,
+        target: position + forward,
+        half_angle: half_diagonal + 10f32.to_radians(),
+        near: 0.05 * s,
+        far: 2.0 * cave_size,
+        radius: 0.06 * s,
+    }
 }
 
 impl CaveFrame {
@@ -139,11 +177,11 @@ impl CaveFrame {
                 &model.short_mesh,
             )?)
         };
+        let shadow = ShadowMap::new(ctx, shadow_map::DEFAULT_SIZE)?;
         let grown = match &model.growth {
             Some(g) => {
                 let plan = g.plan()?;
                 let environment = cave_environment(ctx, scene, &model)?;
-                let shadow = ShadowMap::new(ctx, 1)?;
                 Some(Grown {
                     // Append-only: all passes in one submission at O(one ring) each.
                     growth: GrowthPath::XfbAppend.start(ctx, &plan)?,
@@ -156,7 +194,6 @@ impl CaveFrame {
                         (&environment, &shadow),
                     )?,
                     _environment: environment,
-                    _shadow: shadow,
                     plan,
                     done: false,
                 })
@@ -164,7 +201,7 @@ impl CaveFrame {
             None => None,
         };
         let mut frame = Self {
-            pass: CaveWallPass::new(ctx, ctx.frame_format(), cave_lighting().tonemap)?,
+            pass: CaveWallPass::new(ctx, ctx.frame_format(), cave_lighting().tonemap, &shadow)?,
             walls: [(None, None), (None, None)],
             short,
             grown,
@@ -174,6 +211,10 @@ impl CaveFrame {
             lamp: Vec3::new(14.0, 12.5, 10.5) * (scene.cave_size / 24.0).powi(2),
             depth: scene.depth,
             message: String::new(),
+            shadows: scene.shadows,
+            shadow_for: None,
+            shadow_stale: true,
+            shadow,
             scene: scene.clone(),
             model,
         };
@@ -207,7 +248,8 @@ impl CaveFrame {
     }
 
     /// The viewer's keys.
-    pub const CONTROLS: &'static [&'static str] = &["x wireframe  b smoothed/blocky wall"];
+    pub const CONTROLS: &'static [&'static str] =
+        &["x wireframe  b smoothed/blocky wall  u shadows"];
 }
 
 impl Scene for CaveFrame {
@@ -215,7 +257,7 @@ impl Scene for CaveFrame {
         "cave"
     }
 
-    /// The camera (it carries the lamp).
+    /// The camera (it carries the lamp, whose shadow map follows it).
     fn set_frame(
         &mut self,
         _ctx: &Arc<Context>,
@@ -224,19 +266,36 @@ impl Scene for CaveFrame {
         _time: Time,
     ) -> Result<()> {
         let lighting = cave_lighting();
+        let unjittered = Camera {
+            jitter: Jitter::NONE,
+            ..camera.clone()
+        };
+        let lamp = lamp_position(&unjittered, self.scene.cave_size);
+        let aim = (unjittered, aspect);
+        if self.shadow_for.as_ref() != Some(&aim) {
+            self.shadow.set_aim(
+                &lamp_aim(&aim.0, aspect, self.scene.cave_size),
+                self.shadows,
+            )?;
+            self.shadow_for = Some(aim);
+            self.shadow_stale = true;
+        }
         self.pass.set_frame(&WallUniforms {
             base: lighting.frame_uniforms(camera, aspect),
             lamp: self.lamp.extend(0.0),
             fog: FOG.extend(self.fog_density),
+            lamp_at: lamp.extend(1.0),
         })?;
         if let Some(g) = &mut self.grown {
             // The grown speleothems' shader knows one light: the camera's lamp.
             let lamp_lighting = Lighting {
-                sun_direction: camera.eye,
+                sun_direction: lamp,
                 point: true,
                 sun_color: self.lamp,
                 ..lighting
             };
+            g.surface
+                .set_caster_frame(&self.shadow.caster_frame_uniforms())?;
             g.surface.set_frame(
                 &lamp_lighting.frame_uniforms(camera, aspect),
                 &g.plan,
@@ -259,6 +318,23 @@ impl Scene for CaveFrame {
                 g.growth.record(cmd, g.plan.passes)
             })?;
             g.done = true;
+            self.shadow_stale = true;
+        }
+        if self.shadows && self.shadow_stale {
+            let (faces, _) = &self.walls[usize::from(!self.smooth)];
+            let (shadow, short, grown) = (&self.shadow, &self.short, &self.grown);
+            timer.span(cmd, "shadow map", |cmd| {
+                shadow.record(cmd, |cmd| {
+                    for mesh in faces.iter().chain(short) {
+                        shadow.draw_mesh(cmd, mesh, Mat4::IDENTITY)?;
+                    }
+                    match grown {
+                        Some(g) => g.surface.draw_casters(cmd, g.growth.source(), None),
+                        None => Ok(()),
+                    }
+                })
+            })?;
+            self.shadow_stale = false;
         }
         timer.span(cmd, "cave", |cmd| {
             target.begin(cmd, [FOG.x, FOG.y, FOG.z, 1.0]);
@@ -330,8 +406,17 @@ impl Interactive for CaveFrame {
         match key {
             Key::Char('x') => self.wireframe = !self.wireframe,
             Key::Char('b') => self.smooth = !self.smooth,
+            Key::Char('u') => {
+                self.shadows = !self.shadows;
+                // Aimed again (and turned on or off) at the next frame.
+                self.shadow_for = None;
+                let on = if self.shadows { "on" } else { "off" };
+                self.message = format!("shadows {on}");
+                return Ok(true);
+            }
             _ => return Ok(false),
         }
+        self.shadow_stale = true;
         self.upload_shown(ctx)?;
         self.message = format!(
             "{} wall{}",
