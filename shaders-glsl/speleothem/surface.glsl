@@ -175,10 +175,12 @@ void main() {
 
     vec3 v = normalize(frame.camera_pos.xyz - in_world);
     vec3 l;
-    vec3 radiance;
-    light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, radiance);
+    // Unshadowed: the light through the calcite enters on the far side, whose shadow
+    // is its own.
+    vec3 unshadowed;
+    light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, unshadowed);
     float visible = shadow_visibility(in_world, geometric);
-    radiance *= visible;
+    vec3 radiance = unshadowed * visible;
     float film = surface.look.x;
     float wet = clamp(film, 0.0, 1.0);
     // Under the film the calcite is darker and its colour deeper: light it scatters back
@@ -198,9 +200,7 @@ void main() {
         if (through > 1e-3) {
             // The far side, where the light enters, in the lamp's shadow or not (its
             // centre's: the light through is soft anyway).
-            vec3 radiance_in;
-            light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, radiance_in);
-            hdr += albedo * radiance_in * through
+            hdr += albedo * unshadowed * through
                  * shadow_visibility_hard(in_world + l * chord, l);
         }
     }

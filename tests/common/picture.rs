@@ -2,7 +2,7 @@
 //! brightest pixels) and the distance from a supersampled reference.
 
 /// sRGB channel (0..=255) to linear light.
-fn linear(c: u8) -> f64 {
+pub fn linear(c: u8) -> f64 {
     let c = f64::from(c) / 255.0;
     if c <= 0.04045 {
         c / 12.92

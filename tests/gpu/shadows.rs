@@ -46,15 +46,6 @@ fn visible_share(p: Vec3) -> f64 {
     1.0 - overlap(a, b, d) / (std::f64::consts::PI * a * a)
 }
 
-fn srgb_to_linear(v: u8) -> f64 {
-    let c = f64::from(v) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 /// The floor seen from above, lit by the lamp alone (no ambient, no highlight,
 /// linear tone mapping), with the ball's shadow or without.
 fn render(ctx: &std::sync::Arc<sediment::gpu::Context>, on: bool) -> (image::RgbaImage, Mat4) {
@@ -155,11 +146,11 @@ fn soft_shadows_match_the_share_of_a_spherical_lamp_left_visible() {
             let Some(p) = floor_point(view_proj, x, y) else {
                 continue;
             };
-            let off = srgb_to_linear(lit.get_pixel(x, y)[0]);
+            let off = common::picture::linear(lit.get_pixel(x, y)[0]);
             if off < 0.05 {
                 continue;
             }
-            let seen = srgb_to_linear(shadowed.get_pixel(x, y)[0]) / off;
+            let seen = common::picture::linear(shadowed.get_pixel(x, y)[0]) / off;
             let share = visible_share(p);
             if share >= 0.999 {
                 full.push(seen);

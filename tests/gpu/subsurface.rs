@@ -21,15 +21,6 @@ const ALBEDO: f32 = 0.8;
 const EXPOSURE: f32 = 8.0;
 const SIZE: u32 = 240;
 
-fn srgb_to_linear(v: u8) -> f32 {
-    let c = f32::from(v) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 /// A vertical cylinder: the axis's (x, z) and the radius.
 #[derive(Clone, Copy, Debug)]
 struct Column {
@@ -198,8 +189,8 @@ fn light_through_a_column_follows_the_transmission_law() {
                 let l = to_lamp.normalize();
                 let measured = (0..3)
                     .map(|k| {
-                        srgb_to_linear(on.get_pixel(i, j)[k])
-                            - srgb_to_linear(off.get_pixel(i, j)[k])
+                        common::picture::linear(on.get_pixel(i, j)[k]) as f32
+                            - common::picture::linear(off.get_pixel(i, j)[k]) as f32
                     })
                     .sum::<f32>()
                     / 3.0
