@@ -49,15 +49,21 @@ impl Camera {
     /// View and Vulkan projection (right-handed, Y up in the world, depth 0..1) for an
     /// image of `width / height` aspect.
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
+        let view = glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up);
+        self.projection(aspect) * view
+    }
+
+    /// The projection alone, view space to clip space, jitter included (what a pass
+    /// that reads the depth drawn needs to undo).
+    pub fn projection(&self, aspect: f32) -> Mat4 {
         let proj = glam::camera::rh::proj::vulkan::perspective(
             self.fov_y_degrees.to_radians(),
             aspect,
             self.near,
             self.far,
         );
-        let view = glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up);
         // A shift in clip space (x += jitter.x * w) moves the whole image by `jitter`
         // in normalized device coordinates, whatever the depth.
-        Mat4::from_translation(self.jitter.offset.extend(0.0)) * proj * view
+        Mat4::from_translation(self.jitter.offset.extend(0.0)) * proj
     }
 }

@@ -217,10 +217,11 @@ impl OffscreenTarget {
                 width,
                 height,
                 format.depth,
+                // Always sampled: ambient occlusion reads the depth of any frame.
                 vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
                     | vk::ImageUsageFlags::TRANSFER_SRC
                     | vk::ImageUsageFlags::TRANSFER_DST
-                    | read,
+                    | vk::ImageUsageFlags::SAMPLED,
             )
             .samples(format.samples),
         )?;
@@ -417,6 +418,37 @@ impl OffscreenTarget {
     /// TRANSFER_DST_OPTIMAL (this target's size).
     fn copy(&self, cmd: &Commands<'_>, (from, to): (&Image, &Image), aspect: vk::ImageAspectFlags) {
         cmd.copy_whole_image(from.raw(), to.raw(), aspect, self.width, self.height);
+    }
+
+    /// After `end`: the depth (multisampled where the target is) becomes readable by
+    /// fragment shaders (DEPTH_READ_ONLY), for a pass over the finished frame.
+    pub fn depth_to_shader_read(&self, cmd: &Commands<'_>) {
+        cmd.uses(&[Use::image(&self.depth, Usage::SampledDepthFragment)]);
+    }
+
+    /// After `end`: opens a rendering scope on the resolved colour alone, what it holds
+    /// kept, for a pass drawn over the finished frame (closed with `end`).
+    pub fn begin_over(&self, cmd: &Commands<'_>) {
+        cmd.uses(&[Use::image(&self.color, Usage::ColorAttachment)]);
+        let attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(self.color.view())
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let info = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D { x: 0, y: 0 },
+                extent: vk::Extent2D {
+                    width: self.width,
+                    height: self.height,
+                },
+            })
+            .layer_count(1)
+            .color_attachments(&attachment);
+        // SAFETY: `cmd` is recording outside a rendering scope; the colour was put in
+        // COLOR_ATTACHMENT_OPTIMAL above.
+        unsafe { cmd.ctx.device.cmd_begin_rendering(cmd.raw, &info) };
+        cmd.set_viewport(self.width, self.height);
     }
 
     /// Closes the rendering scope opened by `begin`.

@@ -1,6 +1,7 @@
 //! One module per GPU pass. Passes know nothing of the CLI; they take models and
 //! parameters and record commands through `gpu`.
 
+pub mod ambient_occlusion;
 pub mod atmosphere;
 pub mod cave_wall;
 pub mod dune_shadow;
@@ -29,6 +30,8 @@ use crate::shaders::ShaderInterface;
 /// its SPIR-V and checks that no non-geometry module is left undeclared.
 pub fn shader_interfaces() -> Vec<&'static ShaderInterface> {
     vec![
+        &ambient_occlusion::FRAGMENT_INTERFACE,
+        &ambient_occlusion::MULTISAMPLED_INTERFACE,
         &atmosphere::SKY_VIEW_INTERFACE,
         &atmosphere::SKY_FRAGMENT_INTERFACE,
         &cave_wall::FRAGMENT_INTERFACE,

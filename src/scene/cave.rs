@@ -115,6 +115,10 @@ crate::params! {
         /// percentage-closer soft shadows) on the walls and speleothems; the viewer's
         /// `u` turns them on and off.
         [top, "Look"] shadows: bool = true, "on|off", "", check::any();
+        /// Ambient occlusion: contact darkening in corners, on ledges and where the
+        /// speleothems meet the wall (screen space, cave_size / 24 round each pixel);
+        /// the viewer's `k`.
+        [top, "Look"] ao: bool = true, "on|off", "", check::any();
         /// Camera position x,y,z in metres (the cave spans 0..cave_size on each axis;
         /// the passage runs along x with its floor at y = cave_size / 4); default: down
         /// the passage from near its start.

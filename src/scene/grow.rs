@@ -199,6 +199,10 @@ crate::params! {
         /// Light through the calcite: the lamp shines through thin tips, straws and
         /// edges lit from behind (1.5 cm mean free path); the viewer's `y`.
         [look, "Look"] subsurface: bool = true, "on|off", "", check::any();
+        /// Ambient occlusion: contact darkening where speleothems meet the rock and
+        /// between columns (screen space, 30 cm round each pixel in the default
+        /// chamber); the viewer's `k`.
+        [look, "Look"] ao: bool = true, "on|off", "", check::any();
         /// The lamp's colour: neutral (white: the minerals show their own colours) or
         /// warm.
         [look, "Look"] lamp: Lamp = Lamp::Neutral, "neutral|warm", "", check::any();
@@ -309,6 +313,7 @@ impl GrowScene {
             environment: self.environment,
             shadows: self.shadows,
             subsurface: self.subsurface,
+            ao: self.ao,
             lamp: self.lamp,
             color: self.color,
         }
@@ -482,6 +487,8 @@ pub struct Look {
     pub shadows: bool,
     /// Light through the calcite (`--subsurface`).
     pub subsurface: bool,
+    /// Ambient occlusion over the chamber and speleothems (`--ao`).
+    pub ao: bool,
     /// The lamp's colour (`--lamp`).
     pub lamp: Lamp,
     /// What colours the speleothems (`--color`).
@@ -497,6 +504,7 @@ impl Default for Look {
             environment: 1.0,
             shadows: true,
             subsurface: true,
+            ao: true,
             lamp: Lamp::Neutral,
             color: ColorBy::Mineral,
         }

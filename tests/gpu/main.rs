@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod ambient_occlusion;
 mod anti_aliasing;
 mod atmosphere;
 mod bench;

@@ -24,6 +24,7 @@ use crate::input::Key;
 use crate::model::cave::placement::site_meshes;
 use crate::model::mesh::Mesh;
 use crate::model::speleothem::{GrowthPlan, RingVertex};
+use crate::render::ambient_occlusion::{AmbientOcclusionPass, Output};
 use crate::render::cave_wall::{CaveFrame as WallUniforms, CaveWallPass, Style};
 use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
@@ -124,6 +125,11 @@ pub struct CaveFrame {
     message: String,
     /// The lamp's soft shadows are on.
     shadows: bool,
+    /// Ambient occlusion is on (not over the wireframe).
+    ao: bool,
+    occlusion: AmbientOcclusionPass,
+    /// The camera of the frame being drawn, jitter included.
+    camera: Option<Camera>,
     /// The camera (unjittered) and aspect the shadow map is aimed for.
     shadow_for: Option<(Camera, f32)>,
     /// The map must be drawn again (a new aim, wall or growth).
@@ -212,6 +218,11 @@ impl CaveFrame {
             depth: scene.depth,
             message: String::new(),
             shadows: scene.shadows,
+            ao: scene.ao,
+            // A metre in the default 24 m cave: corners, ledges, where speleothems
+            // meet the wall.
+            occlusion: AmbientOcclusionPass::new(ctx, scene.cave_size / 24.0)?,
+            camera: None,
             shadow_for: None,
             shadow_stale: true,
             shadow,
@@ -249,7 +260,7 @@ impl CaveFrame {
 
     /// The viewer's keys.
     pub const CONTROLS: &'static [&'static str] =
-        &["x wireframe  b smoothed/blocky wall  u shadows"];
+        &["x wireframe  b smoothed/blocky wall  u shadows  k ambient occlusion"];
 }
 
 impl Scene for CaveFrame {
@@ -266,6 +277,7 @@ impl Scene for CaveFrame {
         _time: Time,
     ) -> Result<()> {
         let lighting = cave_lighting();
+        self.camera = Some(camera.clone());
         let unjittered = Camera {
             jitter: Jitter::NONE,
             ..camera.clone()
@@ -305,8 +317,8 @@ impl Scene for CaveFrame {
         Ok(())
     }
 
-    /// Records the frame: the growth (first frame only, span "ring growth"), then the
-    /// cave (span "cave").
+    /// Records the frame: the growth (first frame only, span "ring growth"), the
+    /// shadow map when stale, the cave (span "cave"), then its ambient occlusion.
     fn record(
         &mut self,
         cmd: &Commands<'_>,
@@ -373,7 +385,14 @@ impl Scene for CaveFrame {
             }
             target.end(cmd);
             Ok(())
-        })
+        })?;
+        if let (true, false, Some(camera)) = (self.ao, self.wireframe, &self.camera) {
+            let occlusion = &mut self.occlusion;
+            timer.span(cmd, "ambient occlusion", |cmd| {
+                occlusion.record(cmd, target, camera, Output::Darken)
+            })?;
+        }
+        Ok(())
     }
 
     fn status(&self) -> Vec<String> {
@@ -406,6 +425,12 @@ impl Interactive for CaveFrame {
         match key {
             Key::Char('x') => self.wireframe = !self.wireframe,
             Key::Char('b') => self.smooth = !self.smooth,
+            Key::Char('k') => {
+                self.ao = !self.ao;
+                let on = if self.ao { "on" } else { "off" };
+                self.message = format!("ambient occlusion {on}");
+                return Ok(true);
+            }
             Key::Char('u') => {
                 self.shadows = !self.shadows;
                 // Aimed again (and turned on or off) at the next frame.

@@ -33,6 +33,7 @@ use crate::model::speleothem::plan::Kind as SpeleothemKind;
 use crate::model::speleothem::plan::{GrowthParams, ParamChange};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
+use crate::render::ambient_occlusion::{AmbientOcclusionPass, Output};
 use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
 use crate::render::lighting::Lighting;
@@ -67,6 +68,8 @@ pub struct GrowthFrame {
     chamber: Option<Chamber>,
     environment: EnvironmentMap,
     shadow: ShadowMap,
+    /// Contact darkening over the finished frame (with a chamber, `look.ao`).
+    occlusion: AmbientOcclusionPass,
     /// The passes grown when the shadow map was last drawn (`None`: to draw).
     shadow_drawn: Option<u32>,
     bare_lighting: Option<Lighting>,
@@ -168,6 +171,7 @@ impl GrowthFrame {
         surface.set_subsurface(look.subsurface);
         surface.set_age_colours((look.color == ColorBy::Age).then_some(plan.passes));
         let mut frame = Self {
+            occlusion: AmbientOcclusionPass::new(ctx, occlusion_radius(&scene))?,
             growth: path.start(ctx, &plan)?,
             surface,
             environment,
@@ -421,8 +425,15 @@ impl GrowthFrame {
         "space pause  n one pass  r restart  t reseed  [ ] pass every k frames",
         "p pil  i drip  c co2  left/right wind dir  up/down wind  m mineral  -/= its intensity",
         "b normal map  g water film  u shadows  y light through calcite  o tone mapping",
-        ", . exposure  l lamp",
+        "k ambient occlusion  , . exposure  l lamp",
     ];
+}
+
+/// How far ambient occlusion searches round each pixel: an eighth of the chamber's
+/// height (30 cm in the default 2.4 m chamber, a few ring radii: the gaps between
+/// columns and the corners where they meet the rock).
+fn occlusion_radius(scene: &GrowthScene) -> f32 {
+    0.125 * (scene.ceiling_y - scene.floor_y)
 }
 
 fn cycle<T: Copy + PartialEq>(all: &[T], now: T) -> T {
@@ -537,7 +548,14 @@ impl Scene for GrowthFrame {
                 .draw_with(cmd, self.growth.source(), self.lod.as_ref())?;
             target.end(cmd);
             Ok(())
-        })
+        })?;
+        if let (true, Some(_), Some(camera)) = (self.look.ao, &self.chamber, &self.camera) {
+            let occlusion = &mut self.occlusion;
+            timer.span(cmd, "ambient occlusion", |cmd| {
+                occlusion.record(cmd, target, camera, Output::Darken)
+            })?;
+        }
+        Ok(())
     }
 
     fn after(&mut self, spans: &[Span]) -> Result<()> {
@@ -717,6 +735,11 @@ impl Interactive for GrowthFrame {
                 self.surface.set_subsurface(self.look.subsurface);
                 let on = if self.look.subsurface { "on" } else { "off" };
                 self.live.message = format!("light through the calcite {on}");
+            }
+            Key::Char('k') => {
+                self.look.ao = !self.look.ao;
+                let on = if self.look.ao { "on" } else { "off" };
+                self.live.message = format!("ambient occlusion {on}");
             }
             Key::Char('o') => {
                 self.look.tonemap = cycle(&ToneMap::ALL, self.look.tonemap);
