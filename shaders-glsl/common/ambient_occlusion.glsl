@@ -29,8 +29,11 @@ layout(push_constant) uniform Occlusion {
     // temporal anti-aliasing averages the turns), w largest search in pixels.
     vec4 params;
     // x, y the target's size in pixels, z pixels per scene unit at distance 1,
-    // w slices (4, the set turning from pixel to pixel and frame to frame, or 8).
+    // w unused.
     vec4 screen;
+    // x slices per pixel (1, 2, 4 or 8; below 8 the set of them turns from pixel to
+    // pixel and with the turn), y steps each way along a slice, zw unused.
+    vec4 search;
 } occlusion;
 
 // 1: the pass writes the visibility itself (grey) instead of darkening the frame.
@@ -40,7 +43,6 @@ layout(location = 0) in vec2 in_ndc;
 layout(location = 0) out vec4 out_color;
 
 const float PI = 3.14159265;
-const int STEPS = 6;
 
 float depth_at(ivec2 p) {
     p = clamp(p, ivec2(0), ivec2(occlusion.screen.xy) - 1);
@@ -53,10 +55,15 @@ float depth_at(ivec2 p) {
 
 // The view-space point on the ray through pixel position `p` (pixel centres at .5) at
 // depth-buffer value `z`.
+// A perspective projection (jitter included) leaves x and y apart and w depending on
+// the depth alone: the few products of `clip_to_view` that are not zero, not all 16.
 vec3 view_point(vec2 p, float z) {
     vec2 ndc = p / occlusion.screen.xy * 2.0 - 1.0;
-    vec4 v = occlusion.clip_to_view * vec4(ndc, z, 1.0);
-    return v.xyz / v.w;
+    mat4 m = occlusion.clip_to_view;
+    vec3 v = vec3(m[0][0] * ndc.x + m[2][0] * z + m[3][0],
+                  m[1][1] * ndc.y + m[2][1] * z + m[3][1],
+                  m[2][2] * z + m[3][2]);
+    return v / (m[2][3] * z + m[3][3]);
 }
 
 #ifdef MULTISAMPLED
@@ -70,10 +77,11 @@ vec3 view_at(ivec2 p) {
     return view_point(vec2(p) + SAMPLE, depth_at(p));
 }
 
-// The slices' directions: steps of whole lattice vectors, in two sets of four.
+// The slices' directions: steps of whole lattice vectors, ordered so that each pair
+// is square and each four spread evenly.
 const vec2 LATTICE[8] = vec2[8](
-    vec2(1.0, 0.0), vec2(1.0, 1.0), vec2(0.0, 1.0), vec2(-1.0, 1.0),
-    vec2(2.0, 1.0), vec2(1.0, 2.0), vec2(-1.0, 2.0), vec2(-2.0, 1.0));
+    vec2(1.0, 0.0), vec2(0.0, 1.0), vec2(1.0, 1.0), vec2(-1.0, 1.0),
+    vec2(2.0, 1.0), vec2(-1.0, 2.0), vec2(1.0, 2.0), vec2(-2.0, 1.0));
 
 // Jimenez's interleaved gradient noise: different step lengths in each pixel of a
 // small neighbourhood, which the frames' average (and the eye) blends.
@@ -113,17 +121,19 @@ void main() {
             // The slices run along pixel lattice directions so that every step lands
             // on a pixel's centre (its sample) inside the slice: a sample beside the
             // slice would rise above a plane's horizon in it and darken flat ground.
-            // Four slices take every other set by pixel, turning with the frame;
-            // eight take both.
-            int slices = int(occlusion.screen.w);
-            int first = slices >= 8 ? 0 : ((pixel.x + pixel.y + int(occlusion.params.z)) & 1) * 4;
+            // Fewer than eight slices take one set of them per pixel, the sets
+            // interleaved over pixels (every set in each 2x2 block with two) and
+            // turning with the camera's sample.
+            int SLICES = int(occlusion.search.x), STEPS = int(occlusion.search.y);
+            int sets = 8 / SLICES;
+            int first = ((pixel.x + 2 * pixel.y + int(occlusion.params.z)) % sets) * SLICES;
             // Step lengths vary from pixel to pixel (and with the turn): even steps
             // would draw the horizon's misses as streaks beside a silhouette, where a
             // grain softens them (and the frames' average removes it).
             vec2 frame = vec2(5.588238 * occlusion.params.z);
             float shift = gradient_noise(vec2(pixel) + frame);
             float seen = 0.0, open = 0.0;
-            for (int i = 0; i < min(slices, 8); i++) {
+            for (int i = 0; i < SLICES; i++) {
                 vec2 lattice = LATTICE[first + i];
                 float lattice_px = length(lattice);
                 // The slice's direction in view space: toward the point one step
@@ -150,10 +160,16 @@ void main() {
                     ivec2 offset = ivec2(lattice * k);
                     for (int side = 0; side < 2; side++) {
                         ivec2 o = side == 0 ? offset : -offset;
-                        vec3 w = view_at(pixel + o) - p;
+                        ivec2 at = pixel + o;
+                        vec3 w = view_at(at) - p;
                         float dist = length(w);
                         float c = dot(w, v) / max(dist, 1e-6);
                         float fade = clamp((radius - dist) / (0.25 * radius), 0.0, 1.0);
+                        // Nothing is known beyond the frame's edge: no occluder there
+                        // (the edge's own depth, repeated, would stand as a wall).
+                        bool inside = all(greaterThanEqual(at, ivec2(0)))
+                            && all(lessThan(at, ivec2(occlusion.screen.xy)));
+                        fade = inside ? fade : 0.0;
                         c = mix(-1.0, c, fade);
                         if (side == 0) {
                             high_plus = max(high_plus, c);

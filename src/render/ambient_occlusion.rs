@@ -22,16 +22,17 @@ use crate::gpu::{
 use crate::render::temporal::VERTEX_INTERFACE;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
-/// Slices through the view direction searched per pixel (each two ways) in a
-/// single-sampled frame, which temporal anti-aliasing averages over frames (the set of
-/// slices alternates from pixel to pixel and frame to frame).
-pub const SLICES: u32 = 4;
-/// Slices in a multisampled frame, a picture drawn once.
-pub const PICTURE_SLICES: u32 = 8;
+/// Slices through the view direction searched per pixel (each two ways) and steps
+/// each way along a slice, in a single-sampled frame: temporal anti-aliasing averages
+/// 16 frames, whose slices turn from frame to frame and pixel to pixel, so each frame
+/// searches little.
+pub const FRAME_SEARCH: (u32, u32) = (2, 6);
+/// Slices and steps in a multisampled frame: a picture, drawn once.
+pub const PICTURE_SEARCH: (u32, u32) = (8, 6);
 /// The farthest a horizon is searched, as a share of the frame's height (a near
 /// surface's radius is cut to it): a share, not pixels, so that a frame drawn larger
 /// (supersampled) darkens the same surfaces.
-pub const MAX_SEARCH: f32 = 0.1;
+pub const MAX_SEARCH: f32 = 0.25;
 /// How strongly the frame is darkened: 1 multiplies it by the visibility itself.
 pub const STRENGTH: f32 = 0.9;
 
@@ -44,10 +45,12 @@ pub struct OcclusionPush {
     /// x radius (scene units), y strength, z the turn of the slices (0..16, from the
     /// camera's sample in the pixel), w largest search (pixels).
     pub params: Vec4,
-    /// x, y target size (pixels), z pixels per scene unit at distance 1, w slices.
+    /// x, y target size (pixels), z pixels per scene unit at distance 1, w unused.
     pub screen: Vec4,
+    /// x slices per pixel, y steps each way along a slice, zw unused.
+    pub search: Vec4,
 }
-// SAFETY: repr(C), a Mat4 and two Vec4.
+// SAFETY: repr(C), a Mat4 and three Vec4.
 unsafe impl Pod for OcclusionPush {}
 
 const BINDINGS: &[DescriptorBinding] = &[
@@ -125,7 +128,8 @@ impl AmbientOcclusionPass {
         let index = match self.pipelines.iter().position(|(f, _)| *f == format) {
             Some(i) => i,
             None => {
-                let fragment = if format.samples == vk::SampleCountFlags::TYPE_1 {
+                let single = format.samples == vk::SampleCountFlags::TYPE_1;
+                let fragment = if single {
                     &FRAGMENT_INTERFACE
                 } else {
                     &MULTISAMPLED_INTERFACE
@@ -165,6 +169,11 @@ impl AmbientOcclusionPass {
         output: Output,
     ) -> Result<()> {
         let (width, height) = (target.width() as f32, target.height() as f32);
+        let (slices, steps) = if target.format().samples == vk::SampleCountFlags::TYPE_1 {
+            FRAME_SEARCH
+        } else {
+            PICTURE_SEARCH
+        };
         // The slices turn with the camera's sample inside the pixel, so that temporal
         // anti-aliasing averages 16 turns and a frame drawn twice (a kept layer, the
         // last frame of an animation and the picture) is drawn the same.
@@ -175,16 +184,8 @@ impl AmbientOcclusionPass {
         let push = OcclusionPush {
             clip_to_view: projection.inverse(),
             params: Vec4::new(self.radius, STRENGTH, turn, MAX_SEARCH * height),
-            screen: Vec4::new(
-                width,
-                height,
-                projection.y_axis.y.abs() * height * 0.5,
-                if target.format().samples == vk::SampleCountFlags::TYPE_1 {
-                    SLICES as f32
-                } else {
-                    PICTURE_SLICES as f32
-                },
-            ),
+            screen: Vec4::new(width, height, projection.y_axis.y.abs() * height * 0.5, 0.0),
+            search: Vec4::new(slices as f32, steps as f32, 0.0, 0.0),
         };
         let set = self.set_for(target)?;
         let made = self.pipelines(target.format())?;

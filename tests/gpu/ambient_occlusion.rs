@@ -61,8 +61,27 @@ fn cylinder(segments: u32) -> Mesh {
 }
 
 /// The visibility the pass writes for the cylinder on the floor, one value a pixel
-/// (linear), in a target of `samples`.
+/// (linear): a multisampled picture, or the mean of the 16 single-sampled frames
+/// temporal anti-aliasing averages (each at its own sample in the pixel, and so its
+/// own turn of the slices).
 fn render(ctx: &std::sync::Arc<Context>, multisampled: bool) -> Vec<f64> {
+    if multisampled {
+        return render_frame(ctx, true, Jitter::NONE);
+    }
+    let size = sediment::Size::new(SIZE, SIZE);
+    let frames = sediment::frame::temporal::SAMPLES;
+    let mut sum = vec![0.0; (SIZE * SIZE) as usize];
+    for k in 0..frames {
+        let jitter = sediment::frame::temporal::sample_jitter(k, size);
+        for (s, v) in sum.iter_mut().zip(render_frame(ctx, false, jitter)) {
+            *s += v / frames as f64;
+        }
+    }
+    sum
+}
+
+fn render_frame(ctx: &std::sync::Arc<Context>, multisampled: bool, jitter: Jitter) -> Vec<f64> {
+    let camera = Camera { jitter, ..camera() };
     let target = if multisampled {
         OffscreenTarget::new(ctx, SIZE, SIZE).expect("target")
     } else {
@@ -85,7 +104,7 @@ fn render(ctx: &std::sync::Arc<Context>, multisampled: bool) -> Vec<f64> {
         exposure: 1.0,
         tonemap: ToneMap::Linear,
     };
-    pass.set_frame(&lighting.frame_uniforms(&camera(), 1.0))
+    pass.set_frame(&lighting.frame_uniforms(&camera, 1.0))
         .expect("frame");
     let matte = ObjectPush {
         model: Mat4::IDENTITY,
@@ -98,7 +117,7 @@ fn render(ctx: &std::sync::Arc<Context>, multisampled: bool) -> Vec<f64> {
         pass.draw(cmd, &floor, &matte)?;
         pass.draw(cmd, &column, &matte)?;
         target.end(cmd);
-        occlusion.record(cmd, &target, &camera(), Output::Visibility)?;
+        occlusion.record(cmd, &target, &camera, Output::Visibility)?;
         target.copy_out(cmd)
     })
     .expect("submit");
@@ -206,7 +225,7 @@ fn reference() -> Vec<Option<f64>> {
 }
 
 /// Block means (8 x 8 pixels, where the reference holds for all of them) of the GPU's
-/// visibility against the reference's: within 0.06 on average where anything is
+/// visibility against the reference's: within 0.045 on average where anything is
 /// hidden, nothing hidden where the reference sees the whole hemisphere, and the
 /// contact with the floor the darkest.
 fn compare(gpu: &[f64], reference: &[Option<f64>], label: &str) {
@@ -248,10 +267,11 @@ fn compare(gpu: &[f64], reference: &[Option<f64>], label: &str) {
         occluded.len() >= 20 && open.len() >= 100,
         "{label}: too few blocks"
     );
-    assert!(error < 0.06, "{label}: occlusion off the reference");
+    // Measured on lavapipe: 0.029 and 0.028, the darkest 0.750 and 0.740.
+    assert!(error < 0.045, "{label}: occlusion off the reference");
     assert!(open_mean > 0.985, "{label}: open ground darkened");
     assert!(
-        (darkest.1 - darkest.0).abs() < 0.1 && darkest.0 < 0.8,
+        (darkest.1 - darkest.0).abs() < 0.05 && darkest.0 < 0.8,
         "{label}: the contact's darkening is off"
     );
 }
@@ -260,7 +280,7 @@ fn compare(gpu: &[f64], reference: &[Option<f64>], label: &str) {
 fn ambient_occlusion_of_a_cylinder_on_a_plane_matches_ray_casting() {
     let gpu = common::gpu();
     let reference = reference();
-    compare(&render(&gpu, false), &reference, "one sample");
+    compare(&render(&gpu, false), &reference, "16 frames of one sample");
     compare(&render(&gpu, true), &reference, "multisampled");
 }
 
