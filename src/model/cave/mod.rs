@@ -32,7 +32,7 @@ use crate::error::{Error, Result, ensure_in_range};
 use crate::model::mesh::Mesh;
 use octree::Octree;
 use smooth::{Neighbours, laplacian};
-use surface::{LatticeMesh, carve_ambiguities, split_t_junctions};
+use surface::{LatticeMesh, carve_ambiguities, drop_rock_islands, split_t_junctions};
 use volume::VolumeParams;
 
 /// Everything that decides a cave.
@@ -226,6 +226,7 @@ fn from_tree(params: &CaveParams, mut tree: Octree, progress: &(dyn Fn(Phase) + 
     progress(Phase::Walls);
     let t = Instant::now();
     let (carved_voxels, blocky) = carve_ambiguities(&mut tree);
+    let (blocky, _) = drop_rock_islands(blocky);
     timings.extract_ms = ms(t);
     progress(Phase::Split);
     let t = Instant::now();

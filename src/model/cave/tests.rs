@@ -523,3 +523,48 @@ fn voxel_speleothems_join_the_walls_where_the_meshes_were() {
     }
     assert!(checked >= 3, "{checked} speleothems checked");
 }
+
+/// A speck of rock floating in a cave is not part of its wall: of a box-shaped cave
+/// with a 2-voxel cube of rock in the middle, the wall keeps the box (closed, facing
+/// inward: one piece) and drops the cube; without the cube nothing is dropped.
+#[test]
+fn rock_floating_in_the_cave_is_dropped_from_the_wall() {
+    let speck =
+        |x: u32, y: u32, z: u32| (7..9).contains(&x) && (7..9).contains(&y) && (7..9).contains(&z);
+    let inside = |x: u32, y: u32, z: u32| [x, y, z].iter().all(|c| (3..13).contains(c));
+    for with_speck in [true, false] {
+        let tree = Octree::from_voxels(4, &|x, y, z| {
+            !inside(x, y, z) || with_speck && speck(x, y, z)
+        });
+        let wall = surface::extract(&tree);
+        assert_eq!(surface::pieces(&wall).1, if with_speck { 2 } else { 1 });
+        let (kept, dropped) = surface::drop_rock_islands(wall);
+        assert_eq!(dropped, usize::from(with_speck));
+        assert_eq!(surface::pieces(&kept).1, 1);
+        // The box's six faces of 10 x 10 squares, two triangles each.
+        assert_eq!(kept.triangles.len(), 6 * 100 * 2);
+        assert!(
+            kept.triangles
+                .iter()
+                .flatten()
+                .all(|&i| (i as usize) < kept.vertices.len())
+        );
+    }
+}
+
+/// The default cave's wall is one piece at every depth: the 14 cm speck of rock the
+/// depth-9 wall had (108 faces, a second component in an exported mesh) is gone.
+#[test]
+fn the_default_wall_is_one_piece_at_every_depth() {
+    for depth in 5..=9 {
+        let c = generate(
+            &CaveParams {
+                depth,
+                ..CaveParams::default()
+            },
+            &|_| {},
+        )
+        .expect("cave");
+        assert_eq!(surface::pieces(&c.lattice).1, 1, "depth {depth}");
+    }
+}
