@@ -366,7 +366,8 @@ fn draw_compare<DB: DrawingBackend>(
 }
 
 /// The (series / pass, b / a) rows of a comparison: the frame and every shared pass
-/// whose median in a is above zero.
+/// whose median in a is above zero (and whose ratio is finite: an axis to infinity
+/// has no ticks).
 pub fn compare_rows(a: &Report, b: &Report) -> Vec<(String, f64)> {
     let mut rows = Vec::new();
     for sa in a.floor.iter().chain(&a.series) {
@@ -391,6 +392,7 @@ pub fn compare_rows(a: &Report, b: &Report) -> Vec<(String, f64)> {
             }
         }
     }
+    rows.retain(|r| r.1.is_finite());
     rows
 }
 
@@ -547,6 +549,31 @@ mod tests {
         write_compare_chart(&dir.join("x.svg"), &r, &report(2.0)).expect("compare");
         let svg = std::fs::read_to_string(dir.join("x.svg")).expect("read");
         assert!(svg.contains("grow / xfb-append: frame") && svg.contains(" 2.00"));
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
+
+    /// Issue 47's hang: `--compare a.json r.json --plot p.png` with a's times subnormal
+    /// (5e-324 ms) spun forever on an axis to an infinite ratio. Such a report is now
+    /// refused when read, naming the series, and a ratio that is not finite never
+    /// reaches a chart.
+    #[test]
+    fn a_report_of_subnormal_times_is_refused_and_no_ratio_is_infinite() {
+        let mut tiny = report(1.0);
+        for s in tiny.floor.iter_mut().chain(&mut tiny.series) {
+            s.frame_gpu_ms.median = 5e-324;
+        }
+        let refused = Report::from_json(&tiny.to_json()).expect_err("subnormal times refused");
+        let message = refused.to_string();
+        assert!(
+            message.contains("floor / fullscreen: frame GPU: median") && message.contains("5e-324"),
+            "{message}"
+        );
+        assert!(Report::from_json(&report(1.0).to_json()).is_ok());
+        let rows = compare_rows(&tiny, &report(1.0));
+        assert!(rows.iter().all(|r| r.1.is_finite()), "{rows:?}");
+        let dir = std::env::temp_dir().join(format!("sediment-plot-tiny-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        write_compare_chart(&dir.join("x.svg"), &tiny, &report(1.0)).expect("compare");
         std::fs::remove_dir_all(&dir).expect("clean up");
     }
 }

@@ -23,6 +23,10 @@ pub struct PassResult {
     pub gpu_ms: Stats,
 }
 
+/// The shortest time a report may hold above zero, ms (a nanosecond: no timestamp
+/// resolves less).
+pub const MIN_TIME_MS: f64 = 1e-6;
+
 /// One scene in one variant, measured over frames.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -161,7 +165,50 @@ impl Report {
                 ),
             ));
         }
+        report.check_times()?;
         Ok(report)
+    }
+
+    /// Refuses a time no run measures: not finite, negative, or above zero but below a
+    /// nanosecond (a ratio with it would be infinite or meaningless), naming the
+    /// series and pass; and metrics that are not finite.
+    fn check_times(&self) -> Result<()> {
+        let time = |what: &str, ms: f64| {
+            if ms.is_finite() && (ms == 0.0 || ms >= MIN_TIME_MS) {
+                Ok(())
+            } else {
+                Err(Error::invalid(
+                    "bench report",
+                    format!(
+                        "{what} is {ms:e} ms, not a measured time (0, or from {MIN_TIME_MS:e} \
+                         ms up)"
+                    ),
+                ))
+            }
+        };
+        let stats = |what: &str, s: &Stats| {
+            time(&format!("{what}: min"), s.min)?;
+            time(&format!("{what}: median"), s.median)?;
+            time(&format!("{what}: p95"), s.p95)
+        };
+        for s in self.floor.iter().chain(&self.series) {
+            let name = format!("{} / {}", s.scene, s.variant);
+            stats(&format!("{name}: frame GPU"), &s.frame_gpu_ms)?;
+            stats(&format!("{name}: frame CPU"), &s.frame_cpu_ms)?;
+            for p in &s.passes {
+                stats(&format!("{name}: {}", p.name), &p.gpu_ms)?;
+            }
+            for (i, &ms) in s.per_frame_gpu_ms.iter().enumerate() {
+                time(&format!("{name}: frame {i}"), ms)?;
+            }
+            if let Some((key, value)) = s.metrics.iter().find(|(_, v)| !v.is_finite()) {
+                return Err(Error::invalid(
+                    "bench report",
+                    format!("{name}: metric {key} is {value}, not a number"),
+                ));
+            }
+        }
+        self.runs.iter().try_for_each(Report::check_times)
     }
 
     /// The series of `scene` and `variant`, the floor's included, if it was measured.

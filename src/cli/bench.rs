@@ -1,6 +1,5 @@
 //! `sediment bench`: frame timings per scene and variant, against a floor.
 
-use std::io::Write as _;
 use std::path::PathBuf;
 
 use crate::export::check_extension;
@@ -112,7 +111,7 @@ pub fn run(
             return Ok(());
         };
         let verdict = targets.check(&report.each_run());
-        say!("{}", verdict.markdown());
+        super::report(&verdict.markdown())?;
         if verdict.all_hold() {
             return Ok(());
         }
@@ -145,7 +144,7 @@ pub fn run(
     }
     if let Some(pair) = &a.compare {
         let (ra, rb) = (read(&pair[0])?, read(&pair[1])?);
-        say!("{}", bench::report::compare(&ra, &rb));
+        super::report(&bench::report::compare(&ra, &rb))?;
         #[cfg(feature = "bench-plots")]
         if let Some(path) = &a.plot {
             bench::plot::write_compare_chart(path, &ra, &rb)?;
@@ -221,10 +220,10 @@ pub fn run(
     };
     fail_on_validation_errors(&ctx)?;
     if json_to_stdout {
-        say!("{}", report.to_json());
+        super::report(&report.to_json())?;
         log::info!("{}", report.markdown());
     } else {
-        say!("{}", report.markdown());
+        super::report(&report.markdown())?;
     }
     let reports = [
         (json_file, Some(report.to_json())),

@@ -24,6 +24,20 @@ macro_rules! say {
     }};
 }
 
+/// Writes `text` and a newline to standard output as the command's report (a scene
+/// file, a table, a bench report): a write that fails (a full disk, a closed file)
+/// fails the run, where `say!` would lose the report and exit 0. A reader that closed
+/// the pipe (`sediment ... | head`) took what it wanted: not an error.
+pub(crate) fn report(text: &str) -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{text}").and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(anyhow::anyhow!(
+            "could not write the report to standard output: {e}"
+        )),
+        _ => Ok(()),
+    }
+}
+
 pub mod bench;
 pub mod output;
 pub mod reference;
@@ -220,12 +234,13 @@ fn dispatch(
         match sub {
             "info" => info(InfoArgs::from_arg_matches(sub_matches)?.json),
             "presets" => {
+                let mut lines = Vec::new();
                 for def in scenes {
                     for (preset, what) in def.presets() {
-                        say!("{}\t{preset}\t{what}", def.name());
+                        lines.push(format!("{}\t{preset}\t{what}", def.name()));
                     }
                 }
-                Ok(())
+                report(&lines.join("\n"))
             }
             "demo" => demo(
                 globals,
@@ -241,8 +256,7 @@ fn dispatch(
             "view" => view::run(globals, scenes, sub_matches),
             "reference" => {
                 let page = ReferenceArgs::from_arg_matches(sub_matches)?.page;
-                say!("{}", reference::page(page, scenes)?.trim_end());
-                Ok(())
+                report(reference::page(page, scenes)?.trim_end())
             }
             scene_name => {
                 let def = scenes

@@ -221,8 +221,7 @@ pub fn run(g: &Globals, def: &dyn AnyScene, m: &ArgMatches) -> anyhow::Result<()
         )
         .map_err(|e| with_flags(def, e))?;
     if m.get_flag("print-scene") {
-        say!("{}", def.to_toml(&resolved)?.trim_end());
-        return Ok(());
+        return super::report(def.to_toml(&resolved)?.trim_end());
     }
     // Every output checked before any work: its extension, that it overwrites no
     // input, and what the scene itself requires of it.

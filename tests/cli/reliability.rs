@@ -461,3 +461,47 @@ fn a_frame_over_the_memory_budget_is_refused_and_the_estimate_holds() {
     );
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// Issue 47 #7: a report written to standard output that cannot take it (`> /dev/full`)
+/// was lost with exit 0; now the run fails (exit 1) and says so. A reader that closes
+/// the pipe early (`| head`) is not an error.
+#[test]
+fn a_report_that_cannot_be_written_to_standard_output_fails_the_run() {
+    use std::process::{Command, Stdio};
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
+        panic!("/dev/full is missing: this test needs a Linux machine");
+    };
+    for args in [
+        &["grow", "--print-scene"][..],
+        &["layers", "--preset", "timeline", "--print-scene"],
+        &["dunes", "--print-scene"],
+        &["presets"],
+        &["reference", "commands"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_sediment"))
+            .args(args)
+            .stdout(full.try_clone().expect("clone /dev/full"))
+            .output()
+            .expect("run the sediment binary");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("could not write the report to standard output")
+                && !stderr.contains("panicked"),
+            "{args:?}: {stderr}"
+        );
+        let mut child = Command::new(env!("CARGO_BIN_EXE_sediment"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("run the sediment binary");
+        drop(child.stdout.take());
+        let out = child.wait_with_output().expect("wait");
+        assert!(
+            out.status.success(),
+            "{args:?} with the pipe closed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
