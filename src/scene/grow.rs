@@ -340,6 +340,14 @@ impl GrowScene {
                     return Err(Error::invalid(key, "applies only with a climate record"));
                 }
             }
+        } else if self.passes != d.passes {
+            // The record's span sets the passes; a count given beside it would be
+            // ignored without a word.
+            return Err(Error::invalid(
+                "passes",
+                "the climate record sets the passes (its span over --years-per-pass); \
+                 leave --passes out, or change --years-per-pass",
+            ));
         }
         self.growth_scene()?.validate()
     }

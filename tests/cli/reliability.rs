@@ -505,3 +505,36 @@ fn a_report_that_cannot_be_written_to_standard_output_fails_the_run() {
         );
     }
 }
+
+/// Issue 47 #9: `--passes` beside a climate record was ignored without a word (the
+/// record's span sets the passes); now it is refused on the command line and in a
+/// scene file, naming the file, and the holocene preset (no count of its own) runs.
+#[test]
+fn a_pass_count_beside_a_climate_record_is_refused() {
+    let dir = scratch("rel-climate-passes");
+    let stderr = refused(
+        &[
+            "grow",
+            "--climate",
+            "holocene",
+            "--passes",
+            "10",
+            "--print-scene",
+        ],
+        "the climate record sets the passes",
+    );
+    assert!(stderr.contains("--passes"), "{stderr}");
+    let printed = common::cli::assert_success(
+        &sediment(&["grow", "--preset", "holocene", "--print-scene"]),
+        "grow --preset holocene --print-scene",
+    );
+    let scene = dir.join("forty.toml");
+    std::fs::write(&scene, printed.replace("passes = 30", "passes = 40")).expect("scene");
+    let scene = scene.to_string_lossy().into_owned();
+    let stderr = refused(
+        &["grow", "--scene", &scene, "--print-scene"],
+        "the climate record sets the passes",
+    );
+    assert!(stderr.contains("forty.toml"), "{stderr}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
