@@ -130,6 +130,22 @@ pub fn write_heightmap(path: &Path, map: &Heightmap) -> Result<(HeightRange, Vec
             "the heights must be finite, one per sample",
         ));
     }
+    let exr = super::extension(path).as_deref() == Some("exr");
+    // An EXR holds 32-bit floats: a height beyond them would be written as infinity.
+    if let Some(h) = map
+        .heights_m
+        .iter()
+        .find(|h| exr && h.abs() > f64::from(f32::MAX))
+    {
+        return Err(Error::invalid(
+            "--heightmap",
+            format!(
+                "a height of {h:e} m does not fit the 32-bit floats of an EXR (at most \
+                 {:e}): write a PNG, or bring the field's parameters into range",
+                f32::MAX
+            ),
+        ));
+    }
     let lo = map.heights_m.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = map
         .heights_m
@@ -138,7 +154,6 @@ pub fn write_heightmap(path: &Path, map: &Heightmap) -> Result<(HeightRange, Vec
         .fold(f64::NEG_INFINITY, f64::max);
     // A flat field still gets a range a reader can divide by.
     let hi = if hi > lo { hi } else { lo + 1e-6 };
-    let exr = super::extension(path).as_deref() == Some("exr");
     let range = HeightRange {
         file: path
             .file_name()

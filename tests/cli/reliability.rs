@@ -538,3 +538,38 @@ fn a_pass_count_beside_a_climate_record_is_refused() {
     assert!(stderr.contains("forty.toml"), "{stderr}");
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// Issue 47 #4: `--ripple-q 1e300` made ripples 1e299 m high, written to an EXR as
+/// infinity (765 of 768 samples). Now the heightmap is refused, naming the 32-bit
+/// bound, and nothing of the set is left.
+#[test]
+fn heights_beyond_an_exrs_floats_are_refused_and_nothing_is_left() {
+    let dir = scratch("rel-exr-inf");
+    let map = dir.join("h.exr").to_string_lossy().into_owned();
+    let out = sediment(&[
+        "dunes",
+        "--size",
+        "64x48",
+        "--ripple-size",
+        "16",
+        "--ripple-steps",
+        "10",
+        "--dune-size",
+        "8",
+        "--dune-steps",
+        "10",
+        "--ripple-q",
+        "1e300",
+        "--heightmap",
+        &map,
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("does not fit the 32-bit floats of an EXR"),
+        "{stderr}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir).expect("dir").collect();
+    assert!(left.is_empty(), "{left:?}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
