@@ -47,6 +47,7 @@ pub mod export;
 pub mod frame;
 pub mod gpu;
 pub mod input;
+pub mod input_files;
 pub mod model;
 pub mod params;
 pub mod pod;

@@ -647,10 +647,11 @@ impl SceneFile {
 
     /// Reads and parses `path`; errors name the file and line.
     pub fn read<P: ParamSet>(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::input_files::read_text(
+            path,
+            "--scene",
+            crate::input_files::InputKind::SceneFile,
+        )?;
         Self::from_text::<P>(&path.display().to_string(), &text)
     }
 

@@ -86,22 +86,21 @@ pub fn run(
 ) -> anyhow::Result<()> {
     use crate::bench::targets::Targets;
     use crate::bench::{self, BenchOptions, report::Report};
-    let read_text = |path: &PathBuf| -> anyhow::Result<String> {
-        Ok(
-            std::fs::read_to_string(path).map_err(|source| crate::Error::Read {
-                path: path.clone(),
-                source,
-            })?,
-        )
-    };
+    use crate::input_files::{InputKind, read_text};
     let read = |path: &PathBuf| -> anyhow::Result<Report> {
-        Report::from_json(&read_text(path)?).with_context(|| format!("reading {}", path.display()))
+        let option = if a.compare.is_some() {
+            "--compare"
+        } else {
+            "--from"
+        };
+        Report::from_json(&read_text(path, option, InputKind::BenchReport)?)
+            .with_context(|| format!("reading {}", path.display()))
     };
     crate::error::ensure_in_range((1..=20).contains(&a.repeat), "--repeat", "1..=20")?;
     // The targets are read first: a typo in them should not cost a whole bench run.
     let targets = match &a.check {
         Some(path) => Some(
-            Targets::from_toml(&read_text(path)?)
+            Targets::from_toml(&read_text(path, "--check", InputKind::Targets)?)
                 .with_context(|| format!("reading {}", path.display()))?,
         ),
         None => None,

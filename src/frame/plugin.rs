@@ -14,6 +14,7 @@ use crate::Size;
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::gpu::Context;
+use crate::input_files::InputKind;
 use crate::params::{Param, ParamSet, Point3, SceneFile};
 
 /// Reports the progress of a long step: (what, done, total), from any thread.
@@ -226,12 +227,8 @@ pub trait AnyScene: Send + Sync {
     ) -> Result<Resolved> {
         let text = file
             .map(|path| {
-                std::fs::read_to_string(path)
+                crate::input_files::read_text(path, "--scene", InputKind::SceneFile)
                     .map(|t| (path.display().to_string(), t))
-                    .map_err(|source| Error::Read {
-                        path: path.to_path_buf(),
-                        source,
-                    })
             })
             .transpose()?;
         self.resolve_text(

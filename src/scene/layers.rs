@@ -223,10 +223,11 @@ impl LayersScene {
         };
         let mut physical = match &self.supply {
             SupplySpec::Timeline(file) => {
-                let text = std::fs::read_to_string(file).map_err(|source| Error::Read {
-                    path: file.clone(),
-                    source,
-                })?;
+                let text = crate::input_files::read_text(
+                    file,
+                    "--supply",
+                    crate::input_files::InputKind::Table,
+                )?;
                 Some(real(physical::parse_timeline(&text, self.film * 1e-3)?))
             }
             SupplySpec::Relative(_) => None,
@@ -389,10 +390,8 @@ impl BaseSpec {
             BaseSpec::Points(p) => return Ok(p.clone()),
             BaseSpec::File(path) => path,
         };
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-            path: path.clone(),
-            source,
-        })?;
+        let text =
+            crate::input_files::read_text(path, "--base", crate::input_files::InputKind::Table)?;
         let what = format!("--base {}", path.display());
         let points = crate::tables::read_numbers(&text, &what, &["x", "y"])?
             .into_iter()

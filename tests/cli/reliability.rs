@@ -573,3 +573,47 @@ fn heights_beyond_an_exrs_floats_are_refused_and_nothing_is_left() {
     assert!(left.is_empty(), "{left:?}");
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// Issue 47 #2: every input was read whole, so an endless source was read until the
+/// process was killed (1-7 s). Now each is refused by its kind's limit, naming the
+/// option and the file.
+#[test]
+fn endless_inputs_are_refused_by_their_limit() {
+    let dir = scratch("rel-endless");
+    let out = dir.join("x.png").to_string_lossy().into_owned();
+    for args in [
+        &["grow", "--climate", "/dev/zero", "--print-scene"][..],
+        &["grow", "--scene", "/dev/zero", "--print-scene"],
+        &["dunes", "--scene", "/dev/zero", "--print-scene"],
+        &[
+            "layers",
+            "--base",
+            "/dev/zero",
+            "--size",
+            "32x24",
+            "-o",
+            &out,
+        ],
+        &[
+            "layers",
+            "--supply",
+            "timeline:/dev/zero",
+            "--size",
+            "32x24",
+            "-o",
+            &out,
+        ],
+        &["bench", "--check", "/dev/zero"],
+        &["bench", "--compare", "/dev/zero", "/dev/zero"],
+    ] {
+        let run = sediment(args);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("/dev/zero holds more than the") && stderr.contains("MiB"),
+            "{args:?}: {stderr}"
+        );
+    }
+    assert!(!dir.join("x.png").exists());
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

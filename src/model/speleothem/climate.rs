@@ -257,8 +257,11 @@ pub fn load(source: &str, film_m: f64, years_per_pass: f64) -> Result<ClimateGro
     let text = if source == "holocene" {
         HOLOCENE.to_owned()
     } else {
-        std::fs::read_to_string(source)
-            .map_err(|e| Error::invalid("--climate", format!("cannot read {source}: {e}")))?
+        crate::input_files::read_text(
+            std::path::Path::new(source),
+            "--climate",
+            crate::input_files::InputKind::Table,
+        )?
     };
     let mut climate = parse(&text, film_m, years_per_pass)?;
     climate.source = source.to_owned();
