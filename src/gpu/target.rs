@@ -336,7 +336,7 @@ impl OffscreenTarget {
                     stencil: 0,
                 },
             });
-        self.open_scope(cmd, &color_attachment, &depth_attachment);
+        self.open_scope(cmd, &color_attachment, Some(&depth_attachment));
     }
 
     /// Begins dynamic rendering over the whole target into these attachments (in
@@ -345,9 +345,9 @@ impl OffscreenTarget {
         &self,
         cmd: &Commands<'_>,
         color: &[vk::RenderingAttachmentInfo<'_>],
-        depth: &vk::RenderingAttachmentInfo<'_>,
+        depth: Option<&vk::RenderingAttachmentInfo<'_>>,
     ) {
-        let info = vk::RenderingInfo::default()
+        let mut info = vk::RenderingInfo::default()
             .render_area(vk::Rect2D {
                 offset: vk::Offset2D { x: 0, y: 0 },
                 extent: vk::Extent2D {
@@ -356,8 +356,10 @@ impl OffscreenTarget {
                 },
             })
             .layer_count(1)
-            .color_attachments(color)
-            .depth_attachment(depth);
+            .color_attachments(color);
+        if let Some(depth) = depth {
+            info = info.depth_attachment(depth);
+        }
         // SAFETY: `cmd` is recording outside a rendering scope; the callers put the
         // attachments in the layouts they name.
         unsafe { cmd.ctx.device.cmd_begin_rendering(cmd.raw, &info) };
@@ -384,7 +386,7 @@ impl OffscreenTarget {
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::LOAD)
             .store_op(vk::AttachmentStoreOp::STORE);
-        self.open_scope(cmd, &color_attachment, &depth_attachment);
+        self.open_scope(cmd, &color_attachment, Some(&depth_attachment));
     }
 
     /// After `end`: leaves colour and depth to be copied from (`copy_attachments_from`
@@ -435,20 +437,7 @@ impl OffscreenTarget {
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::LOAD)
             .store_op(vk::AttachmentStoreOp::STORE)];
-        let info = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D {
-                offset: vk::Offset2D { x: 0, y: 0 },
-                extent: vk::Extent2D {
-                    width: self.width,
-                    height: self.height,
-                },
-            })
-            .layer_count(1)
-            .color_attachments(&attachment);
-        // SAFETY: `cmd` is recording outside a rendering scope; the colour was put in
-        // COLOR_ATTACHMENT_OPTIMAL above.
-        unsafe { cmd.ctx.device.cmd_begin_rendering(cmd.raw, &info) };
-        cmd.set_viewport(self.width, self.height);
+        self.open_scope(cmd, &attachment, None);
     }
 
     /// Closes the rendering scope opened by `begin`.
