@@ -154,11 +154,6 @@ impl AmbientOcclusionPass {
         Ok(index)
     }
 
-    /// Radius of the search, scene units.
-    pub fn radius(&self) -> f32 {
-        self.radius
-    }
-
     /// Records the pass over `target`'s finished frame (after its `end`), drawn through
     /// `camera` (jitter included).
     pub fn record(

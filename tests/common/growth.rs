@@ -52,3 +52,32 @@ pub fn assert_matches(name: &str, gpu: &[RingVertex], cpu: &[RingVertex], scale:
         cpu[wrong[0]]
     );
 }
+
+/// Pictures of `scene` grown to its end on the paper's GS/XFB path, from `camera` at
+/// `size`, with a switch of its look (`set(look, on)`) on, off, and on then turned by
+/// the viewer's `key`: `[on, off, keyed]`, for tests that hold a key to its option.
+pub fn switch_pictures(
+    ctx: &std::sync::Arc<sediment::gpu::Context>,
+    scene: &sediment::scene::grow::SpeleothemScene,
+    (camera, size): (&sediment::camera::Camera, sediment::Size),
+    key: sediment::input::Key,
+    set: impl Fn(&mut sediment::scene::grow::Look, bool),
+) -> [image::RgbaImage; 3] {
+    use sediment::frame::{FrameRunner, Interactive, Scene, Time};
+    use sediment::render::growth::GrowthPath;
+    use sediment::scene::grow::{GrowthFrame, SpeleothemScene};
+    let frame_with = |on: bool| {
+        let mut model: SpeleothemScene = scene.clone();
+        set(&mut model.look, on);
+        GrowthFrame::with_look(ctx, model, GrowthPath::XfbRestream).expect("frame")
+    };
+    let draw = |mut frame: GrowthFrame| {
+        let mut runner = FrameRunner::new(ctx, size).expect("runner");
+        let end = Time::At(u32::MAX);
+        frame.advance_to(ctx, end, &|_, _, _| {}).expect("grow");
+        runner.render(&mut frame, camera, end).expect("render").0
+    };
+    let mut keyed = frame_with(true);
+    assert!(keyed.key(ctx, key).expect("key"), "{key:?} not handled");
+    [draw(frame_with(true)), draw(frame_with(false)), draw(keyed)]
+}

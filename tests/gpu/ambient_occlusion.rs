@@ -291,10 +291,8 @@ fn ambient_occlusion_of_a_cylinder_on_a_plane_matches_ray_casting() {
 #[test]
 fn ambient_occlusion_darkens_where_the_columns_meet_the_floor_and_its_key_turns_it_off() {
     use sediment::Size;
-    use sediment::frame::{FrameRunner, Interactive, Scene, Time};
     use sediment::input::Key;
-    use sediment::render::growth::GrowthPath;
-    use sediment::scene::grow::{self, GrowthFrame, Look, SpeleothemScene};
+    use sediment::scene::grow;
     common::with_gpu(|ctx| {
         let scene = grow::preset("fig9f")
             .expect("preset")
@@ -302,27 +300,13 @@ fn ambient_occlusion_darkens_where_the_columns_meet_the_floor_and_its_key_turns_
             .expect("scene");
         let camera = grow::default_camera(&scene.growth);
         let size = Size::new(240, 160);
-        let draw = |frame: &mut GrowthFrame| {
-            let mut runner = FrameRunner::new(ctx, size).expect("runner");
-            let end = Time::At(u32::MAX);
-            frame.advance_to(ctx, end, &|_, _, _| {}).expect("grow");
-            runner.render(frame, &camera, end).expect("render").0
-        };
-        let frame_with = |ao| {
-            let model = SpeleothemScene {
-                look: Look {
-                    ao,
-                    ..scene.look.clone()
-                },
-                ..scene.clone()
-            };
-            GrowthFrame::with_look(ctx, model, GrowthPath::XfbRestream).expect("frame")
-        };
-        let mut keyed = frame_with(true);
-        assert!(keyed.key(ctx, Key::Char('k')).expect("key"));
-        let keyed = draw(&mut keyed);
-        let off = draw(&mut frame_with(false));
-        let on = draw(&mut frame_with(true));
+        let [on, off, keyed] = common::growth::switch_pictures(
+            ctx,
+            &scene,
+            (&camera, size),
+            Key::Char('k'),
+            |look, on| look.ao = on,
+        );
         let (_, same) = common::difference(&keyed, &off);
         assert_eq!(same.max, 0, "the key draws another frame than the option");
         let luma = |p: &image::Rgba<u8>| (u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2])) / 3;

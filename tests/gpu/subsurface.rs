@@ -244,7 +244,6 @@ fn light_through_a_column_follows_the_transmission_law() {
 // behind, against the lamp, where the two differ: checked here too).
 #[test]
 fn the_subsurface_key_draws_what_the_option_does() {
-    use sediment::frame::Interactive;
     use sediment::input::Key;
     common::with_gpu(|ctx| {
         let scene = grow::preset("fig9e")
@@ -256,28 +255,13 @@ fn the_subsurface_key_draws_what_the_option_does() {
             target: Vec3::new(-0.6, 1.2, 1.2),
             ..grow::default_camera(&scene.growth)
         };
-        let size = Size::new(240, 160);
-        let draw = |frame: &mut GrowthFrame| {
-            let mut runner = FrameRunner::new(ctx, size).expect("runner");
-            let end = Time::At(u32::MAX);
-            frame.advance_to(ctx, end, &|_, _, _| {}).expect("grow");
-            runner.render(frame, &camera, end).expect("render").0
-        };
-        let frame_with = |subsurface| {
-            let model = SpeleothemScene {
-                look: Look {
-                    subsurface,
-                    ..scene.look.clone()
-                },
-                ..scene.clone()
-            };
-            GrowthFrame::with_look(ctx, model, GrowthPath::XfbRestream).expect("frame")
-        };
-        let mut keyed = frame_with(true);
-        assert!(keyed.key(ctx, Key::Char('y')).expect("key"));
-        let keyed = draw(&mut keyed);
-        let off = draw(&mut frame_with(false));
-        let on = draw(&mut frame_with(true));
+        let [on, off, keyed] = common::growth::switch_pictures(
+            ctx,
+            &scene,
+            (&camera, Size::new(240, 160)),
+            Key::Char('y'),
+            |look, on| look.subsurface = on,
+        );
         let (_, same) = common::difference(&keyed, &off);
         let (_, apart) = common::difference(&on, &off);
         eprintln!(
