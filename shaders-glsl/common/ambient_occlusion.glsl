@@ -122,7 +122,7 @@ void main() {
             // on a pixel's centre (its sample) inside the slice: a sample beside the
             // slice would rise above a plane's horizon in it and darken flat ground.
             // Fewer than eight slices take one set of them per pixel, the sets
-            // interleaved over pixels (every set in each 2x2 block with two) and
+            // interleaved over pixels (every set in each 2x2 block with two, in each 4x2 block with one) and
             // turning with the camera's sample.
             int SLICES = int(occlusion.search.x), STEPS = int(occlusion.search.y);
             int sets = 8 / SLICES;

@@ -126,22 +126,23 @@ float shadow_visibility(vec3 world, vec3 n) {
             z_b = max(z_b, z);
         }
     }
-    // No blocker over the whole search: the lamp is wholly seen (most of a lit
-    // frame ends here, half the taps spent).
-    if (z_b == 0.0) {
-        return 1.0;
-    }
-    float penumbra = lamp * (z_r - z_b) / z_b * k / z_r;
+    float penumbra = lamp * (z_r - z_b) / max(z_b, 1e-6) * k / z_r;
     float width = clamp(penumbra, 2.0 * shadow.params.y, widest);
     float lit = 0.0;
-    for (int i = 0; i < SHADOW_TAPS; i++) {
+    // No blocker over the whole search: the lamp is wholly seen (most of a lit frame
+    // ends here, half the taps spent). The filter's loop runs no taps rather than the
+    // function returning early: llvmpipe leaves a loop once no pixel of a block
+    // still runs it, but runs both sides of a branch (10-15 % of the growth viewer's
+    // shading).
+    int taps = z_b == 0.0 ? 0 : SHADOW_TAPS;
+    for (int i = 0; i < taps; i++) {
         // Each tap compared with the receiver's plane there, not with the receiver
         // itself: a wide filter over a sloping floor would shadow the floor.
         vec2 o = shadow_tap(i, phi + 1.0) * width;
         float plane = shadow_ndc_depth(min(shadow_plane_depth(inv_r, grad, o), z_r));
         lit += texture(sampler2DShadow(shadow_map, shadow_compare), vec3(uv + o, plane));
     }
-    return lit / float(SHADOW_TAPS);
+    return z_b == 0.0 ? 1.0 : lit / float(SHADOW_TAPS);
 }
 
 #endif
