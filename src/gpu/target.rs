@@ -571,7 +571,10 @@ impl DepthTarget {
                 size,
                 size,
                 DEPTH_FORMAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                    | vk::ImageUsageFlags::SAMPLED
+                    | vk::ImageUsageFlags::TRANSFER_SRC
+                    | vk::ImageUsageFlags::TRANSFER_DST,
             ),
         )?;
         let target = Self { depth, size };
@@ -597,10 +600,33 @@ impl DepthTarget {
     /// image, the viewport set to it.
     pub fn begin(&self, cmd: &Commands<'_>) {
         cmd.uses(&[Use::image_discarding(&self.depth, Usage::DepthAttachment)]);
+        self.open(cmd, vk::AttachmentLoadOp::CLEAR);
+    }
+
+    /// Takes the depth of `from` (the same size) and opens a depth-only rendering
+    /// scope over it, to draw more into it.
+    pub fn begin_from(&self, cmd: &Commands<'_>, from: &DepthTarget) {
+        cmd.uses(&[
+            Use::image(&from.depth, Usage::TransferSrc),
+            Use::image_discarding(&self.depth, Usage::TransferDst),
+        ]);
+        let size = self.size.min(from.size);
+        cmd.copy_whole_image(
+            from.depth.raw(),
+            self.depth.raw(),
+            vk::ImageAspectFlags::DEPTH,
+            size,
+            size,
+        );
+        cmd.uses(&[Use::image(&self.depth, Usage::DepthAttachment)]);
+        self.open(cmd, vk::AttachmentLoadOp::LOAD);
+    }
+
+    fn open(&self, cmd: &Commands<'_>, load: vk::AttachmentLoadOp) {
         let depth_attachment = vk::RenderingAttachmentInfo::default()
             .image_view(self.depth.view())
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .load_op(load)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue {
@@ -618,8 +644,8 @@ impl DepthTarget {
             })
             .layer_count(1)
             .depth_attachment(&depth_attachment);
-        // SAFETY: `cmd` is recording outside a rendering scope; the barrier above put
-        // the depth in DEPTH_ATTACHMENT_OPTIMAL.
+        // SAFETY: `cmd` is recording outside a rendering scope; the callers' barriers
+        // put the depth in DEPTH_ATTACHMENT_OPTIMAL.
         unsafe { cmd.ctx.device.cmd_begin_rendering(cmd.raw, &info) };
         cmd.set_viewport(self.size, self.size);
     }

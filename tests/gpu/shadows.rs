@@ -46,10 +46,32 @@ fn visible_share(p: Vec3) -> f64 {
     1.0 - overlap(a, b, d) / (std::f64::consts::PI * a * a)
 }
 
+/// How the map is drawn.
+#[derive(Clone, Copy, PartialEq)]
+enum MapDrawing {
+    /// Floor and ball into the cleared map.
+    Whole,
+    /// The floor kept as a static caster, the ball drawn over a copy of it: first
+    /// somewhere else, then where it is, so the copy must have dropped the first.
+    OverStatic,
+}
+
 /// The floor seen from above, lit by the lamp alone (no ambient, no highlight,
 /// linear tone mapping), with the ball's shadow or without.
 fn render(ctx: &std::sync::Arc<sediment::gpu::Context>, on: bool) -> (image::RgbaImage, Mat4) {
-    let mut shadow = ShadowMap::new(ctx, DEFAULT_SIZE).expect("shadow map");
+    render_with(ctx, on, MapDrawing::Whole)
+}
+
+fn render_with(
+    ctx: &std::sync::Arc<sediment::gpu::Context>,
+    on: bool,
+    drawing: MapDrawing,
+) -> (image::RgbaImage, Mat4) {
+    let mut shadow = match drawing {
+        MapDrawing::Whole => ShadowMap::new(ctx, DEFAULT_SIZE),
+        MapDrawing::OverStatic => ShadowMap::keeping_static(ctx, DEFAULT_SIZE),
+    }
+    .expect("shadow map");
     shadow
         .set_spot(
             &Spot {
@@ -96,8 +118,21 @@ fn render(ctx: &std::sync::Arc<sediment::gpu::Context>, on: bool) -> (image::Rgb
         albedo: glam::Vec4::ONE,
         material: glam::Vec4::new(1.0, 0.0, 0.0, 0.0),
     };
+    if drawing == MapDrawing::OverStatic {
+        let elsewhere = Mat4::from_translation(Vec3::new(-0.6, 0.0, 0.4));
+        for model in [elsewhere, Mat4::IDENTITY] {
+            ctx.submit_and_wait("shadow map over static casters", |cmd| {
+                shadow.record_over_static(
+                    cmd,
+                    |shadow, cmd| shadow.draw_mesh(cmd, &floor, Mat4::IDENTITY),
+                    |shadow, cmd| shadow.draw_mesh(cmd, &ball, model),
+                )
+            })
+            .expect("map");
+        }
+    }
     ctx.submit_and_wait("shadow test", |cmd| {
-        if shadow.on() {
+        if shadow.on() && drawing == MapDrawing::Whole {
             shadow.record(cmd, |cmd| {
                 shadow.draw_mesh(cmd, &floor, Mat4::IDENTITY)?;
                 shadow.draw_mesh(cmd, &ball, Mat4::IDENTITY)
@@ -182,6 +217,24 @@ fn soft_shadows_match_the_share_of_a_spherical_lamp_left_visible() {
     );
     assert!(umbra_mean < 0.02, "the umbra leaks light");
     assert!(penumbra_error < 0.06, "penumbra off the analytic share");
+}
+
+/// A map whose static casters (the floor) are kept and copied, the moving ones (the
+/// ball, moved since the last map) drawn over the copy, shades exactly as one drawn
+/// whole.
+#[test]
+fn a_map_drawn_over_its_kept_static_casters_equals_one_drawn_whole() {
+    let gpu = common::gpu();
+    let (whole, _) = render_with(&gpu, true, MapDrawing::Whole);
+    let (over, _) = render_with(&gpu, true, MapDrawing::OverStatic);
+    let (lit, _) = render(&gpu, false);
+    assert!(whole != lit, "the ball casts no shadow");
+    let differing = whole
+        .pixels()
+        .zip(over.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differing, 0, "pixels differ between the two maps' shading");
 }
 
 /// fig9f's columns with the lamp's shadows against without (the issue's own

@@ -108,7 +108,7 @@ impl GrowthFrame {
 
     /// The speleothems of `scene` in their chamber, shaded with its look.
     pub fn with_look(ctx: &Arc<Context>, scene: SpeleothemScene, path: GrowthPath) -> Result<Self> {
-        let shadow = ShadowMap::new(ctx, shadow_map::DEFAULT_SIZE)?;
+        let shadow = ShadowMap::keeping_static(ctx, shadow_map::DEFAULT_SIZE)?;
         let chamber = Some(Chamber::new(
             ctx,
             &scene.growth,
@@ -517,16 +517,20 @@ impl Scene for GrowthFrame {
         // The growth recorded above counts its passes as done.
         let grown = self.passes_done();
         if self.shadow.on() && self.shadow_drawn != Some(grown) {
-            let (shadow, surface, chamber) = (&self.shadow, &self.surface, &self.chamber);
+            let (shadow, surface, chamber) = (&mut self.shadow, &self.surface, &self.chamber);
             let (source, lod) = (self.growth.source(), self.lod.as_ref());
             timer.span(cmd, "shadow map", |cmd| {
-                shadow.record(cmd, |cmd| {
-                    if let Some(c) = chamber {
-                        shadow.draw_mesh(cmd, &c.floor, glam::Mat4::IDENTITY)?;
-                        shadow.draw_mesh(cmd, &c.ceiling, glam::Mat4::IDENTITY)?;
-                    }
-                    surface.draw_casters(cmd, source, lod)
-                })
+                shadow.record_over_static(
+                    cmd,
+                    |shadow, cmd| {
+                        if let Some(c) = chamber {
+                            shadow.draw_mesh(cmd, &c.floor, glam::Mat4::IDENTITY)?;
+                            shadow.draw_mesh(cmd, &c.ceiling, glam::Mat4::IDENTITY)?;
+                        }
+                        Ok(())
+                    },
+                    |_, cmd| surface.draw_casters(cmd, source, lod),
+                )
             })?;
             self.shadow_drawn = Some(grown);
         }
