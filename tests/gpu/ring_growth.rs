@@ -239,6 +239,21 @@ fn wind_column_tip_and_random_mode_match_the_cpu_reference() {
             })
             .collect();
         compare(ctx, "pauses", &pauses.plan().expect("plan"));
+
+        // Fronts stopped where they touch another site's speleothem (fig9h: every
+        // stalagmite but one rises under a stalactite that closed).
+        let plan = sediment::scene::grow::preset("fig9h")
+            .expect("preset")
+            .growth_scene()
+            .expect("growth")
+            .plan()
+            .expect("plan");
+        assert!(
+            plan.speleothems
+                .iter()
+                .any(|s| matches!(s.stop, Some((_, StopReason::Contact))))
+        );
+        compare(ctx, "contacts (fig9h)", &plan);
     });
 }
 

@@ -215,6 +215,9 @@ pub enum StopReason {
     CaveBoundary,
     /// The stalactite met the stalagmite below: a column.
     Column,
+    /// The front touched a speleothem of the other kind (its flank, or a tip that had
+    /// stopped) and stopped there, joined to it.
+    Contact,
 }
 
 /// What the geometry shader does for one speleothem in one pass.
@@ -420,6 +423,68 @@ struct Front {
     radius: f32,
 }
 
+/// A speleothem's body as planned so far, for the contact tests: its rings' centres and
+/// radii from the base to the front (flank deposits aside), the thickening every ring
+/// has had since, and the box round it all.
+struct Body {
+    rings: Vec<(Vec3, f32)>,
+    thickened: f32,
+    min: Vec3,
+    max: Vec3,
+}
+
+impl Body {
+    fn new(base: Vec3, tip: Vec3, radius: f32) -> Self {
+        let mut body = Self {
+            rings: Vec::new(),
+            thickened: 0.0,
+            min: Vec3::INFINITY,
+            max: Vec3::NEG_INFINITY,
+        };
+        body.push(base, radius);
+        body.push(tip, radius);
+        body
+    }
+
+    fn push(&mut self, centre: Vec3, radius: f32) {
+        self.rings.push((centre, radius));
+        self.min = self.min.min(centre - Vec3::new(radius, 0.0, radius));
+        self.max = self.max.max(centre + Vec3::new(radius, 0.0, radius));
+    }
+
+    /// Whether a disc of radius `r` about `centre`, square to the growth, reaches into
+    /// the body (grown on by the rings `next`): the body's section at the disc's height
+    /// nearer than the two radii.
+    fn reaches(&self, next: &[(Vec3, f32)], centre: Vec3, r: f32) -> bool {
+        let widest = next.iter().fold(0.0f32, |w, n| w.max(n.1));
+        let margin = Vec3::new(1.0, 0.0, 1.0) * (r + widest + self.thickened);
+        let (lo, hi) = next.iter().fold((self.min, self.max), |(lo, hi), n| {
+            (lo.min(n.0), hi.max(n.0))
+        });
+        if centre.cmplt(lo - margin).any() || centre.cmpgt(hi + margin).any() {
+            return false;
+        }
+        let mut rings = self.rings.iter().chain(next);
+        let Some(mut a) = rings.next().copied() else {
+            return false;
+        };
+        for &b in rings {
+            let (low, high) = (a.0.y.min(b.0.y), a.0.y.max(b.0.y));
+            if high - low > 1e-9 && (low..=high).contains(&centre.y) {
+                let t = (centre.y - a.0.y) / (b.0.y - a.0.y);
+                let at = a.0.lerp(b.0, t);
+                let radius = a.1 + (b.1 - a.1) * t + self.thickened;
+                let across = glam::Vec2::new(centre.x - at.x, centre.z - at.z).length();
+                if across < radius + r {
+                    return true;
+                }
+            }
+            a = b;
+        }
+        false
+    }
+}
+
 impl GrowthScene {
     /// Checks every field against the range in its doc, the changes and sites, and the
     /// climate record if any, naming the option at fault.
@@ -614,6 +679,15 @@ impl GrowthScene {
         }
 
         let n = speleothems.len();
+        let mut bodies: Vec<Body> = speleothems
+            .iter()
+            .map(|s| {
+                let tip = s.base + Vec3::Y * s.kind.sign() * u.ring_thickness;
+                Body::new(s.base, tip, s.initial_radius)
+            })
+            .collect();
+        // Fronts another touched in the last pass: they stop before this one.
+        let mut stop_next = vec![false; n];
         let mut fronts: Vec<Front> = speleothems
             .iter()
             .map(|s| Front {
@@ -633,10 +707,14 @@ impl GrowthScene {
             let mut pass_steps = vec![GrowthStep::idle(); n];
             // Candidate (height, radius change, wind, flank) for every growing front.
             let mut candidates: Vec<Option<GrowthStep>> = vec![None; n];
-            for (i, s) in speleothems.iter().enumerate() {
+            for (i, s) in speleothems.iter_mut().enumerate() {
+                if std::mem::take(&mut stop_next[i]) && s.stop.is_none() {
+                    s.stop = Some((pass, StopReason::Contact));
+                }
                 if s.stop.is_some() {
                     if params.pil != Pil::Dry && self.climate.is_none() {
                         pass_steps[i].thicken = u.thicken_rate;
+                        bodies[i].thickened += u.thicken_rate;
                     }
                     continue;
                 }
@@ -648,27 +726,127 @@ impl GrowthScene {
                     candidates[i] = Some(self.candidate(s, pass, &params, fronts[i].radius));
                 }
             }
-            for &(a, b) in &pairs {
+            // Fronts whose next bands (each `t0` thick) would overlap meet in the
+            // middle (Section 4: "the union of the two, to form a column"): a site's
+            // own stalactite and stalagmite whatever the wind did to them, any other
+            // two whose tips overlap across. The nearest pairs first, each front once.
+            let mut meetings = Vec::new();
+            for (a, b) in (0..n).flat_map(|a| (0..n).map(move |b| (a, b))) {
                 let (Some(ca), Some(cb)) = (candidates[a], candidates[b]) else {
                     continue;
                 };
+                let (sa, sb) = (&speleothems[a], &speleothems[b]);
+                if sa.kind != Kind::Stalactite || sb.kind != Kind::Stalagmite {
+                    continue;
+                }
                 let tip_a = fronts[a].centre - Vec3::Y * t0;
                 let tip_b = fronts[b].centre + Vec3::Y * t0;
-                // The next bands (each `t0` thick) would overlap: meet in the middle.
-                if tip_a.y - tip_b.y <= ca.height + cb.height + 2.0 * t0 {
-                    let centre = (tip_a + tip_b) * 0.5;
-                    let radius = 0.5 * (fronts[a].radius + fronts[b].radius);
-                    for i in [a, b] {
-                        pass_steps[i] = GrowthStep {
-                            action: PassAction::Join,
-                            target: centre,
-                            target_radius: radius,
-                            ..GrowthStep::idle()
-                        };
-                        speleothems[i].rings += 1;
-                        speleothems[i].stop = Some((pass, StopReason::Column));
-                        candidates[i] = None;
+                if tip_a.y - tip_b.y > ca.height + cb.height + 2.0 * t0 {
+                    continue;
+                }
+                let across = (tip_a + ca.wind) - (tip_b + cb.wind);
+                let across = glam::Vec2::new(across.x, across.z).length();
+                let pair = sa.site == sb.site && pairs.contains(&(a, b));
+                let overlap = across < fronts[a].radius + fronts[b].radius && tip_a.y >= tip_b.y;
+                if pair || overlap {
+                    meetings.push((!pair, across, a, b));
+                }
+            }
+            meetings.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+            for (_, _, a, b) in meetings {
+                if candidates[a].is_none() || candidates[b].is_none() {
+                    continue;
+                }
+                let tip_a = fronts[a].centre - Vec3::Y * t0;
+                let tip_b = fronts[b].centre + Vec3::Y * t0;
+                let centre = (tip_a + tip_b) * 0.5;
+                let radius = 0.5 * (fronts[a].radius + fronts[b].radius);
+                for i in [a, b] {
+                    pass_steps[i] = GrowthStep {
+                        action: PassAction::Join,
+                        target: centre,
+                        target_radius: radius,
+                        ..GrowthStep::idle()
+                    };
+                    speleothems[i].rings += 1;
+                    speleothems[i].stop = Some((pass, StopReason::Column));
+                    bodies[i].push(centre, radius);
+                    candidates[i] = None;
+                }
+            }
+            // A front whose next band would touch a speleothem of the other kind (a
+            // stalagmite rising under a stalactite that closed, a stalactite coming down
+            // beside a stalagmite's flank) grows only until it touches and stops there,
+            // the two joined; the other, if it grows this pass, stops after it. Every
+            // other body is taken with the band it grows this pass.
+            let mut next: Vec<Vec<(Vec3, f32)>> = (0..n)
+                .map(|i| match candidates[i] {
+                    Some(c) => {
+                        let g = Vec3::Y * speleothems[i].kind.sign();
+                        let centre = fronts[i].centre + g * c.height + c.wind;
+                        let radius = (fronts[i].radius + c.radius).max(0.0);
+                        vec![(centre, radius), (centre + g * t0, radius)]
                     }
+                    None => Vec::new(),
+                })
+                .collect();
+            for i in 0..n {
+                let Some(c) = candidates[i] else { continue };
+                let kind = speleothems[i].kind;
+                let g = Vec3::Y * kind.sign();
+                let (tip, radius) = (fronts[i].centre + g * t0, fronts[i].radius);
+                // The front's disc a share `s` of the way through its step.
+                let disc = |s: f32| (tip + (g * c.height + c.wind) * s, radius + c.radius * s);
+                let touches = |s: f32| {
+                    let (centre, r) = disc(s);
+                    (0..n).find(|&j| {
+                        speleothems[j].kind != kind && bodies[j].reaches(&next[j], centre, r)
+                    })
+                };
+                if touches(1.0).is_none() {
+                    continue;
+                }
+                // The first share that touches: the first of eight, then halved down.
+                let mut hi = (0..=8)
+                    .map(|k| k as f32 / 8.0)
+                    .find(|&s| touches(s).is_some())
+                    .unwrap_or(1.0);
+                let mut lo = (hi - 0.125).max(0.0);
+                if hi > 0.0 {
+                    for _ in 0..20 {
+                        let mid = 0.5 * (lo + hi);
+                        if touches(mid).is_some() {
+                            hi = mid;
+                        } else {
+                            lo = mid;
+                        }
+                    }
+                }
+                let Some(j) = touches(hi) else { continue };
+                let s = &mut speleothems[i];
+                s.stop = Some((pass, StopReason::Contact));
+                candidates[i] = None;
+                next[i].clear();
+                // The part of the step that stays clear of the other body, if it is
+                // a band's thickness at least (shorter would fold the link strip).
+                if lo * c.height >= u.ring_thickness {
+                    let part = GrowthStep {
+                        height: c.height * lo,
+                        radius: c.radius * lo,
+                        wind: c.wind * lo,
+                        ..c
+                    };
+                    let f = &mut fronts[i];
+                    f.centre += g * part.height + part.wind;
+                    f.radius += part.radius;
+                    s.rings += 1;
+                    bodies[i].push(f.centre, f.radius);
+                    bodies[i].push(f.centre + g * t0, f.radius);
+                    next[i] = vec![(f.centre, f.radius), (f.centre + g * t0, f.radius)];
+                    pass_steps[i] = part;
+                }
+                if speleothems[j].stop.is_none() {
+                    stop_next[j] = true;
                 }
             }
             for (i, candidate) in candidates.into_iter().enumerate() {
@@ -686,6 +864,7 @@ impl GrowthScene {
                     };
                     s.rings += 1;
                     s.stop = Some((pass, StopReason::TipClosed));
+                    bodies[i].push(pass_steps[i].target, 0.0);
                     continue;
                 }
                 let new_tip = f.centre + g * (c.height + 2.0 * t0);
@@ -701,6 +880,8 @@ impl GrowthScene {
                 f.centre += g * c.height + c.wind;
                 f.radius += c.radius;
                 s.rings += 1;
+                bodies[i].push(f.centre, f.radius);
+                bodies[i].push(f.centre + g * t0, f.radius);
                 pass_steps[i] = c;
             }
             steps.extend(pass_steps);

@@ -527,3 +527,105 @@ fn random_mode_draws_a_wind_direction_per_ring_and_never_folds_a_band() {
     let folded = grows.iter().filter(|s| s.height < band).count();
     assert_eq!(folded, 0, "height steps below the band {band}");
 }
+
+/// The first wall of `triangles` a horizontal ray from `p` along `dir` meets, and how
+/// many it crosses (an odd count: `p` lies inside the surface, open ends aside).
+fn horizontal_ray(p: Vec3, dir: Vec3, triangles: &[[Vec3; 3]]) -> (usize, f32) {
+    let (mut crossings, mut nearest) = (0, f32::INFINITY);
+    for [a, b, c] in triangles {
+        // Möller-Trumbore.
+        let (e1, e2) = (*b - *a, *c - *a);
+        let h = dir.cross(e2);
+        let det = e1.dot(h);
+        if det.abs() < 1e-12 {
+            continue;
+        }
+        let s = p - *a;
+        let u = s.dot(h) / det;
+        let q = s.cross(e1);
+        let v = dir.dot(q) / det;
+        let t = e2.dot(q) / det;
+        if (0.0..=1.0).contains(&u) && v >= 0.0 && u + v <= 1.0 && t > 0.0 {
+            crossings += 1;
+            nearest = nearest.min(t);
+        }
+    }
+    (crossings, nearest)
+}
+
+/// How deep `p` lies inside the body `triangles` bound (measured along the four
+/// horizontal axes), or 0 outside.
+fn depth_inside(p: Vec3, triangles: &[[Vec3; 3]]) -> f32 {
+    let dirs = [Vec3::X, Vec3::NEG_X, Vec3::Z, Vec3::NEG_Z];
+    let hits: Vec<(usize, f32)> = dirs
+        .iter()
+        .map(|&d| horizontal_ray(p, d, triangles))
+        .collect();
+    // Inside by a majority of the rays' parities (a ray grazing a seam may miscount).
+    let odd = hits.iter().filter(|(n, _)| n % 2 == 1).count();
+    if odd < 3 {
+        return 0.0;
+    }
+    hits.iter().map(|&(_, t)| t).fold(f32::INFINITY, f32::min)
+}
+
+/// Tortelli & Walter, Section 4: a stalactite and a stalagmite that meet join into a
+/// column and stop, whichever sites they grew from. On the CPU reference's meshes
+/// (what the exports hold), no stalactite's tip ends inside a stalagmite, nor a
+/// stalagmite's inside a stalactite, deeper than the thickening that went on after it
+/// stopped (the joined pair still thickens) and half a band.
+#[test]
+fn no_tip_ends_inside_another_speleothem_in_any_preset() {
+    let mut report = Vec::new();
+    let mut pierced_total = 0;
+    for (name, _) in crate::scene::grow::PRESETS {
+        let scene = crate::scene::grow::preset(name)
+            .expect("preset")
+            .growth_scene()
+            .expect("growth");
+        let plan = scene.plan().expect("plan");
+        let mesh = grow_reference(&plan, plan.passes);
+        let n = plan.speleothems.len();
+        let mut bodies: Vec<Vec<[Vec3; 3]>> = vec![Vec::new(); n];
+        let mut tips: Vec<Option<Vec3>> = vec![None; n];
+        for t in mesh.chunks_exact(3) {
+            let i = t[0].speleothem();
+            bodies[i].push([t[0].position(), t[1].position(), t[2].position()]);
+            let sign = plan.speleothems[i].kind.sign();
+            for v in t {
+                let p = v.position();
+                if tips[i].is_none_or(|q| (p.y - q.y) * sign > 0.0) {
+                    tips[i] = Some(p);
+                }
+            }
+        }
+        let (mut pierced, mut deepest, mut fronts) = (0, 0.0f32, 0);
+        for (i, s) in plan.speleothems.iter().enumerate() {
+            let Some(tip) = tips[i] else { continue };
+            if s.rings == 0 {
+                continue;
+            }
+            fronts += 1;
+            let after_stop = s.stop.map_or(0, |(p, _)| plan.passes - p);
+            let tolerance =
+                scene.units.thicken_rate * after_stop as f32 + 0.5 * plan.ring_thickness;
+            for (j, other) in plan.speleothems.iter().enumerate() {
+                if other.kind == s.kind || bodies[j].is_empty() {
+                    continue;
+                }
+                let depth = depth_inside(tip, &bodies[j]);
+                if depth > tolerance {
+                    pierced += 1;
+                    deepest = deepest.max(depth);
+                    break;
+                }
+            }
+        }
+        pierced_total += pierced;
+        report.push(format!(
+            "{name}: {pierced} of {fronts} tips inside another body (deepest {deepest:.3})"
+        ));
+    }
+    eprintln!("{}", report.join("\n"));
+    assert_eq!(pierced_total, 0, "{}", report.join("\n"));
+}

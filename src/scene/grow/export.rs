@@ -40,7 +40,7 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
     let joined: std::collections::HashSet<u32> = plan
         .speleothems
         .iter()
-        .filter(|s| matches!(s.stop, Some((_, StopReason::Column))))
+        .filter(|s| matches!(s.stop, Some((_, StopReason::Column | StopReason::Contact))))
         .map(|s| s.site)
         .collect();
     let part_of = |sp: usize| {
