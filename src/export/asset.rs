@@ -139,6 +139,54 @@ impl PartMesh {
         out
     }
 
+    /// Welds a triangle soup into one vertex per position: where corners at one position
+    /// carry different normals (a crease: a cap on its wall, a column's meeting ring)
+    /// the vertex takes the normalised sum of the distinct ones, and the mean of the
+    /// distinct colours. The surface is then closed as mesh tools count it (an edge
+    /// shared by two triangles through the same two vertices), at the price of
+    /// shading the crease round over the triangles beside it.
+    pub fn weld_by_position(positions: &[Vec3], normals: &[Vec3], colors: Option<&[Vec3]>) -> Self {
+        let bits = |v: f32| if v == 0.0 { 0 } else { v.to_bits() };
+        let key = |p: &Vec3| [p.x, p.y, p.z].map(bits);
+        // Per position: its vertex, and the distinct normals and colours seen there.
+        let mut at: HashMap<[u32; 3], (u32, Vec<Vec3>, Vec<Vec3>)> =
+            HashMap::with_capacity(positions.len() / 2);
+        let mut order = Vec::new();
+        let mut indices = Vec::with_capacity(positions.len());
+        for (k, (p, n)) in positions.iter().zip(normals).enumerate() {
+            let c = colors.map_or(Vec3::ZERO, |c| c[k]);
+            let next = order.len() as u32;
+            let entry = at.entry(key(p)).or_insert_with(|| {
+                order.push(*p);
+                (next, Vec::new(), Vec::new())
+            });
+            if !entry.1.contains(n) {
+                entry.1.push(*n);
+            }
+            if !entry.2.contains(&c) {
+                entry.2.push(c);
+            }
+            indices.push(entry.0);
+        }
+        let mut out = PartMesh {
+            positions: order.iter().map(|p| p.to_array()).collect(),
+            normals: vec![[0.0; 3]; order.len()],
+            colors: colors.map(|_| vec![[0.0; 3]; order.len()]),
+            indices,
+            ..Self::default()
+        };
+        for (i, normals, colours) in at.into_values() {
+            let sum: Vec3 = normals.iter().sum();
+            let first = normals.first().copied().unwrap_or(Vec3::Y);
+            out.normals[i as usize] = sum.normalize_or(first).to_array();
+            if let Some(c) = &mut out.colors {
+                let mean = colours.iter().sum::<Vec3>() / colours.len().max(1) as f32;
+                c[i as usize] = mean.to_array();
+            }
+        }
+        out
+    }
+
     /// An indexed mesh, welded again: the model's meshes are built part by part (a
     /// cut-away's bands, a site's profiles) and repeat equal vertices.
     pub fn from_mesh(mesh: &crate::model::mesh::Mesh) -> Self {
@@ -300,6 +348,34 @@ mod tests {
         for (k, &i) in mesh.indices.iter().enumerate() {
             assert_eq!(mesh.positions[i as usize], positions[k].to_array());
         }
+    }
+
+    #[test]
+    fn welding_by_position_shares_a_crease_with_the_mean_normal() {
+        // The same three triangles: the crease edge (0,0,0)-(1,0,0) now one pair of
+        // vertices, their normal halfway between +z and -y; the colours averaged.
+        let positions = [
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::X,
+            Vec3::ONE,
+            Vec3::Y,
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::NEG_Y,
+        ];
+        let mut normals = vec![Vec3::Z; 6];
+        normals.extend([Vec3::NEG_Y; 3]);
+        let mut colors = vec![Vec3::ONE; 6];
+        colors.extend([Vec3::ZERO; 3]);
+        let mesh = PartMesh::weld_by_position(&positions, &normals, Some(&colors));
+        assert_eq!(mesh.positions.len(), 5);
+        assert_eq!(mesh.indices, vec![0, 1, 2, 1, 3, 2, 0, 1, 4]);
+        let half = (Vec3::Z + Vec3::NEG_Y).normalize().to_array();
+        assert_eq!(mesh.normals[0], half);
+        assert_eq!(mesh.normals[2], Vec3::Z.to_array());
+        assert_eq!(mesh.colors.as_ref().map(|c| c[1]), Some([0.5; 3]));
     }
 
     #[test]

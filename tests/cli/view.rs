@@ -84,7 +84,7 @@ fn the_viewer_screenshot_matches_the_headless_render() {
     );
 }
 
-/// Base-ring heights (descending) and mean radii of the single stalactite in an OBJ
+/// Base-ring heights (descending) and radii of the single stalactite in an OBJ
 /// file: the levels alternate base ring, tip ring (ring thickness below), so every
 /// other level is a base ring.
 fn base_rings(obj: &Path) -> Vec<(f32, f32)> {
@@ -119,11 +119,11 @@ fn base_rings(obj: &Path) -> Vec<(f32, f32)> {
                 pts.iter().map(|p| p[0]).sum::<f32>() / n,
                 pts.iter().map(|p| p[2]).sum::<f32>() / n,
             );
+            // The widest: a closed cap's centre shares its ring's level.
             let r = pts
                 .iter()
                 .map(|p| ((p[0] - cx).powi(2) + (p[2] - cz).powi(2)).sqrt())
-                .sum::<f32>()
-                / n;
+                .fold(0.0, f32::max);
             (*k as f32 / 1e4, r)
         })
         .collect()

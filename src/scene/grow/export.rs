@@ -15,7 +15,9 @@ use crate::render::speleothem_surface::speleothem_info;
 
 /// The parts a grown scene exports: stalactites, stalagmites and columns (both halves
 /// of a site that joined), each welded from the transform-feedback triangles and the
-/// caps of open fronts, with the mineral colours the surface shader uses as COLOR_0.
+/// caps of open fronts and of the base rings sunk in the rock into one vertex per
+/// position (closed solids as mesh tools count them; a cap's rim shaded round), with the
+/// mineral colours the surface shader uses as COLOR_0.
 /// Positions stay in the plan's scene units; the caller places them
 /// ([`Asset::to_metres`]).
 pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asset) {
@@ -73,12 +75,44 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
             soup.2.push(color);
         }
     }
+    // The base rings, sunk in the rock, closed too: a file's bodies are then solids
+    // (for booleans, printing, volume), each a fan facing into the rock.
+    for (i, s) in plan.speleothems.iter().enumerate() {
+        let base: Vec<&RingVertex> = vertices
+            .iter()
+            .filter(|v| v.speleothem() == i && v.ring() == 0)
+            .collect();
+        let down = Vec3::Y * -s.kind.sign();
+        let bottom: Vec<&RingVertex> = base
+            .iter()
+            .copied()
+            .filter(|v| ((v.position() - s.base).dot(down)).abs() < 1e-5)
+            .collect();
+        let soup = &mut soups[part_of(i)];
+        for tri in vertices
+            .chunks_exact(3)
+            .filter(|t| t[0].speleothem() == i && t.iter().all(|v| v.ring() == 0))
+        {
+            // The triangle's edge on the bottom ring, taken the other way round.
+            for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+                let on = |v: &RingVertex| bottom.iter().any(|w| w.position() == v.position());
+                if on(&tri[a]) && on(&tri[b]) && tri[a].position() != tri[b].position() {
+                    let (color, _) = color_of(&tri[a]);
+                    for p in [tri[b].position(), tri[a].position(), s.base] {
+                        soup.0.push(p);
+                        soup.1.push(down);
+                        soup.2.push(color);
+                    }
+                }
+            }
+        }
+    }
     for ((positions, normals, colors), name) in
         soups.iter().zip(["stalactites", "stalagmites", "columns"])
     {
         asset.push(
             name,
-            PartMesh::weld(positions, normals, Some(colors)),
+            PartMesh::weld_by_position(positions, normals, Some(colors)),
             // Wet calcite: a smooth dielectric; the colour is the vertices'.
             Material::plain("calcite", Vec3::ONE, 0.35),
         );
@@ -158,4 +192,54 @@ pub fn cut_away_render(
         .ok_or_else(|| crate::error::Error::internal("cut-away", "no rings"))?;
     let cut = crate::scene::layers::cut_away(&layers, 10);
     crate::scene::layers::picture(ctx, &cut, size)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+
+    use super::*;
+    use crate::model::speleothem::grow_reference;
+
+    /// Every preset's exported parts are closed as mesh tools count them, without
+    /// merging first: each edge between two of the file's vertices is shared by
+    /// exactly two triangles (before, the caps' rims and the columns' meeting rings were
+    /// vertices twice, once per normal, and the base rings were open), and the solids
+    /// enclose a positive volume (outward faces).
+    #[test]
+    fn exported_speleothems_are_closed_solids() {
+        for (name, _) in crate::scene::grow::PRESETS {
+            let plan = crate::scene::grow::preset(name)
+                .expect("preset")
+                .growth_scene()
+                .expect("growth")
+                .plan()
+                .expect("plan");
+            let mut asset = Asset::new(*name);
+            export_parts(&plan, &grow_reference(&plan, plan.passes), &mut asset);
+            for part in &asset.parts {
+                let m = &part.mesh;
+                let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+                for t in m.indices.chunks_exact(3) {
+                    for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                        *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+                    }
+                }
+                for (&(a, _), &n) in &edges {
+                    assert_eq!(
+                        n, 2,
+                        "{name} {}: an edge in {n} triangles at {:?}",
+                        part.name, m.positions[a as usize]
+                    );
+                }
+                let p = |i: u32| Vec3::from(m.positions[i as usize]);
+                let volume: f32 = m
+                    .indices
+                    .chunks_exact(3)
+                    .map(|t| p(t[0]).dot(p(t[1]).cross(p(t[2]))) / 6.0)
+                    .sum();
+                assert!(volume > 0.0, "{name} {}: volume {volume}", part.name);
+            }
+        }
+    }
 }
