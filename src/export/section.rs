@@ -93,7 +93,9 @@ struct Frame {
 }
 
 impl Frame {
-    fn new(s: &Stalagmite, width: f64, height: f64) -> Self {
+    /// The section fitted into `width` x `height`, `key` pixels kept free on the right
+    /// for a colour key.
+    fn new(s: &Stalagmite, width: f64, height: f64, key: f64) -> Self {
         let (mut x_max, mut y_min, mut y_max) = (0.0f64, f64::MAX, f64::MIN);
         for l in &s.layers {
             for p in l {
@@ -104,12 +106,28 @@ impl Frame {
         }
         let margin = 0.08;
         let (w, h) = ((2.0 * x_max).max(1e-9), (y_max - y_min).max(1e-9));
-        let scale = ((1.0 - 2.0 * margin) * width / w).min((1.0 - 2.0 * margin) * height / h);
-        Self {
-            scale,
-            origin: [width * 0.5, height * 0.5 + 0.5 * h * scale + y_min * scale],
-            width,
-            height,
+        let fit = |room: f64| {
+            let scale = ((1.0 - 2.0 * margin) * room / w).min((1.0 - 2.0 * margin) * height / h);
+            Self {
+                scale,
+                origin: [room * 0.5, height * 0.5 + 0.5 * h * scale + y_min * scale],
+                width,
+                height,
+            }
+        };
+        let whole = fit(width);
+        // The key stands beside the section's upper part, which is narrow in most
+        // stalagmites: room is made for it only where the section would reach it.
+        let (_, top, bottom, _) = key_bar(&whole);
+        let reaches = key > 0.0
+            && s.layers.iter().flatten().any(|p| {
+                let [x, y] = whole.map(p[0], p[1]);
+                (top - 48.0..=bottom + 24.0).contains(&y) && x > width - key - 4.0
+            });
+        if reaches {
+            fit((width - key).max(0.5 * width))
+        } else {
+            whole
         }
     }
 
@@ -144,6 +162,98 @@ fn ramp(t: f64) -> [u8; 3] {
 /// The most layers a section draws (SVG or PNG).
 pub const MAX_DRAWN_LAYERS: usize = 1000;
 
+/// The closest two drawn layers come at the apex, in pixels: lines packed closer
+/// beat against the pixel grid (300 layers 1.3 px apart drew a checkerboard moiré).
+pub const MIN_LINE_SPACING_PX: f64 = 3.0;
+
+/// Pixels kept on the right of a coloured section for its key.
+const KEY_WIDTH: f64 = 96.0;
+
+/// Every how many layers a line is drawn: at most `MAX_DRAWN_LAYERS` and at least
+/// `MIN_LINE_SPACING_PX` apart at the apex, in steps that fall on every emphasised
+/// layer (a divisor of `emphasis`, or a multiple of it).
+pub fn drawn_every(s: &Stalagmite, emphasis: usize, px_per_unit: f64) -> usize {
+    let n = s.layers.len().max(1);
+    let apex = |l: &Vec<[f64; 2]>| l.first().map_or(0.0, |p| p[1]);
+    let rise = match (s.layers.first(), s.layers.last()) {
+        (Some(a), Some(b)) => (apex(b) - apex(a)).abs(),
+        _ => 0.0,
+    };
+    let spacing = rise * px_per_unit / n as f64;
+    let needed = if spacing > 0.0 {
+        ((MIN_LINE_SPACING_PX / spacing).ceil() as usize).max(1)
+    } else {
+        1
+    }
+    .max(n.div_ceil(MAX_DRAWN_LAYERS));
+    if emphasis == 0 {
+        return needed;
+    }
+    match (1..=emphasis).find(|d| emphasis % d == 0 && *d >= needed) {
+        Some(d) => d,
+        None => needed.div_ceil(emphasis) * emphasis,
+    }
+}
+
+/// What a colour key shows: its title, and the labels of its two ends.
+struct Key {
+    title: String,
+    low: String,
+    high: String,
+}
+
+fn key(s: &Stalagmite, style: &SectionStyle) -> Option<Key> {
+    let real = style.unit.is_some();
+    let first = s.steps.first()?;
+    let last = s.steps.last()?;
+    match style.colouring {
+        Colouring::Plain => None,
+        Colouring::Age => {
+            let (lo, hi) = (first.time - (s.steps.get(1)?.time - first.time), last.time);
+            Some(if real {
+                Key {
+                    title: "age, years".into(),
+                    low: trim_number(lo),
+                    high: trim_number(hi),
+                }
+            } else {
+                Key {
+                    title: "layer".into(),
+                    low: "0".into(),
+                    high: (s.layers.len() - 1).to_string(),
+                }
+            })
+        }
+        Colouring::Supply => {
+            let (lo, hi) = s.steps.iter().fold((f64::MAX, f64::MIN), |(lo, hi), st| {
+                (lo.min(st.supply), hi.max(st.supply))
+            });
+            Some(Key {
+                title: if real { "drips per s" } else { "supply" }.into(),
+                low: significant(lo),
+                high: significant(hi),
+            })
+        }
+    }
+}
+
+/// Three significant figures, no exponent for everyday sizes.
+fn significant(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e6) {
+        format!("{v:.2e}")
+    } else {
+        let digits = (2 - v.abs().log10().floor() as i32).clamp(0, 6) as usize;
+        trim_number_to(v, digits)
+    }
+}
+
+/// Where the key's bar stands: x of its left edge, its top and bottom, its width.
+fn key_bar(frame: &Frame) -> (f64, f64, f64, f64) {
+    let width = 14.0;
+    let x = frame.width - 0.5 * KEY_WIDTH - 0.5 * width;
+    (x, 0.25 * frame.height, 0.7 * frame.height, width)
+}
+
 fn strokes(s: &Stalagmite, style: &SectionStyle, frame: &Frame) -> Vec<Stroke> {
     let n = style.upto.unwrap_or(s.layers.len()).min(s.layers.len());
     let (lo, hi) = s.steps.iter().fold((f64::MAX, f64::MIN), |(lo, hi), st| {
@@ -166,10 +276,9 @@ fn strokes(s: &Stalagmite, style: &SectionStyle, frame: &Frame) -> Vec<Stroke> {
     // At most MAX_DRAWN_LAYERS thin lines (every k-th; the emphasised ones and the last
     // always): 20 000 layers of 2000 points would make a gigabyte SVG (issue 17 #2), and
     // more lines than pixels show nothing more.
-    let every = n.div_ceil(MAX_DRAWN_LAYERS).max(1);
+    let every = drawn_every(s, style.emphasis, frame.scale);
     for (k, layer) in s.layers.iter().enumerate().take(n) {
-        let marked = style.emphasis >= every && k % style.emphasis == 0;
-        let shown = k % every == 0 || marked || k == last || k + 1 == n;
+        let shown = k % every == 0 || k == last || k + 1 == n;
         if !shown {
             continue;
         }
@@ -229,13 +338,30 @@ fn scale_bar(frame: &Frame, unit: &str) -> (f64, String) {
 }
 
 fn trim_number(v: f64) -> String {
-    let s = format!("{v:.3}");
-    s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    trim_number_to(v, 3)
+}
+
+fn trim_number_to(v: f64, digits: usize) -> String {
+    let s = format!("{v:.digits$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        s
+    }
+}
+
+/// Room for a key, if the style colours the layers.
+fn key_room(s: &Stalagmite, style: &SectionStyle) -> f64 {
+    if key(s, style).is_some() {
+        KEY_WIDTH
+    } else {
+        0.0
+    }
 }
 
 /// The section as SVG text.
 pub fn svg(s: &Stalagmite, style: &SectionStyle, width: u32, height: u32) -> String {
-    let frame = Frame::new(s, f64::from(width), f64::from(height));
+    let frame = Frame::new(s, f64::from(width), f64::from(height), key_room(s, style));
     let mut out = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\">\n\
          <rect width=\"100%\" height=\"100%\" fill=\"rgb({},{},{})\"/>\n",
@@ -270,13 +396,42 @@ pub fn svg(s: &Stalagmite, style: &SectionStyle, width: u32, height: u32) -> Str
             y0 - 8.0
         ));
     }
+    if let Some(k) = key(s, style) {
+        let (x, top, bottom, w) = key_bar(&frame);
+        let stops: Vec<String> = (0..=8)
+            .map(|i| {
+                let t = f64::from(i) / 8.0;
+                let c = ramp(1.0 - t);
+                format!(
+                    "<stop offset=\"{t}\" stop-color=\"rgb({},{},{})\"/>",
+                    c[0], c[1], c[2]
+                )
+            })
+            .collect();
+        let cx = x + 0.5 * w;
+        out.push_str(&format!(
+            "<defs><linearGradient id=\"key\" x1=\"0\" y1=\"0\" x2=\"0\" y2=\"1\">{}</linearGradient></defs>\n\
+             <rect x=\"{x:.1}\" y=\"{top:.1}\" width=\"{w:.1}\" height=\"{:.1}\" fill=\"url(#key)\" stroke=\"black\" stroke-width=\"0.5\"/>\n\
+             <text x=\"{cx:.1}\" y=\"{:.1}\" font-family=\"sans-serif\" font-size=\"12\" text-anchor=\"middle\">{}</text>\n\
+             <text x=\"{cx:.1}\" y=\"{:.1}\" font-family=\"sans-serif\" font-size=\"12\" text-anchor=\"middle\">{}</text>\n\
+             <text x=\"{cx:.1}\" y=\"{:.1}\" font-family=\"sans-serif\" font-size=\"12\" text-anchor=\"middle\">{}</text>\n",
+            stops.join(""),
+            bottom - top,
+            top - 24.0,
+            k.title,
+            top - 6.0,
+            k.high,
+            bottom + 16.0,
+            k.low
+        ));
+    }
     out.push_str("</svg>\n");
     out
 }
 
 /// The section rasterised.
 pub fn png(s: &Stalagmite, style: &SectionStyle, width: u32, height: u32) -> RgbaImage {
-    let frame = Frame::new(s, f64::from(width), f64::from(height));
+    let frame = Frame::new(s, f64::from(width), f64::from(height), key_room(s, style));
     let mut img = RgbaImage::from_pixel(
         width,
         height,
@@ -315,6 +470,24 @@ pub fn png(s: &Stalagmite, style: &SectionStyle, width: u32, height: u32) -> Rgb
         segment(&mut img, [x0, y0], [x0, y0 - 5.0], 1.5, black);
         segment(&mut img, [x1, y0], [x1, y0 - 5.0], 1.5, black);
         text(&mut img, &label, 0.5 * (x0 + x1), y0 - 20.0, 15.0, black);
+    }
+    if let Some(k) = key(s, style) {
+        let (x, top, bottom, w) = key_bar(&frame);
+        let (x0, x1) = (x.round() as u32, (x + w).round() as u32);
+        for y in top.round() as u32..bottom.round() as u32 {
+            let t = (bottom - f64::from(y) - 0.5) / (bottom - top);
+            let c = ramp(t);
+            for px in x0..x1.min(width) {
+                if y < height {
+                    img.put_pixel(px, y, Rgba([c[0], c[1], c[2], 255]));
+                }
+            }
+        }
+        let black = [0, 0, 0];
+        let cx = x + 0.5 * w;
+        text(&mut img, &k.title, cx, top - 40.0, 14.0, black);
+        text(&mut img, &k.high, cx, top - 20.0, 14.0, black);
+        text(&mut img, &k.low, cx, bottom + 4.0, 14.0, black);
     }
     img
 }

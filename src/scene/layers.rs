@@ -319,19 +319,60 @@ impl LayersSetup {
     }
 }
 
-/// The camera looking into the cut from the open wedge, slightly from above.
+/// The camera looking into the cut from the open wedge, slightly from above, as near as
+/// keeps the whole cut-away (surface and floor) inside a 3:2 frame with a margin: the
+/// stalagmite as large as the frame allows.
 pub fn default_camera(c: &CutAway) -> Camera {
+    const FOV_Y_DEGREES: f32 = 35.0;
+    // The share of the frame's half-height (and half-width at 3:2) the cut-away may
+    // take.
+    const FILL: f32 = 0.9;
+    const ASPECT: f32 = 1.5;
     let size = c.height.max(2.5 * c.radius);
-    let centre = Vec3::new(0.0, c.base_y + 0.5 * c.height, 0.0);
     // The wedge opens toward +x, -z.
-    let dir = Vec3::new(1.0, 0.45, -1.2).normalize();
+    let back = Vec3::new(1.0, 0.45, -1.2).normalize();
+    let right = Vec3::Y.cross(back).normalize();
+    let up = back.cross(right);
+    let tan_y = (0.5 * FOV_Y_DEGREES.to_radians()).tan() * FILL;
+    let tan_x = tan_y * ASPECT;
+    let points: Vec<Vec3> = c
+        .surface
+        .positions
+        .iter()
+        .chain(&c.floor.positions)
+        .copied()
+        .collect();
+    let mut centre = Vec3::new(0.0, c.base_y + 0.5 * c.height, 0.0);
+    let mut distance = size * 2.2;
+    if !points.is_empty() {
+        // Twice: the nearest distance that frames every point about the centre, then
+        // the centre moved to the middle of what that distance shows.
+        for _ in 0..2 {
+            distance = points
+                .iter()
+                .map(|&p| {
+                    let q = p - centre;
+                    let along = q.dot(back);
+                    along + (q.dot(up).abs() / tan_y).max(q.dot(right).abs() / tan_x)
+                })
+                .fold(f32::MIN, f32::max)
+                .max(1e-3);
+            let eye = centre + back * distance;
+            let (lo, hi) = points.iter().fold((f32::MAX, f32::MIN), |(lo, hi), &p| {
+                let q = p - eye;
+                let slope = q.dot(up) / (-q.dot(back)).max(1e-6);
+                (lo.min(slope), hi.max(slope))
+            });
+            centre += up * (0.5 * (lo + hi) * distance);
+        }
+    }
     Camera {
-        eye: centre + dir * size * 2.2,
+        eye: centre + back * distance,
         target: centre,
         up: Vec3::Y,
-        fov_y_degrees: 35.0,
+        fov_y_degrees: FOV_Y_DEGREES,
         near: size * 0.01,
-        far: size * 10.0,
+        far: size * 10.0 + distance,
         jitter: Jitter::NONE,
     }
 }

@@ -29,9 +29,36 @@ fn drying_section_matches_its_golden_and_lists_every_layer() {
         SECTION_TOLERANCE,
     );
     let svg = section::svg(&s, &style, 300, 400);
-    // One polyline per layer (base included) plus the dashed axis.
-    assert_eq!(svg.matches("<polyline").count(), s.layers.len() + 1);
     assert!(svg.contains("stroke-dasharray"), "the growth axis");
+    // The layers' lines: at the apex (each polyline's middle point, the profile
+    // mirrored about the axis) at least MIN_LINE_SPACING_PX apart but for the last
+    // layer's, always drawn; every emphasised (10th) layer among them, so at least a
+    // tenth of the layers.
+    let mut apexes: Vec<f64> = svg
+        .lines()
+        .filter(|l| l.starts_with("<polyline") && !l.contains("dasharray"))
+        .map(|l| {
+            let points = l.split("points=\"").nth(1).expect("points");
+            let points: Vec<&str> = points.trim_end_matches("\"/>").split(' ').collect();
+            let middle = points[points.len() / 2];
+            middle
+                .split(',')
+                .nth(1)
+                .expect("y")
+                .parse()
+                .expect("a number")
+        })
+        .collect();
+    apexes.sort_by(f64::total_cmp);
+    assert!(apexes.len() > s.layers.len() / 10, "{} lines", apexes.len());
+    let gaps: Vec<f64> = apexes.windows(2).map(|w| w[1] - w[0]).collect();
+    let closest = gaps[1..].iter().copied().fold(f64::MAX, f64::min);
+    assert!(
+        closest >= section::MIN_LINE_SPACING_PX - 0.01,
+        "lines {closest:.2} px apart at the apex"
+    );
+    // The age colours come with their key.
+    assert!(svg.contains("linearGradient") && svg.contains(">layer</text>"));
 }
 
 #[test]

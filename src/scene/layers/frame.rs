@@ -78,7 +78,7 @@ impl Scene for CutAwayFrame {
         _time: Time,
     ) -> Result<()> {
         let lighting = Lighting {
-            sun_direction: Vec3::new(0.6, 0.8, -0.5),
+            sun_direction: Vec3::new(0.8, 0.9, -0.2),
             ..Lighting::default()
         };
         self.pass
