@@ -306,8 +306,8 @@ fn strokes(s: &Stalagmite, style: &SectionStyle, frame: &Frame) -> Vec<Stroke> {
             dashed: false,
         });
     }
-    // The layer that would have overhung, where growth stopped.
-    if let Some(o) = &s.overhang {
+    // The layer that would have folded, where growth stopped.
+    if let Some(o) = &s.fold {
         let mut points: Vec<[f64; 2]> = o
             .profile
             .iter()

@@ -18,11 +18,13 @@
 //! equilibrium radius: the Gaussian `W0 exp(-pi L^2 / (4 R0^2))` is Franke's decay with
 //! `r = 2 R0 / sqrt(pi)`, whose stationary radius is exactly R0 (see `physical`).
 //!
-//! Overhangs: where the supply grows, the top widens beyond the flank below it; the
-//! surface then overhangs and, as Franke notes, ceiling-formation rules take over. The
-//! growth stops at the first layer whose profile leans outward past vertical and
-//! reports it, rather than produce self-intersecting layers. (A base narrower than the
-//! stationary cap does the same while the cap widens to its stationary radius.)
+//! Overhangs: where the supply grows, the top widens beyond the flank below it and the
+//! surface leans outward past vertical ("wetter -> wider"; Franke: "this results in
+//! overhanging boundary surfaces"). The layers go on growing along their normals, as
+//! Kaufmann's model does, the support points spreading and new ones inserted over the
+//! widening top. Growth stops only where a layer would fold over itself (a segment
+//! turned back against the one beneath it), and reports it, rather than produce
+//! self-intersecting layers.
 
 pub mod cut_away;
 pub mod physical;
@@ -349,16 +351,16 @@ impl Base {
     }
 }
 
-/// Where growth stopped on an overhang.
+/// Where growth stopped: the next layer would have folded over itself.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Overhang {
-    /// The layer that would have overhung (0-based among the deposited layers).
+pub struct Fold {
+    /// The layer that would have folded (0-based among the deposited layers).
     pub layer: usize,
     /// That layer's [`LayerStep::time`].
     pub time: f64,
     /// Where along the profile.
     pub at: [f64; 2],
-    /// The overhanging layer that was not deposited (for showing it).
+    /// The folding layer that was not deposited (for showing it).
     pub profile: Vec<[f64; 2]>,
 }
 
@@ -369,8 +371,8 @@ pub struct Stalagmite {
     pub layers: Vec<Vec<[f64; 2]>>,
     /// The step of each deposited layer (`layers[k + 1]` came from `steps[k]`).
     pub steps: Vec<LayerStep>,
-    /// Set when growth stopped early on an overhang.
-    pub overhang: Option<Overhang>,
+    /// Set when growth stopped early, the next layer folding over itself.
+    pub fold: Option<Fold>,
 }
 
 impl Stalagmite {
@@ -386,7 +388,7 @@ pub const INSERT_GAP: f64 = 1.5;
 
 /// Outward lean past vertical (as run over rise) that counts as an overhang: a
 /// stationary flank is vertical to within rounding, an overhang leans visibly.
-const OVERHANG_LEAN: f64 = 0.05;
+pub const OVERHANG_LEAN: f64 = 0.05;
 
 /// Grows layers on `base` (support points from the axis out) following `steps`.
 pub fn grow(base: &[[f64; 2]], steps: &[LayerStep], decay: Decay) -> Result<Stalagmite> {
@@ -398,7 +400,7 @@ pub fn grow(base: &[[f64; 2]], steps: &[LayerStep], decay: Decay) -> Result<Stal
     let max_gap = INSERT_GAP * spacing;
     let mut layers = vec![base.to_vec()];
     let mut done = Vec::with_capacity(steps.len());
-    let mut overhang = None;
+    let mut fold = None;
     let mut next = Vec::with_capacity(2 * pz);
     for (k, step) in steps.iter().enumerate() {
         let p = layers.last().expect("the base");
@@ -410,8 +412,8 @@ pub fn grow(base: &[[f64; 2]], steps: &[LayerStep], decay: Decay) -> Result<Stal
             next.push([p[j][0] + d * n[0], p[j][1] + d * n[1]]);
         }
         next[0][0] = 0.0;
-        if let Some(at) = first_overhang(&next) {
-            overhang = Some(Overhang {
+        if let Some(at) = first_fold(p, &next) {
+            fold = Some(Fold {
                 layer: k,
                 time: step.time,
                 at,
@@ -445,7 +447,7 @@ pub fn grow(base: &[[f64; 2]], steps: &[LayerStep], decay: Decay) -> Result<Stal
     Ok(Stalagmite {
         layers,
         steps: done,
-        overhang,
+        fold,
     })
 }
 
@@ -482,9 +484,20 @@ fn normal(p: &[[f64; 2]], j: usize) -> [f64; 2] {
     [-ty / len, tx / len]
 }
 
+/// The first point where `next`, grown from `p` point for point, turned a segment back
+/// against the one it grew from: where the layer would fold over itself (concave
+/// corners whose normals cross within one deposit).
+fn first_fold(p: &[[f64; 2]], next: &[[f64; 2]]) -> Option<[f64; 2]> {
+    p.windows(2).zip(next.windows(2)).find_map(|(a, b)| {
+        let old = [a[1][0] - a[0][0], a[1][1] - a[0][1]];
+        let new = [b[1][0] - b[0][0], b[1][1] - b[0][1]];
+        (old[0] * new[0] + old[1] * new[1] < 0.0).then_some(b[1])
+    })
+}
+
 /// The first point where the profile leans outward past vertical (x falling as the
 /// surface descends).
-fn first_overhang(p: &[[f64; 2]]) -> Option<[f64; 2]> {
+pub fn first_overhang(p: &[[f64; 2]]) -> Option<[f64; 2]> {
     p.windows(2).find_map(|w| {
         let (dx, dy) = (w[1][0] - w[0][0], w[1][1] - w[0][1]);
         (dx < -OVERHANG_LEAN * dy.abs() && dx < 0.0).then_some(w[1])

@@ -68,7 +68,7 @@ pub const PRESETS: &[(&str, &str)] = &[
     ),
     (
         "wetting",
-        "supply rising from 0.5 to 1.6: the top widens until it overhangs",
+        "supply rising from 0.5 to 1.6: the top widens past the flank below",
     ),
     (
         "uneven",
@@ -81,7 +81,7 @@ pub const PRESETS: &[(&str, &str)] = &[
 ];
 
 /// A built-in climate: a wet, warm optimum drying out in steps (a stalagmite that
-/// narrows upwards; wetting phases would overhang).
+/// narrows upwards; wetting phases would widen its top).
 pub fn example_timeline() -> Vec<TimelineRow> {
     let row = |year, temperature_c, drip_interval_s, excess_ca| TimelineRow {
         year,

@@ -69,10 +69,9 @@ fn the_apex_rises_by_w0_each_span_as_the_growth_law_says() {
 }
 
 /// The two models on one record. Where they differ: Franke's layers coat the whole
-/// surface each time step and stop at the first overhang (a wetter spell widening the
-/// top past the flank below, where ceiling-formation rules would take over), so the
-/// comparison uses a record that only dries; the rings add a band on top and simply
-/// widen (the Holocene's wet optimum makes a bulge, which Franke's model refuses).
+/// surface each time step, a wetter spell widening the top past the flank below into
+/// nested domes, so the comparison uses a record that only dries; the rings add a band
+/// on top and simply widen (the Holocene's wet optimum makes a bulge).
 #[test]
 fn the_axial_profile_agrees_with_the_layer_model_on_one_record() {
     let c = climate::parse(
@@ -95,10 +94,7 @@ fn the_axial_profile_agrees_with_the_layer_model_on_one_record() {
     .grow()
     .expect("layers");
     assert_eq!(unit.as_deref(), Some("mm"));
-    assert!(
-        layers.overhang.is_none(),
-        "the drying record grows to its end"
-    );
+    assert!(layers.fold.is_none(), "the drying record grows to its end");
     let base = layers.layers[0][0][1];
     let apex = layers.surface()[0][1] - base;
     let apex_rings = grown * 1e3;

@@ -24,7 +24,13 @@ fn steps_supply_writes_a_section_and_a_render() {
     ]);
     common::cli::assert_success(&out, "sediment");
     let text = std::fs::read_to_string(&svg).expect("svg");
-    assert!(text.starts_with("<svg") && text.matches("<polyline").count() == 302);
+    // 300 layers and the base at 160x120: lines 3 px apart at the apex at least, so
+    // not all of them, but every 10th (emphasised), the last and the axis.
+    let lines = text.matches("<polyline").count();
+    assert!(
+        text.starts_with("<svg") && (32..302).contains(&lines),
+        "{lines}"
+    );
     let frame = image::open(&png).expect("render");
     assert_eq!((frame.width(), frame.height()), (160, 120));
     std::fs::remove_dir_all(&dir).expect("clean up");

@@ -70,7 +70,7 @@ fn timeline_section_has_a_scale_bar_in_millimetres() {
         .grow()
         .expect("grow");
     assert_eq!(unit.as_deref(), Some("mm"));
-    assert!(s.overhang.is_none());
+    assert!(s.fold.is_none());
     let svg = section::svg(
         &s,
         &SectionStyle {

@@ -247,7 +247,7 @@ pub fn dated_layers(
     Some(Stalagmite {
         layers,
         steps,
-        overhang: None,
+        fold: None,
     })
 }
 

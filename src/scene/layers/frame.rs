@@ -297,11 +297,12 @@ impl SceneDef for LayersDef {
                 c.equilibrium_radius() * 1e3
             );
         }
-        if let Some(o) = &stalagmite.overhang {
+        if let Some(o) = &stalagmite.fold {
             log::warn!(
-                "the surface would overhang at layer {} (time {}) near x = {:.3}, y = {:.3} {}: \
-                 the supply widened the top past the flank below, where ceiling-formation \
-                 rules take over (Franke); growth stopped there",
+                "the surface would fold over itself at layer {} (time {}) near x = {:.3}, \
+                 y = {:.3} {}: a concave corner sharper than one layer's deposit can follow \
+                 (a base much narrower than the stalagmite, or a supply jump); growth stopped \
+                 there",
                 o.layer + 1,
                 o.time,
                 o.at[0],
@@ -430,7 +431,7 @@ impl SceneDef for LayersDef {
             shot(
                 "layers-wetting",
                 "wetting",
-                "supply rising: the top widens until it overhangs",
+                "supply rising: the top widens past the flank below",
             ),
             shot(
                 "layers-uneven",
