@@ -141,6 +141,25 @@ pub fn run(
         }
         check_extension(p, "--plot", &["png", "svg"])?;
     }
+    // Every file the run writes against every other and every file it reads (issue 47
+    // #3: `--check t.json --json t.json` overwrote the targets).
+    let inputs: Vec<&std::path::Path> = a
+        .check
+        .iter()
+        .chain(a.compare.iter().flatten())
+        .chain(&a.from)
+        .map(PathBuf::as_path)
+        .collect();
+    let written: Vec<(PathBuf, String)> = [
+        (a.json.as_ref().filter(|p| p.as_os_str() != "-"), "--json"),
+        (a.csv.as_ref(), "--csv"),
+        (a.markdown.as_ref(), "--markdown"),
+        (a.plot.as_ref(), "--plot"),
+    ]
+    .into_iter()
+    .filter_map(|(p, what)| p.map(|p| (p.clone(), what.to_owned())))
+    .collect();
+    crate::export::check_outputs(&written, &inputs)?;
     if let Some(pair) = &a.compare {
         let (ra, rb) = (read(&pair[0])?, read(&pair[1])?);
         super::report(&bench::report::compare(&ra, &rb))?;

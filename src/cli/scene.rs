@@ -257,21 +257,27 @@ pub fn run(g: &Globals, def: &dyn AnyScene, m: &ArgMatches) -> anyhow::Result<()
     let mut inputs: Vec<PathBuf> = def.inputs(&resolved);
     inputs.extend(scene_file.cloned());
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    for (p, what) in [
-        (picture.as_ref(), "-o".to_owned()),
-        (gif.as_ref(), "--gif".to_owned()),
-        (mesh.as_ref(), "--mesh".to_owned()),
-    ]
-    .into_iter()
-    .chain(
-        outputs
-            .iter()
-            .map(|(o, p)| (p.as_ref(), format!("--{}", o.flag))),
-    ) {
+    // Every file the run writes, sidecars included, with the option that writes it.
+    let mut written: Vec<(PathBuf, String)> = Vec::new();
+    for (p, what) in [(&picture, "-o"), (&gif, "--gif"), (&mesh, "--mesh")] {
         if let Some(p) = p {
-            crate::export::check_not_input(p, &what, &inputs)?;
+            written.push((p.clone(), what.to_owned()));
         }
     }
+    if let Some(p) = mesh
+        .as_ref()
+        .filter(|p| crate::export::extension(p).as_deref() == Some("obj"))
+    {
+        written.push((p.with_extension("mtl"), "--mesh".to_owned()));
+    }
+    for (o, p) in &outputs {
+        if let Some(p) = p {
+            let option = format!("--{}", o.flag);
+            written.push((p.clone(), option.clone()));
+            written.extend(o.beside(p).into_iter().map(|b| (b, option.clone())));
+        }
+    }
+    crate::export::check_outputs(&written, &inputs)?;
     let frames = m.get_one::<u32>("gif-frames").copied();
     let request = Request {
         picture: picture.is_some(),

@@ -292,7 +292,12 @@ pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
-fn temporary_name(path: &Path) -> PathBuf {
+/// The longest file name an output may have: its temporary name (`.NAME.partial-PID`,
+/// the PID up to 10 digits) must fit the 255 bytes a file name takes on Linux, macOS
+/// and Windows file systems.
+pub const MAX_OUTPUT_NAME_BYTES: usize = 255 - ".".len() - ".partial-".len() - 10;
+
+pub(crate) fn temporary_name(path: &Path) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())

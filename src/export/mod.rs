@@ -77,6 +77,76 @@ fn check_folder(path: &std::path::Path, argument: &str) -> crate::error::Result<
     }
 }
 
+/// The same file, whether or not it exists yet: existing files by device and inode (a
+/// hard link, a symlink, another spelling), files to be made by their folder's
+/// canonical path and their name.
+fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return x.dev() == y.dev() && x.ino() == y.ino();
+        }
+    }
+    let place = |p: &std::path::Path| {
+        let folder = p
+            .parent()
+            .filter(|f| !f.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
+        folder
+            .canonicalize()
+            .ok()
+            .map(|f| f.join(p.file_name().unwrap_or_default()))
+    };
+    match (place(a), place(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => a == b,
+    }
+}
+
+/// Checks every file a run will write before any work: `outputs` as (path, the option
+/// that writes it), sidecars included. None may be a folder (or a link to one), be
+/// written twice, have a name whose temporary name would not fit the file system, or
+/// be one of the run's `inputs` (writing it would destroy it).
+pub fn check_outputs(
+    outputs: &[(std::path::PathBuf, String)],
+    inputs: &[&std::path::Path],
+) -> crate::error::Result<()> {
+    use crate::error::Error;
+    for (k, (path, option)) in outputs.iter().enumerate() {
+        if path.is_dir() {
+            return Err(Error::invalid(
+                option,
+                format!("{} is a folder; give a file name", path.display()),
+            ));
+        }
+        let name = path.file_name().map_or(0, |n| n.len());
+        if name > atomic::MAX_OUTPUT_NAME_BYTES {
+            return Err(Error::invalid(
+                option,
+                format!(
+                    "the file name is {name} bytes long; at most {} fit beside its \
+                     temporary name",
+                    atomic::MAX_OUTPUT_NAME_BYTES
+                ),
+            ));
+        }
+        if let Some((other, by)) = outputs[..k].iter().find(|(o, _)| same_file(o, path)) {
+            let whose = if by == option {
+                format!("{option} writes it twice")
+            } else {
+                format!("{by} writes {} too", other.display())
+            };
+            return Err(Error::invalid(
+                option,
+                format!("{} is written twice ({whose})", path.display()),
+            ));
+        }
+        check_not_input(path, option, inputs)?;
+    }
+    Ok(())
+}
+
 /// Refuses an output that is one of the run's input files (`inputs`), which writing
 /// would destroy (issue 17 #11: `layers --base b.csv --csv b.csv`).
 pub fn check_not_input(
@@ -84,11 +154,7 @@ pub fn check_not_input(
     argument: &str,
     inputs: &[&std::path::Path],
 ) -> crate::error::Result<()> {
-    let same = |input: &std::path::Path| match (path.canonicalize(), input.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    };
-    match inputs.iter().find(|i| same(i)) {
+    match inputs.iter().find(|i| same_file(path, i)) {
         Some(input) => Err(crate::error::Error::invalid(
             argument,
             format!(

@@ -33,6 +33,27 @@ pub struct OutputDef {
     pub extensions: &'static [&'static str],
     /// What it writes.
     pub help: &'static str,
+    /// The files it writes beside its own path, as names in its folder with `{stem}`
+    /// and `{ext}` its own (a heightmap's "{stem}.json", "{stem}-ripples.{ext}"):
+    /// checked with every other output before the work.
+    pub beside: &'static [&'static str],
+}
+
+impl OutputDef {
+    /// The files it writes beside `path` ([`OutputDef::beside`]).
+    pub fn beside(&self, path: &std::path::Path) -> Vec<std::path::PathBuf> {
+        let part = |p: Option<&std::ffi::OsStr>| p.map(|s| s.to_string_lossy().into_owned());
+        let (stem, ext) = (part(path.file_stem()), part(path.extension()));
+        self.beside
+            .iter()
+            .map(|name| {
+                let name = name
+                    .replace("{stem}", stem.as_deref().unwrap_or(""))
+                    .replace("{ext}", ext.as_deref().unwrap_or(""));
+                path.with_file_name(name)
+            })
+            .collect()
+    }
 }
 
 /// A picture of the demo gallery: a preset with some parameters changed.

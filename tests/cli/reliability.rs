@@ -617,3 +617,150 @@ fn endless_inputs_are_refused_by_their_limit() {
     assert!(!dir.join("x.png").exists());
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// Issue 47 #3: the files an output writes beside itself (an OBJ's `.mtl`, a
+/// heightmap's JSON and ripple tile) and a bench report are checked against the
+/// inputs too: each case refused up front, the input untouched.
+#[test]
+fn sidecars_and_reports_never_overwrite_an_input() {
+    let dir = scratch("rel-sidecars");
+    let at = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let scene_as = |command: &str, preset: &str, name: &str| -> String {
+        let out = sediment(&[command, "--preset", preset, "--print-scene"]);
+        assert!(out.status.success());
+        std::fs::write(dir.join(name), &out.stdout).expect("scene file");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let cases: Vec<(String, Vec<String>)> = vec![
+        (
+            scene_as("grow", "fig9a", "m.mtl"),
+            vec![
+                "grow".into(),
+                "--scene".into(),
+                at("m.mtl"),
+                "--mesh".into(),
+                at("m.obj"),
+            ],
+        ),
+        (
+            scene_as("cave", "fig8", "c.mtl"),
+            vec![
+                "cave".into(),
+                "--scene".into(),
+                at("c.mtl"),
+                "--mesh".into(),
+                at("c.obj"),
+            ],
+        ),
+        (
+            scene_as("dunes", "fig17", "h.json"),
+            vec![
+                "dunes".into(),
+                "--scene".into(),
+                at("h.json"),
+                "--heightmap".into(),
+                at("h.png"),
+            ],
+        ),
+        (
+            scene_as("dunes", "fig17", "t-ripples.png"),
+            vec![
+                "dunes".into(),
+                "--scene".into(),
+                at("t-ripples.png"),
+                "--heightmap".into(),
+                at("t.png"),
+            ],
+        ),
+        (
+            scene_as("layers", "drying", "b.mtl"),
+            vec![
+                "layers".into(),
+                "--scene".into(),
+                at("b.mtl"),
+                "--mesh".into(),
+                at("b.obj"),
+            ],
+        ),
+    ];
+    for (text, args) in &cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        refused(&args, "also an input");
+        assert_eq!(&std::fs::read_to_string(args[2]).expect("input"), text);
+    }
+    let targets = std::fs::read_to_string("targets.toml").expect("targets.toml");
+    std::fs::write(dir.join("t.json"), &targets).expect("targets copy");
+    let t = at("t.json");
+    refused(
+        &["bench", "--check", &t, "--json", &t, "grow"],
+        "also an input",
+    );
+    assert_eq!(std::fs::read_to_string(&t).expect("targets"), targets);
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// Issue 47 #5: an output that is a folder (or a link to one), one file given for two
+/// outputs (also through a hard link, and an output against another's sidecar), and a
+/// name whose temporary name would not fit are refused before any work.
+#[test]
+fn output_paths_are_checked_before_any_work() {
+    let dir = scratch("rel-output-paths");
+    let at = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    std::fs::create_dir(dir.join("x.png")).expect("folder");
+    refused(
+        &["grow", "--passes", "200", "-o", &at("x.png")],
+        "is a folder",
+    );
+    std::os::unix::fs::symlink(dir.join("x.png"), dir.join("link.png")).expect("link");
+    refused(&["grow", "-o", &at("link.png")], "is a folder");
+    std::fs::create_dir(dir.join("r.json")).expect("folder");
+    refused(&["bench", "grow", "--json", &at("r.json")], "is a folder");
+    refused(
+        &[
+            "grow",
+            "--preset",
+            "fig9f",
+            "-o",
+            &at("same.png"),
+            "--cut-away",
+            &at("same.png"),
+        ],
+        "written twice",
+    );
+    std::fs::write(dir.join("real.png"), b"").expect("file");
+    std::fs::hard_link(dir.join("real.png"), dir.join("hard.png")).expect("hard link");
+    refused(
+        &[
+            "grow",
+            "--preset",
+            "fig9f",
+            "-o",
+            &at("real.png"),
+            "--cut-away",
+            &at("hard.png"),
+        ],
+        "written twice",
+    );
+    refused(
+        &[
+            "dunes",
+            "-o",
+            &at("h-ripples.png"),
+            "--heightmap",
+            &at("h.png"),
+        ],
+        "written twice",
+    );
+    let long = format!("{}.png", "a".repeat(245));
+    refused(&["grow", "-o", &at(&long)], "bytes long");
+    let mut left: Vec<String> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(
+        left,
+        ["hard.png", "link.png", "r.json", "real.png", "x.png"]
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

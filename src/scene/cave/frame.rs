@@ -560,6 +560,7 @@ const TABLE: OutputDef = OutputDef {
     help: "Print the paper's Table 1 counterpart (triangles before and after the \
            crack-free split and generation time per phase, octree depths 5..9) and render \
            nothing",
+    beside: &[],
 };
 
 /// Cui, Chow & Zhang's caves as a scene of the registry.

@@ -823,6 +823,7 @@ const HEIGHTMAP: OutputDef = OutputDef {
     help: "The dune field's heights as a 16-bit PNG (its range in tEXt chunks) or a float \
            EXR in metres, with the ripple tile beside it as FILE-ripples.png/.exr, each \
            with a JSON sidecar (range, orientation, periodicity, import settings)",
+    beside: &["{stem}.json", "{stem}-ripples.{ext}", "{stem}-ripples.json"],
 };
 
 /// `--forming`: the desert forming, the simulations run again in chunks.
@@ -832,6 +833,7 @@ const FORMING: OutputDef = OutputDef {
     extensions: &["gif"],
     help: "The ripples and dunes forming over time as an animated GIF: the simulations \
            run again in --gif-frames chunks (default 12), a frame after each",
+    beside: &[],
 };
 
 /// Onoue & Nishita's desert as a scene of the registry.

@@ -846,6 +846,7 @@ const RINGS_CSV: OutputDef = OutputDef {
     extensions: &["csv"],
     help: "Every ring of every speleothem as CSV: speleothem, kind, ring, year (with a \
            climate record; else the pass), height along the growth and radius in metres",
+    beside: &[],
 };
 
 /// `--cut-away`: the first stalagmite cut open.
@@ -856,6 +857,7 @@ const CUT_AWAY: OutputDef = OutputDef {
     help: "The first stalagmite cut open (a wedge removed), its rings as growth layers in \
            bands of 10 rings (with a climate record, 1000 years at 100 years a pass), drawn \
            at --size as `layers` draws Franke's layers",
+    beside: &[],
 };
 
 /// Tortelli & Walter's growing speleothems as a scene of the registry.

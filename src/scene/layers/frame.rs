@@ -191,6 +191,7 @@ const SECTION: OutputDef = OutputDef {
     extensions: &["svg", "png"],
     help: "The cross-section: every layer mirrored about the growth axis, every K-th \
            emphasised, coloured by `color`, with a scale bar, at `section_size`",
+    beside: &[],
 };
 
 /// `--section-gif`: the section growing layer by layer.
@@ -200,6 +201,7 @@ const SECTION_GIF: OutputDef = OutputDef {
     extensions: &["gif"],
     help: "The stalagmite growing layer by layer as an animated GIF of its section \
            (--gif-frames frames, default 40)",
+    beside: &[],
 };
 
 /// `--csv`: every layer's points.
@@ -209,6 +211,7 @@ const CSV: OutputDef = OutputDef {
     extensions: &["csv"],
     help: "Every layer's points as CSV: layer, time, point, x, y (mm and years in real \
            units)",
+    beside: &[],
 };
 
 /// Franke's layered stalagmite as a scene of the registry.
