@@ -166,6 +166,11 @@ impl<W: Write> TableWriter<W> {
                     ));
                 }
                 Cell::Int(v) => record.push_field(&v.to_string()),
+                // Shortest round trip; an exponent where the plain form would run to
+                // hundreds of digits (1e300 was written as 301).
+                Cell::Num(v) if v != 0.0 && !(1e-6..1e16).contains(&v.abs()) => {
+                    record.push_field(&format!("{v:e}"))
+                }
                 Cell::Num(v) => record.push_field(&v.to_string()),
                 Cell::Fixed(v, decimals) => record.push_field(&format!("{v:.decimals$}")),
                 Cell::Text(t) => record.push_field(t),
@@ -274,6 +279,13 @@ mod tests {
         })
         .expect("writes");
         assert_eq!(text, "name,height_m,n\n\"a, b\",1.50,3\nc,0.1,4\n");
+        let text = to_string("test table", &["v"], |t| {
+            t.row(&[Cell::Num(1e300)])?;
+            t.row(&[Cell::Num(-2.5e-9)])?;
+            t.row(&[Cell::Num(123456.75)])
+        })
+        .expect("writes");
+        assert_eq!(text, "v\n1e300\n-2.5e-9\n123456.75\n");
         let err = to_string("test table", &["height_m"], |t| {
             t.row(&[Cell::Num(1.0)])?;
             t.row(&[Cell::Num(f64::INFINITY)])

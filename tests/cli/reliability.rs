@@ -764,3 +764,35 @@ fn output_paths_are_checked_before_any_work() {
     );
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// Issue 47 #6: `layers --rep 20000 --pz 2000 --dic 1e300 -o l.svg --csv l.csv` was
+/// accepted and would have written some 14 GB (40 million rows, the numbers as
+/// 300-digit integers): the rows are bounded before the work, naming the options, and
+/// large numbers are written with an exponent.
+#[test]
+fn an_output_beyond_its_size_bound_is_refused_before_the_work() {
+    let dir = scratch("rel-output-size");
+    let at = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let stderr = refused(
+        &[
+            "layers",
+            "--rep",
+            "20000",
+            "--pz",
+            "2000",
+            "--dic",
+            "1e300",
+            "-o",
+            &at("l.png"),
+            "--csv",
+            &at("l.csv"),
+        ],
+        "--rep",
+    );
+    assert!(
+        stderr.contains("--pz") && stderr.contains("10000000"),
+        "{stderr}"
+    );
+    assert!(std::fs::read_dir(&dir).expect("dir").next().is_none());
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

@@ -205,6 +205,9 @@ const SECTION_GIF: OutputDef = OutputDef {
 };
 
 /// `--csv`: every layer's points.
+/// The most rows `--csv` writes (a layer's support points each): about 0.5 GB.
+pub const MAX_CSV_ROWS: usize = 10_000_000;
+
 const CSV: OutputDef = OutputDef {
     flag: "csv",
     value_name: "FILE.csv",
@@ -255,6 +258,29 @@ impl SceneDef for LayersDef {
 
     /// Nothing in the layer model is random.
     fn set_seed(&self, _params: &mut LayersScene, _seed: u64) {}
+
+    /// `--csv` writes a row per support point of every layer: refused before the work
+    /// past `MAX_CSV_ROWS` (20 000 layers of 2000 points would be 40 million rows, some
+    /// gigabytes).
+    fn check_output(&self, params: &LayersScene, output: &OutputDef) -> Result<()> {
+        if output.flag == CSV.flag {
+            let (steps, _) = params.setup()?.schedule()?;
+            let rows = (steps.len() + 1).saturating_mul(params.pz);
+            if rows > MAX_CSV_ROWS {
+                return Err(Error::invalid(
+                    "--csv",
+                    format!(
+                        "{} layers of {} points make {rows} rows, more than the {MAX_CSV_ROWS} \
+                         a CSV may hold; choose fewer layers (--rep, --years-per-layer) or \
+                         points (--pz)",
+                        steps.len() + 1,
+                        params.pz
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
 
     fn inputs(&self, params: &LayersScene) -> Vec<PathBuf> {
         let mut files = Vec::new();
