@@ -1,5 +1,6 @@
-//! A seeded fuzz of every parser a user feeds (issue 17): each subcommand's scene file
-//! (every preset printed as TOML, then mutated) and the climate/timeline CSV, run
+//! A seeded fuzz of every parser a user feeds (issues 17, 47): each subcommand's scene
+//! file (every preset printed as TOML, then mutated), the climate/timeline CSV, a bench
+//! report's JSON and the targets file, run
 //! in-process through parse, resolve and validate, never the GPU. Nothing may panic,
 //! and nothing accepted may hold a non-finite number (the accepted scene is captured
 //! back to TOML, where one would read `nan` or `inf`). `fuzz/` has cargo-fuzz targets
@@ -180,4 +181,73 @@ fn mutated_climate_records_never_panic_or_accept_non_finite_rows() {
     }
     eprintln!("timelines: {accepted} accepted, {refused} refused");
     assert!(accepted > 0 && refused > 0);
+}
+
+/// Issue 47: bench reports (`--compare`, `--from`) and targets files (`--check`) are
+/// fed by users too. A tiny real report (cave depth-5, 3 frames at 64x48) and the
+/// repository's targets.toml, each mutated: parsing never panics; an accepted report
+/// holds only finite, non-negative times and compares with the original (the table a
+/// person reads, whose ratios once spun forever on subnormal times); accepted targets
+/// judge the report without panicking.
+#[test]
+fn mutated_bench_reports_and_targets_never_panic() {
+    use sediment::bench::{self, BenchOptions, report::Report, targets::Targets};
+    let gpu = crate::common::gpu();
+    let report = {
+        bench::run(
+            &gpu,
+            &BenchOptions {
+                scenes: vec!["cave".into()],
+                variants: vec!["depth-5".into()],
+                frames: 3,
+                warmup: 1,
+                size: sediment::Size::new(64, 48),
+                reversed: false,
+                run: bench::report::RunInfo::here("temporal", 1, "fuzz"),
+            },
+            &mut |_| {},
+        )
+        .expect("bench")
+    };
+    let json = report.to_json();
+    let targets = std::fs::read_to_string("targets.toml").expect("targets.toml");
+    let mut rng = Rng::new(0xBE4C);
+    let (mut accepted, mut refused) = ([0usize; 2], [0usize; 2]);
+    for round in 0..300 {
+        let mutated = mutate(&json, &mut rng);
+        let outcome = std::panic::catch_unwind(|| {
+            Report::from_json(&mutated).map(|r| {
+                let table = bench::report::compare(&report, &r);
+                (r, table)
+            })
+        });
+        match outcome {
+            Err(_) => panic!("round {round}: panicked on a report\n{mutated}"),
+            Ok(Ok((r, table))) => {
+                accepted[0] += 1;
+                for s in r.floor.iter().chain(&r.series) {
+                    let t = &s.frame_gpu_ms;
+                    assert!(
+                        [t.min, t.median, t.p95]
+                            .iter()
+                            .all(|v| v.is_finite() && *v >= 0.0),
+                        "round {round}: accepted {t:?}"
+                    );
+                }
+                assert!(!table.is_empty());
+            }
+            Ok(Err(_)) => refused[0] += 1,
+        }
+        let mutated = mutate(&targets, &mut rng);
+        let outcome = std::panic::catch_unwind(|| {
+            Targets::from_toml(&mutated).map(|t| t.check(&report.each_run()).markdown())
+        });
+        match outcome {
+            Err(_) => panic!("round {round}: panicked on targets\n{mutated}"),
+            Ok(Ok(_)) => accepted[1] += 1,
+            Ok(Err(_)) => refused[1] += 1,
+        }
+    }
+    eprintln!("reports: {accepted:?} accepted, {refused:?} refused (reports, targets)");
+    assert!(accepted.iter().chain(&refused).all(|&n| n > 0));
 }
