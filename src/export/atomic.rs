@@ -80,13 +80,25 @@ impl OutputSet {
     /// renamed); a rename failing after that (the disk going away) says which landed.
     pub fn commit(mut self) -> Result<Vec<PathBuf>> {
         let list = self.take();
-        let blocked = list.iter().find(|(_, target)| target.is_dir());
-        if let Some((_, target)) = blocked {
+        // Another run committing to the same folders waits, and this one for it: two
+        // runs' sets never land mixed (issue 47 #8).
+        let _locks = lock_folders(&list);
+        let blocked = list.iter().find_map(|(tmp, target)| {
+            if target.is_dir() {
+                Some((target, "a folder is in the way"))
+            } else if !tmp.is_file() {
+                // Its folder was removed or renamed during the run.
+                Some((target, "its temporary file is gone"))
+            } else {
+                None
+            }
+        });
+        if let Some((target, why)) = blocked {
             let target = target.clone();
             remove_temporaries(&list);
             return Err(Error::Write {
                 path: target,
-                source: std::io::Error::other("a folder is in the way; no output was written"),
+                source: std::io::Error::other(format!("{why}; no output was written")),
             });
         }
         let mut landed = Vec::with_capacity(list.len());
@@ -135,6 +147,62 @@ impl Drop for OutputSet {
             remove_temporaries(&list);
         }
     }
+}
+
+/// Exclusive locks on the folders of `list`'s targets, one lock file per folder in the
+/// system's temporary folder (named by a hash of the folder's canonical path), taken
+/// in order so that two sets never wait on each other. Best effort: a lock that cannot
+/// be taken is skipped.
+fn lock_folders(list: &[(PathBuf, PathBuf)]) -> Vec<std::fs::File> {
+    let mut folders: Vec<PathBuf> = list
+        .iter()
+        .map(|(_, target)| {
+            let folder = target
+                .parent()
+                .filter(|f| !f.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            folder
+                .canonicalize()
+                .unwrap_or_else(|_| folder.to_path_buf())
+        })
+        .collect();
+    folders.sort();
+    folders.dedup();
+    folders
+        .iter()
+        .filter_map(|folder| {
+            // FNV-1a: the same name in every build of sediment.
+            let hash = folder
+                .as_os_str()
+                .as_encoded_bytes()
+                .iter()
+                .fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+                    (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+                });
+            let path = std::env::temp_dir().join(format!("sediment-{hash:016x}.lock"));
+            let file = std::fs::OpenOptions::new()
+                .create(true)
+                .truncate(false)
+                .write(true)
+                .open(&path)
+                .ok()?;
+            lock_exclusive(&file).then_some(file)
+        })
+        .collect()
+}
+
+/// Waits for an exclusive advisory lock on `file` (released when it is closed);
+/// whether it was taken. (`File::lock` needs Rust 1.89, past the crate's MSRV.)
+#[cfg(unix)]
+fn lock_exclusive(file: &std::fs::File) -> bool {
+    use std::os::fd::AsRawFd;
+    // SAFETY: flock on a descriptor `file` owns and keeps open for the call.
+    unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX) == 0 }
+}
+
+#[cfg(not(unix))]
+fn lock_exclusive(_file: &std::fs::File) -> bool {
+    false
 }
 
 fn remove_temporaries(list: &[(PathBuf, PathBuf)]) {
@@ -430,6 +498,22 @@ mod tests {
         assert!(set.commit().is_err());
         assert!(!c.exists(), "c not renamed either");
         assert_eq!(names().len(), 3, "a, b and the folder: {:?}", names());
+        // A target's folder removed during the run (issue 47 #8: `-o a/g.png --mesh
+        // b/m.glb` with b/ removed, and a/g.png landed): none of the set lands.
+        let gone = dir.join("gone");
+        std::fs::create_dir(&gone).expect("folder");
+        let set = OutputSet::begin();
+        write_bytes(&c, b"fifth").expect("c finished");
+        write_bytes(&gone.join("e.txt"), b"sixth").expect("e finished");
+        std::fs::remove_dir_all(&gone).expect("the folder goes");
+        let err = set.commit().expect_err("a temporary is gone");
+        let why = std::error::Error::source(&err).map(ToString::to_string);
+        assert!(
+            why.as_deref()
+                .is_some_and(|w| w.contains("no output was written")),
+            "{err}: {why:?}"
+        );
+        assert!(!c.exists(), "c not renamed either");
         // Without a set, a file lands as it is finished.
         write_bytes(&c, b"now").expect("c");
         assert!(c.exists());

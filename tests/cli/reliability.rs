@@ -796,3 +796,82 @@ fn an_output_beyond_its_size_bound_is_refused_before_the_work() {
     assert!(std::fs::read_dir(&dir).expect("dir").next().is_none());
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// Issue 47 #8: two runs writing the same set of files at the same time
+/// (`layers --rep 101` and `--rep 102`, each `--csv` and `--mesh`) left files of both
+/// runs in 2 of 10 rounds. Each run's set now lands whole under a lock on the folder:
+/// after every round the CSV's layers and the OBJ's vertices come from one run.
+#[test]
+fn concurrent_runs_never_mix_their_output_sets() {
+    let dir = scratch("rel-concurrent");
+    let at = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let args = |rep: &str, stem: &str| -> Vec<String> {
+        vec![
+            "-q".into(),
+            "layers".into(),
+            "--rep".into(),
+            rep.into(),
+            "--size".into(),
+            "32x24".into(),
+            "-o".into(),
+            at(&format!("{stem}.png")),
+            "--csv".into(),
+            at(&format!("{stem}.csv")),
+            "--mesh".into(),
+            at(&format!("{stem}.obj")),
+        ]
+    };
+    let layers_in = |csv: &str| -> usize {
+        std::fs::read_to_string(csv)
+            .expect("csv")
+            .lines()
+            .skip(1)
+            .filter_map(|l| l.split(',').next()?.parse::<usize>().ok())
+            .max()
+            .expect("rows")
+    };
+    let vertices_in = |obj: &str| -> usize {
+        std::fs::read_to_string(obj)
+            .expect("obj")
+            .lines()
+            .filter(|l| l.starts_with("v "))
+            .count()
+    };
+    // Each run alone: its vertex count.
+    let mut alone = std::collections::HashMap::new();
+    for rep in ["101", "102"] {
+        let a: Vec<String> = args(rep, rep);
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        assert!(sediment(&a).status.success());
+        alone.insert(
+            layers_in(&at(&format!("{rep}.csv"))),
+            vertices_in(&at(&format!("{rep}.obj"))),
+        );
+    }
+    assert_eq!(alone.len(), 2);
+    assert_ne!(alone[&101], alone[&102], "the two runs' meshes differ");
+    let binary = env!("CARGO_BIN_EXE_sediment");
+    for round in 0..6 {
+        let children: Vec<std::process::Child> = ["101", "102"]
+            .iter()
+            .map(|rep| {
+                std::process::Command::new(binary)
+                    .args(args(rep, "x"))
+                    .stdout(std::process::Stdio::null())
+                    .stderr(std::process::Stdio::null())
+                    .spawn()
+                    .expect("spawn")
+            })
+            .collect();
+        for mut c in children {
+            assert!(c.wait().expect("wait").success());
+        }
+        let layers = layers_in(&at("x.csv"));
+        assert_eq!(
+            vertices_in(&at("x.obj")),
+            alone[&layers],
+            "round {round}: the CSV of the run of {layers} layers, the mesh of the other"
+        );
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
