@@ -265,7 +265,12 @@ impl AtomicFile {
             .open(&tmp)
             .map_err(|source| Error::Write {
                 path: path.to_path_buf(),
-                source,
+                // Name the file that could not be made: "File exists" about the
+                // target alone misled (issue 47 #10).
+                source: std::io::Error::new(
+                    source.kind(),
+                    format!("its temporary file {}: {source}", tmp.display()),
+                ),
             })?;
         flying.push(tmp.clone());
         drop(flying);

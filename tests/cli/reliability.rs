@@ -875,3 +875,39 @@ fn concurrent_runs_never_mix_their_output_sets() {
     }
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// Issue 47 #10, in part: a climate span of 1e-9 years advised "--years-per-pass of at
+/// least 0.0" (it means at most), +-1e308 "spans inf years", `--years-per-pass 1e-300` a
+/// 300-digit pass count, and a planted `.x.png.partial-PID` gave "File exists" about
+/// x.png alone.
+#[test]
+fn messages_say_which_way_to_go_in_short_numbers_and_name_the_temporary() {
+    let dir = scratch("rel-messages-47");
+    let at = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    std::fs::write(dir.join("span.csv"), "0,10,100,1\n0.000000001,10,100,1\n").expect("csv");
+    let e = refused(
+        &["grow", "--climate", &at("span.csv"), "-o", &at("s.png")],
+        "at most",
+    );
+    assert!(!e.contains("at least 0.0"), "{e}");
+    std::fs::write(dir.join("big.csv"), "-1e308,10,100,1\n1e308,10,100,1\n").expect("csv");
+    let e = refused(
+        &["grow", "--climate", &at("big.csv"), "-o", &at("s.png")],
+        "beyond any number of years",
+    );
+    assert!(!e.contains("inf") && e.len() < 400, "{e}");
+    let e = refused(
+        &[
+            "grow",
+            "--climate",
+            "holocene",
+            "--years-per-pass",
+            "1e-300",
+            "-o",
+            &at("s.png"),
+        ],
+        "at least",
+    );
+    assert!(e.contains("e304") && e.len() < 400, "{e}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

@@ -44,6 +44,17 @@ pub struct ClimateGrowth {
     pub years_per_pass: f64,
 }
 
+/// A number for a message: four significant figures, an exponent beyond 1e6 and
+/// below 1e-3.
+fn short(v: f64) -> String {
+    if v != 0.0 && !(1e-3..1e6).contains(&v.abs()) {
+        format!("{v:.3e}")
+    } else {
+        let s = format!("{v:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    }
+}
+
 impl ClimateGrowth {
     /// Checks at least two rows, each row's conditions in range, excess calcium > 0 in
     /// every row but the last (the end marker), and 1 to 512 passes over the span.
@@ -75,14 +86,35 @@ impl ClimateGrowth {
                 ));
             }
         }
+        let span = self.span_years();
+        if !span.is_finite() {
+            return Err(Error::invalid(
+                "--climate",
+                format!(
+                    "the record runs from year {} to {}, a span beyond any number of years",
+                    short(self.start()),
+                    short(self.end())
+                ),
+            ));
+        }
         let n = self.passes_exact();
         if !(1.0..=512.0).contains(&n) {
+            // Too few passes: fewer years a pass; too many: more. Said in short
+            // numbers (1e-300 years a pass made a 300-digit pass count).
+            let (advice, bound) = if n < 1.0 {
+                ("at most", span)
+            } else {
+                ("at least", span / 512.0)
+            };
             return Err(Error::invalid(
                 "--years-per-pass",
                 format!(
-                    "the record spans {} years: that makes {n:.0} passes, not 1..=512; choose --years-per-pass of at least {:.1}",
-                    self.span_years(),
-                    self.span_years() / 512.0
+                    "the record spans {} years: at {} years a pass that makes {} passes, \
+                     not 1..=512; choose --years-per-pass of {advice} {}",
+                    short(span),
+                    short(self.years_per_pass),
+                    short(n),
+                    short(bound)
                 ),
             ));
         }
