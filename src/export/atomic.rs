@@ -456,6 +456,26 @@ mod tests {
         std::fs::remove_dir_all(&dir).expect("clean up");
     }
 
+    /// Issue 47 #10: a file planted under the temporary name gave "Could not write
+    /// x.png: File exists"; the message names the temporary.
+    #[test]
+    fn a_taken_temporary_name_is_named() {
+        let dir =
+            std::env::temp_dir().join(format!("sediment-atomic-taken-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let target = dir.join("x.png");
+        std::fs::write(temporary_name(&target), b"planted").expect("plant");
+        let err = write_bytes(&target, b"data").expect_err("taken");
+        let why = std::error::Error::source(&err).map(ToString::to_string);
+        assert!(
+            why.as_deref()
+                .is_some_and(|w| w.contains(".x.png.partial-")),
+            "{err}: {why:?}"
+        );
+        assert!(!target.exists());
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
+
     #[test]
     fn a_set_renames_all_at_the_end_or_none() {
         let dir = std::env::temp_dir().join(format!("sediment-atomic-set-{}", std::process::id()));

@@ -878,10 +878,9 @@ fn concurrent_runs_never_mix_their_output_sets() {
 
 /// Issue 47 #10, in part: a climate span of 1e-9 years advised "--years-per-pass of at
 /// least 0.0" (it means at most), +-1e308 "spans inf years", `--years-per-pass 1e-300` a
-/// 300-digit pass count, and a planted `.x.png.partial-PID` gave "File exists" about
-/// x.png alone.
+/// 300-digit pass count. (The planted temporary: `export::atomic`'s tests.)
 #[test]
-fn messages_say_which_way_to_go_in_short_numbers_and_name_the_temporary() {
+fn messages_say_which_way_to_go_in_short_numbers() {
     let dir = scratch("rel-messages-47");
     let at = |name: &str| dir.join(name).to_string_lossy().into_owned();
     std::fs::write(dir.join("span.csv"), "0,10,100,1\n0.000000001,10,100,1\n").expect("csv");
