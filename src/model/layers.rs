@@ -388,7 +388,7 @@ pub const INSERT_GAP: f64 = 1.5;
 
 /// Outward lean past vertical (as run over rise) that counts as an overhang: a
 /// stationary flank is vertical to within rounding, an overhang leans visibly.
-pub const OVERHANG_LEAN: f64 = 0.05;
+const OVERHANG_LEAN: f64 = 0.05;
 
 /// Grows layers on `base` (support points from the axis out) following `steps`.
 pub fn grow(base: &[[f64; 2]], steps: &[LayerStep], decay: Decay) -> Result<Stalagmite> {

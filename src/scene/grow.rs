@@ -51,6 +51,18 @@ pub const PRESETS: &[(&str, &str)] = &[
     ),
 ];
 
+/// Every preset's growth scene with its name, for tests that hold a property over all
+/// of them.
+#[cfg(test)]
+pub(crate) fn preset_scenes() -> impl Iterator<Item = (&'static str, GrowthScene)> {
+    PRESETS.iter().map(|(name, _)| {
+        let scene = preset(name)
+            .and_then(|p| p.growth_scene())
+            .unwrap_or_else(|e| panic!("preset {name}: {e}"));
+        (*name, scene)
+    })
+}
+
 /// The parameters of a Figure 9 preset (or `holocene`).
 pub fn preset(name: &str) -> Result<GrowScene> {
     let base = GrowScene::default();

@@ -395,13 +395,8 @@ fn a_front_waiting_out_idle_passes_grows_when_the_parameters_allow() {
 
 #[test]
 fn every_preset_is_closed_but_its_base_ring_with_the_caps() {
-    for (name, _) in crate::scene::grow::PRESETS {
-        let plan = crate::scene::grow::preset(name)
-            .expect("preset")
-            .growth_scene()
-            .expect("growth")
-            .plan()
-            .expect("plan");
+    for (name, scene) in crate::scene::grow::preset_scenes() {
+        let plan = scene.plan().expect("plan");
         let mesh = grow_reference(&plan, plan.passes);
         let caps = super::caps(&mesh, &plan, plan.passes);
         // Base rings: the initial primitive's rings (ring index 0), sunk in the rock.
@@ -578,11 +573,7 @@ fn depth_inside(p: Vec3, triangles: &[[Vec3; 3]]) -> f32 {
 fn no_tip_ends_inside_another_speleothem_in_any_preset() {
     let mut report = Vec::new();
     let mut pierced_total = 0;
-    for (name, _) in crate::scene::grow::PRESETS {
-        let scene = crate::scene::grow::preset(name)
-            .expect("preset")
-            .growth_scene()
-            .expect("growth");
+    for (name, scene) in crate::scene::grow::preset_scenes() {
         let plan = scene.plan().expect("plan");
         let mesh = grow_reference(&plan, plan.passes);
         let n = plan.speleothems.len();

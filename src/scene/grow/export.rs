@@ -208,14 +208,9 @@ mod tests {
     /// enclose a positive volume (outward faces).
     #[test]
     fn exported_speleothems_are_closed_solids() {
-        for (name, _) in crate::scene::grow::PRESETS {
-            let plan = crate::scene::grow::preset(name)
-                .expect("preset")
-                .growth_scene()
-                .expect("growth")
-                .plan()
-                .expect("plan");
-            let mut asset = Asset::new(*name);
+        for (name, scene) in crate::scene::grow::preset_scenes() {
+            let plan = scene.plan().expect("plan");
+            let mut asset = Asset::new(name);
             export_parts(&plan, &grow_reference(&plan, plan.passes), &mut asset);
             for part in &asset.parts {
                 let m = &part.mesh;
