@@ -197,6 +197,17 @@ fn memory_hint(result: vk::Result) -> &'static str {
     }
 }
 
+/// A number for a message: four significant figures, an exponent beyond 1e6 and
+/// below 1e-3, so that no value prints as hundreds of digits.
+pub fn short_number(v: f64) -> String {
+    if v != 0.0 && !(1e-3..1e6).contains(&v.abs()) {
+        format!("{v:.3e}")
+    } else {
+        let s = format!("{v:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    }
+}
+
 /// A user's text as an error message quotes it: long input cut to its first 60
 /// characters, so that an argument megabytes long is not echoed back whole.
 pub fn echo(text: &str) -> String {
@@ -210,11 +221,20 @@ pub fn echo(text: &str) -> String {
 /// A whole message with every over-long word in it (a value quoted back by the
 /// argument parser) cut as [`echo`] cuts it; lines and spacing kept.
 pub fn echo_long_words(message: &str) -> String {
-    const LONG: usize = 100;
+    echo_words_over(message, 100)
+}
+
+/// Words longer than any path a person types: every error sediment prints has
+/// longer words cut, so a value no check quoted with [`echo`] (a device name, a file
+/// name, a string in a report) is still not echoed back whole.
+pub const LONGEST_WORD: usize = 1024;
+
+/// [`echo_long_words`] for words over `long` characters.
+pub fn echo_words_over(message: &str, long: usize) -> String {
     let mut out = String::with_capacity(message.len().min(4096));
     let mut word = String::new();
     let flush = |word: &mut String, out: &mut String| {
-        if word.chars().count() > LONG {
+        if word.chars().count() > long {
             // Quotes around the value stay, so the count is the value's own.
             let quote = |c: char| matches!(c, '\'' | '"' | ':' | ',');
             let core = word.trim_start_matches(quote);

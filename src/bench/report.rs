@@ -153,9 +153,12 @@ impl Report {
 
     /// Reads a report written by [`Report::to_json`]; refuses other schemas.
     pub fn from_json(text: &str) -> Result<Self> {
-        let report: Report = serde_json::from_str(text).map_err(|e| {
+        let not_a_report = |e: serde_json::Error| {
             Error::invalid("bench report", format!("not a sediment bench report: {e}"))
-        })?;
+        };
+        let value: serde_json::Value = serde_json::from_str(text).map_err(not_a_report)?;
+        check_texts(&value, "")?;
+        let report: Report = serde_json::from_value(value).map_err(not_a_report)?;
         if report.meta.schema != SCHEMA {
             return Err(Error::invalid(
                 "bench report",
@@ -395,6 +398,42 @@ pub(crate) fn number(v: f64) -> String {
         format!("{v:.3e}")
     } else {
         format!("{v:.3}")
+    }
+}
+
+/// The longest text a report holds (a device or driver name, a command line, a
+/// series or metric name): a report's text is printed in tables and charts.
+pub const MAX_REPORT_TEXT: usize = 8192;
+
+/// Refuses any string or key in `value` longer than [`MAX_REPORT_TEXT`] characters,
+/// naming where it is (`at`: its path so far).
+fn check_texts(value: &serde_json::Value, at: &str) -> Result<()> {
+    let too_long = |what: &str, text: &str| {
+        let n = text.chars().count();
+        if n > MAX_REPORT_TEXT {
+            Err(Error::invalid(
+                "bench report",
+                format!(
+                    "{what} is {n} characters long, over the {MAX_REPORT_TEXT} a report's \
+                     text may have: not a report sediment wrote"
+                ),
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    match value {
+        serde_json::Value::String(text) => too_long(&format!("the text at {at}"), text),
+        serde_json::Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .try_for_each(|(i, item)| check_texts(item, &format!("{at}[{i}]"))),
+        serde_json::Value::Object(fields) => fields.iter().try_for_each(|(key, item)| {
+            let place = if at.is_empty() { "the report" } else { at };
+            too_long(&format!("a key in {place}"), key)?;
+            check_texts(item, &format!("{at}.{}", crate::error::echo(key)))
+        }),
+        _ => Ok(()),
     }
 }
 

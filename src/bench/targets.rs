@@ -101,6 +101,15 @@ impl Targets {
             {
                 return Err(bad("a bound is not a finite number".into()));
             }
+            if let (Some(lo), Some(hi)) = (target.at_least, target.at_most) {
+                if lo > hi {
+                    return Err(bad(format!(
+                        "at_least {} is above at_most {}: no value can hold",
+                        number(lo),
+                        number(hi)
+                    )));
+                }
+            }
             match known.iter().find(|(scene, _)| *scene == target.scene) {
                 None => return Err(bad(format!("no bench scene \"{}\"", target.scene))),
                 Some((scene, variants)) if !variants.contains(&target.variant.as_str()) => {
@@ -126,38 +135,157 @@ impl Targets {
                     let values: Vec<Option<f64>> = runs.iter().map(|r| t.value_in(r)).collect();
                     let holds =
                         !values.is_empty() && values.iter().all(|v| v.is_some_and(|v| t.met_by(v)));
-                    (t.clone(), values, holds)
+                    let unjudged = if holds {
+                        None
+                    } else {
+                        runs.iter().find_map(|r| t.unjudged_in(r))
+                    };
+                    Judged {
+                        target: t.clone(),
+                        values,
+                        holds,
+                        unjudged,
+                    }
                 })
                 .collect(),
         }
     }
 }
 
+/// Why a target could not be judged in a run.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Unjudged {
+    /// Its scene and variant were not benched.
+    NotRun,
+    /// The series ran but reports no value of this name: the metrics it does report.
+    NoSuchValue(Vec<String>),
+}
+
+impl Target {
+    /// Why the target has no value in `run`, if it has none.
+    fn unjudged_in(&self, run: &Report) -> Option<Unjudged> {
+        if self.value_in(run).is_some() {
+            return None;
+        }
+        let Some(s) = run.series_of(&self.scene, &self.variant) else {
+            return Some(Unjudged::NotRun);
+        };
+        let known = ["frame_gpu_ms", "frame_x_floor"];
+        if known.contains(&self.value.as_str()) || s.metrics.contains_key(&self.value) {
+            // Present but not a number (a floor of 0): a miss, not a typo.
+            return None;
+        }
+        let mut names: Vec<String> = known.iter().map(|k| (*k).to_owned()).collect();
+        names.extend(s.metrics.keys().cloned());
+        Some(Unjudged::NoSuchValue(names))
+    }
+}
+
 /// Each target with its value in each run and whether it held in all.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Verdict {
-    /// (target, its value per run — `None` where its series was not measured, holds).
-    pub rows: Vec<(Target, Vec<Option<f64>>, bool)>,
+    /// The targets in the file's order.
+    pub rows: Vec<Judged>,
+}
+
+/// One target judged.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Judged {
+    /// The target.
+    pub target: Target,
+    /// Its value per run, `None` where it has none.
+    pub values: Vec<Option<f64>>,
+    /// Whether it held in every run.
+    pub holds: bool,
+    /// Why it could not be judged in some run.
+    pub unjudged: Option<Unjudged>,
 }
 
 impl Verdict {
     /// Whether every target held in every run.
     pub fn all_hold(&self) -> bool {
-        self.rows.iter().all(|r| r.2)
+        self.rows.iter().all(|r| r.holds)
     }
 
     /// The names of the targets that did not hold.
     pub fn failed(&self) -> Vec<&str> {
         self.rows
             .iter()
-            .filter(|r| !r.2)
-            .map(|r| r.0.name.as_str())
+            .filter(|r| !r.holds)
+            .map(|r| r.target.name.as_str())
             .collect()
+    }
+
+    /// What failed, in words: the targets judged and missed, those whose series were
+    /// not run (with the scenes to bench), and those naming a value their series does
+    /// not report; `None` when every target held.
+    pub fn failure(&self) -> Option<String> {
+        if self.all_hold() {
+            return None;
+        }
+        let mut parts = Vec::new();
+        let missed: Vec<&str> = self
+            .rows
+            .iter()
+            .filter(|r| !r.holds && r.unjudged.is_none())
+            .map(|r| r.target.name.as_str())
+            .collect();
+        if !missed.is_empty() {
+            parts.push(format!(
+                "{} of {} targets did not hold in every run: {}",
+                missed.len(),
+                self.rows.len(),
+                missed.join("; ")
+            ));
+        }
+        let not_run: Vec<&Target> = self
+            .rows
+            .iter()
+            .filter(|r| r.unjudged == Some(Unjudged::NotRun))
+            .map(|r| &r.target)
+            .collect();
+        if !not_run.is_empty() {
+            let mut series: Vec<String> = not_run
+                .iter()
+                .map(|t| format!("{} {}", t.scene, t.variant))
+                .collect();
+            series.sort_unstable();
+            series.dedup();
+            let mut scenes: Vec<&str> = not_run.iter().map(|t| t.scene.as_str()).collect();
+            scenes.sort_unstable();
+            scenes.dedup();
+            parts.push(format!(
+                "{} of {} targets were not judged: their series were not run ({}; \
+                 `sediment bench {}` runs them)",
+                not_run.len(),
+                self.rows.len(),
+                series.join(", "),
+                scenes.join(" ")
+            ));
+        }
+        for Judged {
+            target: t,
+            unjudged,
+            ..
+        } in &self.rows
+        {
+            if let Some(Unjudged::NoSuchValue(names)) = unjudged {
+                parts.push(format!(
+                    "target \"{}\" asks for `{}`, which {} {} does not report (it reports {})",
+                    t.name,
+                    crate::error::echo(&t.value),
+                    t.scene,
+                    t.variant,
+                    names.join(", ")
+                ));
+            }
+        }
+        Some(parts.join(". "))
     }
 
     /// The verdict as a Markdown table: one column per run.
     pub fn markdown(&self) -> String {
-        let runs = self.rows.first().map_or(0, |r| r.1.len());
+        let runs = self.rows.first().map_or(0, |r| r.values.len());
         let mut out = String::from("| target | source | series | value | bound |");
         for k in 1..=runs {
             out.push_str(&format!(" run {k} |"));
@@ -165,7 +293,13 @@ impl Verdict {
         out.push_str(" holds |\n|---|---|---|---|---:|");
         out.push_str(&"---:|".repeat(runs));
         out.push_str("---|\n");
-        for (t, values, holds) in &self.rows {
+        for Judged {
+            target: t,
+            values,
+            holds,
+            unjudged: why,
+        } in &self.rows
+        {
             out.push_str(&format!(
                 "| {} | {} | {} {} | {} | {} |",
                 t.name,
@@ -179,14 +313,18 @@ impl Verdict {
                 match v {
                     Some(v) if t.met_by(*v) => out.push_str(&format!(" {} |", number(*v))),
                     Some(v) => out.push_str(&format!(" **{}** |", number(*v))),
-                    None => out.push_str(" not run |"),
+                    None if matches!(why, Some(Unjudged::NoSuchValue(_))) => {
+                        out.push_str(" no such value |")
+                    }
+                    None if matches!(why, Some(Unjudged::NotRun)) => out.push_str(" not run |"),
+                    None => out.push_str(" not a number |"),
                 }
             }
             out.push_str(if *holds { " yes |\n" } else { " **no** |\n" });
         }
         out.push_str(&format!(
             "\n{} of {} targets hold in every run\n",
-            self.rows.iter().filter(|r| r.2).count(),
+            self.rows.iter().filter(|r| r.holds).count(),
             self.rows.len()
         ));
         out
@@ -244,7 +382,7 @@ mod tests {
         assert!(t.check(&[&good, &good]).all_hold(), "2.5x in both runs");
         let v = t.check(&[&good, &bad]);
         assert!(!v.all_hold(), "3.5x in the second run");
-        assert_eq!(v.rows[0].1, vec![Some(2.5), Some(3.5)]);
+        assert_eq!(v.rows[0].values, vec![Some(2.5), Some(3.5)]);
         assert!(
             v.markdown().contains("| 2.500 | **3.500** | **no** |"),
             "{}",
@@ -269,10 +407,62 @@ mod tests {
                 "no variant",
             ),
             (format!("{base}at_most = 1\nspeed = 2\n"), "speed"),
+            (
+                format!("{base}at_least = 5\nat_most = 3\n"),
+                "at_least 5.000 is above at_most 3.000",
+            ),
             (String::new(), "target"),
         ] {
             let e = Targets::from_toml(&text).expect_err(expected);
             assert!(e.to_string().contains(expected), "{expected}: {e}");
         }
+    }
+
+    #[test]
+    fn targets_not_judged_say_why_instead_of_failing_as_missed() {
+        let text = "[[target]]\nname = \"fast\"\nscene = \"cave\"\nvariant = \"depth-5\"\nvalue = \"frame_gpu_ms\"\nat_most = 10.0\n\
+            [[target]]\nname = \"typo\"\nscene = \"cave\"\nvariant = \"depth-5\"\nvalue = \"frame_gpu_sm\"\nat_most = 10.0\n\
+            [[target]]\nname = \"dunes\"\nscene = \"dunes\"\nvariant = \"dune-ripple-shadows\"\nvalue = \"frame_gpu_ms\"\nat_most = 10.0\n";
+        let t = Targets::from_toml(text).expect("targets");
+        let mut run: Report = serde_json::from_str(
+            r#"{"meta":{"schema":1,"device":"d","driver":"x","vulkan":"1.3","sediment_version":"0",
+                "git_commit":"c","width":1,"height":1,"frames":1,"warmup":0,"threads":1},
+                "floor":[],"series":[],"paper_ratios":[]}"#,
+        )
+        .expect("report");
+        let stats = crate::stats::Stats::of(&[5.0]);
+        run.series.push(crate::bench::report::SeriesResult {
+            scene: "cave".into(),
+            variant: "depth-5".into(),
+            passes: Vec::new(),
+            frame_gpu_ms: stats.clone(),
+            frame_cpu_ms: stats,
+            per_frame_gpu_ms: vec![5.0],
+            metrics: [("triangles".to_owned(), 1.0)].into_iter().collect(),
+        });
+        let v = t.check(&[&run]);
+        let failure = v.failure().expect("two targets not judged");
+        assert!(!failure.contains("did not hold"), "{failure}");
+        assert!(
+            failure.contains("1 of 3 targets were not judged: their series were not run (dunes dune-ripple-shadows; `sediment bench dunes` runs them)"),
+            "{failure}"
+        );
+        assert!(
+            failure.contains("target \"typo\" asks for `frame_gpu_sm`, which cave depth-5 does not report (it reports frame_gpu_ms, frame_x_floor, triangles)"),
+            "{failure}"
+        );
+        let table = v.markdown();
+        assert!(
+            table.contains("| no such value |") && table.contains("| not run |"),
+            "{table}"
+        );
+        assert!(
+            Targets::from_toml(&text.replace("10.0\n", "1.0\n"))
+                .expect("t")
+                .check(&[&run])
+                .failure()
+                .expect("missed")
+                .starts_with("1 of 3 targets did not hold in every run: fast.")
+        );
     }
 }

@@ -352,7 +352,11 @@ fn run_program(
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             output::clear();
-            eprintln!("error: {e:#}");
+            let message = format!("{e:#}");
+            eprintln!(
+                "error: {}",
+                crate::error::echo_words_over(&message, crate::error::LONGEST_WORD)
+            );
             if !discarded.is_empty() {
                 let names: Vec<String> =
                     discarded.iter().map(|p| p.display().to_string()).collect();

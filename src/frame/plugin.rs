@@ -346,19 +346,37 @@ fn point<P: ParamSet>(params: &P, key: &str) -> Option<[f32; 3]> {
 
 /// `camera` with the parameters' `eye` and `target` over it, checked.
 pub fn camera_over<P: ParamSet>(params: &P, mut camera: Camera) -> Result<Camera> {
-    if let Some(eye) = point(params, "eye") {
+    let (eye, target) = (point(params, "eye"), point(params, "target"));
+    if let Some(eye) = eye {
         camera.eye = eye.into();
     }
-    if let Some(target) = point(params, "target") {
+    if let Some(target) = target {
         camera.target = target.into();
     }
-    if camera.eye.distance(camera.target) < 1e-6 {
-        return Err(Error::invalid(
+    let distance = camera.eye.distance(camera.target);
+    if distance.is_finite() && distance >= 1e-6 {
+        return Ok(camera);
+    }
+    Err(match (eye, target) {
+        (Some(_), _) => Error::invalid(
             "eye",
             "the camera must not look at its own position (give another target)",
-        ));
-    }
-    Ok(camera)
+        ),
+        (None, Some(_)) => Error::invalid(
+            "target",
+            "the camera must not look at its own position (give another eye)",
+        ),
+        // The scene framed itself: its size, not a camera the user gave, is at fault.
+        (None, None) => Error::invalid(
+            "scene",
+            format!(
+                "its own camera cannot frame it at these settings (its eye {} units from \
+                 what it looks at): the scene's size options are beyond what can be drawn \
+                 (see their ranges in --help)",
+                crate::error::short_number(f64::from(distance))
+            ),
+        ),
+    })
 }
 
 impl<D: SceneDef> AnyScene for D {
@@ -514,5 +532,55 @@ impl<D: SceneDef> AnyScene for D {
             preset: resolved.preset.as_deref(),
         };
         SceneDef::write_output(self, output, path, &job, report)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Jitter;
+    use glam::Vec3;
+
+    fn camera(eye: Vec3, target: Vec3) -> Camera {
+        Camera {
+            eye,
+            target,
+            up: Vec3::Y,
+            fov_y_degrees: 60.0,
+            near: 0.05,
+            far: 10.0,
+            jitter: Jitter::NONE,
+        }
+    }
+
+    /// The option or setting an error blames.
+    fn blamed(e: Error) -> String {
+        match e {
+            Error::InvalidArgument { argument, .. } => argument,
+            other => panic!("not an invalid value: {other}"),
+        }
+    }
+
+    #[test]
+    fn a_degenerate_camera_is_blamed_on_what_set_it() {
+        let mut params = crate::scene::layers::LayersScene::default();
+        // The scene's own camera (no eye, no target given): its size is at fault.
+        for bad in [camera(Vec3::ONE, Vec3::ONE), camera(Vec3::NAN, Vec3::ZERO)] {
+            let e = camera_over(&params, bad).expect_err("degenerate");
+            assert!(
+                e.to_string().contains("its own camera cannot frame it"),
+                "{e}"
+            );
+            assert_eq!(blamed(e), "scene");
+        }
+        // An eye the user gave onto the scene's target: the eye is named.
+        params.eye = Some(crate::params::Point3([1.0, 1.0, 1.0]));
+        let e = camera_over(&params, camera(Vec3::ZERO, Vec3::ONE)).expect_err("eye on target");
+        assert_eq!(blamed(e), "eye");
+        params.eye = None;
+        params.target = Some(crate::params::Point3([0.0, 0.0, 0.0]));
+        let e = camera_over(&params, camera(Vec3::ZERO, Vec3::ONE)).expect_err("target on eye");
+        assert_eq!(blamed(e), "target");
+        assert!(camera_over(&params, camera(Vec3::ONE, Vec3::ONE)).is_ok());
     }
 }

@@ -53,6 +53,12 @@ impl TargetFormat {
     /// Refuses a frame over the host memory budget (4 GiB: on lavapipe device memory is
     /// host memory), naming the largest size of the same aspect that fits.
     pub fn check_budget(&self, width: u32, height: u32) -> Result<()> {
+        self.check_budget_of("--size", width, height)
+    }
+
+    /// [`TargetFormat::check_budget`] for a size `what` sets (an option, "the
+    /// window"): the message names it.
+    pub fn check_budget_of(&self, what: &str, width: u32, height: u32) -> Result<()> {
         let bytes = self.frame_bytes(width, height);
         let samples = self.samples.as_raw().max(1);
         // Both sides scaled by the same factor keep the aspect and fit the budget.
@@ -60,7 +66,7 @@ impl TargetFormat {
         let fits = |side: u32| ((f64::from(side) * scale).floor() as u32).max(1);
         let reduce = if samples > 1 {
             format!(
-                "reduce --size (at most about {}x{} at this aspect) or --samples (at 1 sample a pixel: {})",
+                "reduce {what} (at most about {}x{} at this aspect) or --samples (at 1 sample a pixel: {})",
                 fits(width),
                 fits(height),
                 match (Self {
@@ -76,13 +82,13 @@ impl TargetFormat {
             )
         } else {
             format!(
-                "reduce --size (at most about {}x{} at this aspect)",
+                "reduce {what} (at most about {}x{} at this aspect)",
                 fits(width),
                 fits(height)
             )
         };
         crate::budget::check_host(
-            "--size",
+            what,
             &format!("a {width}x{height} frame at {samples} sample(s) a pixel"),
             bytes,
             &reduce,

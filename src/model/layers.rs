@@ -221,13 +221,13 @@ impl std::str::FromStr for Supply {
 /// Franke's parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrankeParams {
-    /// Thickness per layer at the apex, > 0.
+    /// Thickness per layer at the apex, 1e-9..=1000.
     pub dic: f64,
     /// Support points, 8..=2000.
     pub pz: usize,
     /// Layers, 1..=20000.
     pub rep: usize,
-    /// Decay length r, > 0.
+    /// Decay length r, 1e-6..=1e6.
     pub r: f64,
     /// How the deposit thins away from the apex.
     pub decay: Decay,
@@ -252,10 +252,10 @@ impl FrankeParams {
     /// Checks every field against the range in its doc, naming the option at fault.
     pub fn validate(&self) -> Result<()> {
         let check = crate::error::ensure_in_range;
-        check(self.dic.is_finite() && self.dic > 0.0, "--dic", "(0, inf)")?;
+        check((1e-9..=1e3).contains(&self.dic), "--dic", "1e-9..=1000")?;
         check((8..=2000).contains(&self.pz), "--pz", "8..=2000")?;
         check((1..=20000).contains(&self.rep), "--rep", "1..=20000")?;
-        check(self.r.is_finite() && self.r > 0.0, "--r", "(0, inf)")?;
+        check((1e-6..=1e6).contains(&self.r), "--r", "1e-6..=1e6")?;
         self.supply.validate()
     }
 

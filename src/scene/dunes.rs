@@ -200,10 +200,10 @@ crate::params! {
         /// mounds.
         [top, "Dune law"] dune_lateral: f64 = 0.3, "F", "", check::within(0.0..=1.0);
         /// World metres per dune cell.
-        [top, "Scale"] cell: f32 = 4.0, "M", "m", check::above(0.0);
+        [top, "Scale"] cell: f32 = 4.0, "M", "m", check::within(0.01..=1000.0);
         /// World metres covered by one ripple tile (16: 64 ripple texels per 4 m dune
         /// cell, as in the paper).
-        [top, "Scale"] ripple_tile: f32 = 16.0, "M", "m", check::above(0.0);
+        [top, "Scale"] ripple_tile: f32 = 16.0, "M", "m", check::within(0.01..=10_000.0);
         /// Ripple surface height per unit of the simulated sand, in texels (their
         /// steepness).
         [top, "Scale"] ripple_height_scale: f32 = 0.35, "F", "texels", check::above(0.0);

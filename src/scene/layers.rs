@@ -141,14 +141,14 @@ crate::params! {
     /// the growth law of Kaufmann 2003) and how its section is drawn.
     pub struct LayersScene {
         /// Layer thickness per time unit at the apex (Franke's units).
-        [top, "Layer model"] dic: f64 = 0.02, "F", "", check::above(0.0);
+        [top, "Layer model"] dic: f64 = 0.02, "F", "", check::within(1e-9..=1e3);
         /// Support points of the profile.
         [top, "Layer model"] pz: usize = 160, "N", "", check::within(8..=2000);
         /// Layers.
         [top, "Layer model"] rep: usize = 300, "N", "", check::within(1..=20_000);
         /// Decay length r of the deposit (the stationary radius is 0.886 r for the
         /// Gaussian, r / 2 linear, r exponential).
-        [top, "Layer model"] r: f64 = 1.0, "F", "", check::above(0.0);
+        [top, "Layer model"] r: f64 = 1.0, "F", "", check::within(1e-6..=1e6);
         /// Decay law: gaussian (Franke's exp(-(s/r)^2)), linear (Dreybrodt's) or
         /// exponential.
         [top, "Layer model"] decay: Decay = Decay::Gaussian, "gaussian|linear|exponential", "", check::any();

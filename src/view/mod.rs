@@ -452,7 +452,13 @@ impl State {
             return Ok(false);
         }
         match &mut self.runner {
-            Some(runner) => runner.resize(Size::new(w, h))?,
+            Some(runner) => {
+                // The window's size, not --size, is what changed (at least one target
+                // pixel a window pixel, whatever the supersampling).
+                let format = runner.target().format();
+                format.check_budget_of("the window size", w, h)?;
+                runner.resize(Size::new(w, h))?
+            }
             None => {
                 self.runner = Some(FrameRunner::for_window(
                     &self.ctx,

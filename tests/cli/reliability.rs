@@ -781,7 +781,7 @@ fn an_output_beyond_its_size_bound_is_refused_before_the_work() {
             "--pz",
             "2000",
             "--dic",
-            "1e300",
+            "1000",
             "-o",
             &at("l.png"),
             "--csv",
@@ -908,5 +908,136 @@ fn messages_say_which_way_to_go_in_short_numbers() {
         "at least",
     );
     assert!(e.contains("e304") && e.len() < 400, "{e}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn messages_blame_what_was_given_and_never_echo_a_long_value_whole() {
+    // Issue 47 #10, the rest.
+    let dir = scratch("rel-messages-blame");
+    let at = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    // A scale beyond what can be drawn is refused as itself, not as --eye/--target.
+    for (args, option) in [
+        (vec!["dunes", "--cell", "1e38"], "--cell"),
+        (vec!["dunes", "--cell", "1e-30"], "--cell"),
+        (vec!["dunes", "--ripple-tile", "1e-30"], "--ripple-tile"),
+        (vec!["layers", "--rep", "50", "--dic", "1e300"], "--dic"),
+        (vec!["layers", "--dic", "1e-300"], "--dic"),
+        (vec!["layers", "--r", "1e300"], "--r"),
+    ] {
+        let png = at("x.png");
+        let args: Vec<&str> = args.into_iter().chain(["-o", png.as_str()]).collect();
+        let e = refused(&args, option);
+        assert!(!e.contains("--eye") && !e.contains("--target"), "{e}");
+    }
+    // Long values outside the argument parser: a device name, a path in a scene file.
+    let long = "a".repeat(120_000);
+    let e = refused(
+        &[
+            "--device",
+            &long,
+            "grow",
+            "--size",
+            "64x48",
+            "-o",
+            &at("g.png"),
+        ],
+        "(120000 characters)",
+    );
+    assert!(e.len() < 1000, "{} bytes of message", e.len());
+    std::fs::write(
+        dir.join("s.toml"),
+        format!("[growth]\nclimate = \"{}\"\n", "b".repeat(100_000)),
+    )
+    .expect("scene");
+    let e = refused(
+        &["grow", "--scene", &at("s.toml"), "-o", &at("g.png")],
+        "(100000 characters)",
+    );
+    assert!(e.len() < 1000, "{} bytes of message", e.len());
+    // A report with a string no sediment wrote is refused, naming where it is.
+    let out = sediment(&[
+        "bench",
+        "cave",
+        "--variants",
+        "depth-5",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--size",
+        "32x24",
+        "--json",
+        &at("a.json"),
+    ]);
+    common::cli::assert_success(&out, "a small bench");
+    let report = std::fs::read_to_string(dir.join("a.json")).expect("report");
+    std::fs::write(
+        dir.join("big.json"),
+        report.replacen("llvmpipe", &"x".repeat(3_000_000), 1),
+    )
+    .expect("report");
+    let e = refused(
+        &["bench", "--compare", &at("a.json"), &at("big.json")],
+        "the text at .meta.device is 3000024 characters long",
+    );
+    assert!(e.len() < 1000, "{} bytes of message", e.len());
+    // Targets: bounds that cannot both hold are refused up front; targets whose
+    // series did not run, or whose value the series does not report, are not
+    // counted as missed.
+    let target = |scene: &str, variant: &str, value: &str, bound: &str| {
+        format!(
+            "[[target]]\nname = \"{scene} {value}\"\nscene = \"{scene}\"\nvariant = \"{variant}\"\nvalue = \"{value}\"\n{bound}\n"
+        )
+    };
+    std::fs::write(
+        dir.join("crossed.toml"),
+        target(
+            "cave",
+            "depth-5",
+            "frame_gpu_ms",
+            "at_least = 5\nat_most = 3",
+        ),
+    )
+    .expect("targets");
+    refused(
+        &[
+            "bench",
+            "--check",
+            &at("crossed.toml"),
+            "--from",
+            &at("a.json"),
+        ],
+        "at_least 5.000 is above at_most 3.000",
+    );
+    std::fs::write(
+        dir.join("unjudged.toml"),
+        target("cave", "depth-5", "triangles_per_split", "at_least = 1")
+            + &target(
+                "dunes",
+                "dune-ripple-shadows",
+                "frame_gpu_ms",
+                "at_most = 1e9",
+            ),
+    )
+    .expect("targets");
+    let out = sediment(&[
+        "bench",
+        "--check",
+        &at("unjudged.toml"),
+        "--from",
+        &at("a.json"),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("did not hold"), "{stderr}");
+    assert!(
+        stderr.contains("1 of 2 targets were not judged: their series were not run")
+            && stderr.contains("`sediment bench dunes` runs them")
+            && stderr
+                .contains("asks for `triangles_per_split`, which cave depth-5 does not report")
+            && stderr.contains("triangles_after_split"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(&dir).expect("clean up");
 }

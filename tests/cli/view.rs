@@ -446,3 +446,32 @@ fn pausing_restarting_and_resizing_while_growing_stay_validation_clean() {
     assert!(stdout.contains("90 frames at 560x360"), "{stdout}");
     assert_eq!(load(&dir.join("shot.png")).dimensions(), (560, 360));
 }
+
+#[test]
+fn a_window_resized_over_the_memory_budget_is_named_as_the_window() {
+    // Issue 47 #10: it was reported as "--size", which the user never gave.
+    let x = Xvfb::start();
+    let dir = common::cli::scratch("view-huge-window");
+    let out = view(
+        &x,
+        &dir,
+        &[
+            "view",
+            "grow",
+            "--size",
+            "64x48",
+            "--frames",
+            "4",
+            "--script",
+            "1:resize=16384x16384",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("Invalid value for the window size")
+            && stderr.contains("reduce the window size")
+            && !stderr.contains("--size"),
+        "{stderr}"
+    );
+}

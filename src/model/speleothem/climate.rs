@@ -19,7 +19,7 @@
 //! Lengths are metres (one scene unit is a metre).
 
 use super::super::layers::physical::{Conditions, TimelineRow};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, short_number};
 
 /// The soda straw's radius, m (Curl 1972: straws about 5 mm across).
 pub const STRAW_RADIUS_M: f64 = 0.00255;
@@ -42,17 +42,6 @@ pub struct ClimateGrowth {
     pub film_m: f64,
     /// Years per growth pass, > 0.
     pub years_per_pass: f64,
-}
-
-/// A number for a message: four significant figures, an exponent beyond 1e6 and
-/// below 1e-3.
-fn short(v: f64) -> String {
-    if v != 0.0 && !(1e-3..1e6).contains(&v.abs()) {
-        format!("{v:.3e}")
-    } else {
-        let s = format!("{v:.4}");
-        s.trim_end_matches('0').trim_end_matches('.').to_owned()
-    }
 }
 
 impl ClimateGrowth {
@@ -92,8 +81,8 @@ impl ClimateGrowth {
                 "--climate",
                 format!(
                     "the record runs from year {} to {}, a span beyond any number of years",
-                    short(self.start()),
-                    short(self.end())
+                    short_number(self.start()),
+                    short_number(self.end())
                 ),
             ));
         }
@@ -111,10 +100,10 @@ impl ClimateGrowth {
                 format!(
                     "the record spans {} years: at {} years a pass that makes {} passes, \
                      not 1..=512; choose --years-per-pass of {advice} {}",
-                    short(span),
-                    short(self.years_per_pass),
-                    short(n),
-                    short(bound)
+                    short_number(span),
+                    short_number(self.years_per_pass),
+                    short_number(n),
+                    short_number(bound)
                 ),
             ));
         }

@@ -302,8 +302,9 @@ impl SceneDef for LayersDef {
         let layers = stalagmite.layers.len() - 1;
         let apex = stalagmite.surface().first().map_or(0.0, |p| p[1]);
         log::info!(
-            "grew {layers} layers in {:.0} ms; apex height {apex:.3} {}; {} support points",
+            "grew {layers} layers in {:.0} ms; apex height {} {}; {} support points",
             start.elapsed().as_secs_f64() * 1e3,
+            crate::error::short_number(apex),
             unit.as_deref().unwrap_or("units"),
             setup.franke.pz
         );
