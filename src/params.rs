@@ -337,10 +337,22 @@ pub mod check {
         Check::new("", |_| true)
     }
 
+    /// A bound as the help and messages show it: a float's many decimals as an
+    /// exponent (`1e-9`, not `0.000000001`).
+    fn bound<T: Display>(v: T) -> String {
+        let text = v.to_string();
+        match text.parse::<f64>() {
+            Ok(f) if text.contains('.') && text.len() > 8 => format!("{f:e}"),
+            _ => text,
+        }
+    }
+
     /// `lo..=hi`.
     pub fn within<T: PartialOrd + Display + Copy + 'static>(r: RangeInclusive<T>) -> Check<T> {
         let (lo, hi) = (*r.start(), *r.end());
-        Check::new(format!("{lo}..={hi}"), move |v: &T| lo <= *v && *v <= hi)
+        Check::new(format!("{}..={}", bound(lo), bound(hi)), move |v: &T| {
+            lo <= *v && *v <= hi
+        })
     }
 
     /// `(lo, hi]`: above `lo`, at most `hi`.
