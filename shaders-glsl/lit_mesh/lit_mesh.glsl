@@ -19,13 +19,70 @@ layout(set = 0, binding = 0) uniform Frame {
 layout(push_constant) uniform Object {
     mat4 model;
     vec4 albedo;
-    vec4 material;
+    vec4 material; // x shininess, y specular weight, z emission, w > 0.5: rock texture
 } object;
 
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec3 in_normal;
 
 layout(location = 0) out vec4 out_color;
+
+// Value noise on the unit lattice with its gradient (Quilez's analytic derivative of
+// the smoothstep-weighted corners): one lookup gives colour and relief.
+float lattice_hash(vec3 p) {
+    p = fract(p * 0.3183099 + 0.1) * 17.0;
+    return fract(p.x * p.y * p.z * (p.x + p.y + p.z));
+}
+
+vec4 value_noise(vec3 x) {
+    vec3 i = floor(x);
+    vec3 w = fract(x);
+    vec3 u = w * w * (3.0 - 2.0 * w);
+    vec3 du = 6.0 * w * (1.0 - w);
+    float a = lattice_hash(i);
+    float b = lattice_hash(i + vec3(1, 0, 0));
+    float c = lattice_hash(i + vec3(0, 1, 0));
+    float d = lattice_hash(i + vec3(1, 1, 0));
+    float e = lattice_hash(i + vec3(0, 0, 1));
+    float f = lattice_hash(i + vec3(1, 0, 1));
+    float g = lattice_hash(i + vec3(0, 1, 1));
+    float h = lattice_hash(i + vec3(1, 1, 1));
+    float k1 = b - a, k2 = c - a, k3 = e - a, k4 = a - b - c + d;
+    float k5 = a - c - e + g, k6 = a - b - e + f, k7 = -a + b + c - d + e - f - g + h;
+    float value = a + k1 * u.x + k2 * u.y + k3 * u.z + k4 * u.x * u.y + k5 * u.y * u.z
+                + k6 * u.z * u.x + k7 * u.x * u.y * u.z;
+    vec3 grad = du * vec3(k1 + k4 * u.y + k6 * u.z + k7 * u.y * u.z,
+                          k2 + k5 * u.z + k4 * u.x + k7 * u.z * u.x,
+                          k3 + k6 * u.x + k5 * u.y + k7 * u.x * u.y);
+    return vec4(value, grad);
+}
+
+// Rock (`material.w` 1): limestone whose colour wanders between iron-stained ochre
+// and grey in beds and patches, speckled at the grain, with a relief of the same solid
+// noise bent into the normal. Solid noise, not a projected texture: steep walls and
+// floors are textured alike and no seam shows where projections would meet.
+// An octave of `frequency` (per unit) fades out to its mean where its period spans
+// fewer than about four pixels (`footprint`: the pixel's size on the surface): below
+// that it would only alias.
+float octave_weight(float frequency, float footprint) {
+    return 1.0 - smoothstep(0.25, 0.5, frequency * footprint);
+}
+
+void rock(vec3 p, inout vec3 n, inout vec3 albedo) {
+    // A temporal frame's sample stands for its share of the pixel (`Jitter::lod_bias`).
+    float footprint = length(fwidth(p)) * exp2(frame.params.z);
+    vec4 patches = value_noise(p * vec3(1.1, 2.6, 1.1));
+    vec4 grain = value_noise(p * 9.0 + 13.0);
+    vec4 fine = value_noise(p * 31.0 + 71.0);
+    float g = octave_weight(9.0, footprint);
+    float f = octave_weight(31.0, footprint);
+    vec3 grey = vec3(0.095, 0.09, 0.085);
+    float stain = smoothstep(0.25, 0.8, patches.x);
+    albedo = mix(grey, albedo, stain) * (0.91 + g * 0.38 * (grain.x - 0.5))
+           * (1.0 + f * 0.3 * (fine.x - 0.5));
+    vec3 slope = 0.05 * patches.yzw + g * 0.045 * grain.yzw + f * 0.02 * fine.yzw;
+    n = normalize(n - (slope - dot(slope, n) * n));
+}
 
 void main() {
     vec3 n = normalize(in_normal);
@@ -34,8 +91,12 @@ void main() {
     vec3 radiance;
     light_at(frame.sun_dir, frame.sun_color.rgb, in_world, l, radiance);
     vec3 albedo = object.albedo.rgb;
+    vec3 geometric = n;
+    if (object.material.w > 0.5) {
+        rock(in_world, n, albedo);
+    }
 #ifdef SHADOWED
-    radiance *= shadow_visibility(in_world, n);
+    radiance *= shadow_visibility(in_world, geometric);
 #endif
     vec3 hdr = albedo * hemisphere_ambient(n, frame.sky_color.rgb, frame.ground_color.rgb)
              + sun_light(n, v, l, albedo, radiance, object.material.x, object.material.y)

@@ -3,6 +3,7 @@
 
 pub mod atmosphere;
 pub mod cave;
+pub mod chamber;
 pub mod dune_mesh;
 pub mod dune_shadow;
 pub mod dust;

@@ -59,7 +59,8 @@ pub struct ObjectPush {
     /// rgb: linear albedo.
     pub albedo: Vec4,
     /// x: Blinn-Phong shininess, y: specular weight, z: emission (radiance per unit
-    /// of albedo: a lamp).
+    /// of albedo: a lamp), w: 1 for rock (colour and relief from solid noise around
+    /// the albedo, `lit_mesh.glsl`), else 0.
     pub material: Vec4,
 }
 // SAFETY: repr(C), Mat4 + two Vec4, no padding.

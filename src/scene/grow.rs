@@ -16,6 +16,7 @@ use crate::render::lighting::Lighting;
 use crate::render::shadow_map::Spot;
 
 use crate::error::{Error, Result};
+use crate::model::chamber::ChamberKind;
 use crate::model::speleothem::climate;
 pub use crate::model::speleothem::plan::GrowthScene;
 use crate::model::speleothem::plan::{GrowthParams, GrowthUnits, ParamChange, StepMode};
@@ -194,6 +195,11 @@ crate::params! {
         [chamber, "Chamber"] chamber_height: f32 = 2.4, "UNITS", "scene units", check::within(0.2..=100.0);
         /// Sites are spread over -extent..extent in x and z.
         [chamber, "Chamber"] chamber_extent: f32 = 1.2, "UNITS", "scene units", check::within(0.1..=100.0);
+        /// The rock around the speleothems: cave (an enclosed chamber: rounded walls
+        /// all around, rubble on the floor, rock textured by solid noise) or planes
+        /// (the paper's floor and ceiling, reaching into the dark). The speleothems
+        /// are the same in both.
+        [chamber, "Chamber"] chamber: ChamberKind = ChamberKind::Cave, "planes|cave", "", check::any();
         /// Tone mapping: ashikhmin (Ashikhmin 2002's global operator, as the paper
         /// cites), aces (a filmic curve) or reinhard.
         [look, "Look"] tonemap: ToneMap = ToneMap::Ashikhmin, "ashikhmin|aces|reinhard", "", check::any();
@@ -243,6 +249,7 @@ crate::params! {
 crate::text_param!(
     ModeName,
     Lamp,
+    ChamberKind,
     ColorBy,
     Pil,
     DripInterval,
@@ -336,6 +343,7 @@ impl GrowScene {
         Ok(SpeleothemScene {
             growth: self.growth_scene()?,
             look: self.look(),
+            chamber: self.chamber,
         })
     }
 
@@ -556,6 +564,8 @@ pub struct SpeleothemScene {
     pub growth: GrowthScene,
     /// Tone mapping, exposure, bump, reflection, lamp and colouring.
     pub look: Look,
+    /// The rock around them.
+    pub chamber: ChamberKind,
 }
 
 /// The lamp in front of the chamber, above and to the left of the camera, with the

@@ -1,4 +1,5 @@
-//! The growth chamber: the rock of its floor and ceiling, drawn by the lit-mesh pass
+//! The growth chamber: its rock (`model::chamber`: the paper's floor and ceiling
+//! planes, or an enclosed cave chamber), drawn by the lit-mesh pass
 //! (kept per camera sample while the camera stands still), and the lamp, which with the
 //! rock makes the environment cube the speleothems reflect.
 
@@ -13,8 +14,8 @@ use crate::error::Result;
 use crate::frame::layer_cache::{self, LayerCache};
 use crate::frame::temporal;
 use crate::gpu::{Commands, Context, OffscreenTarget};
+use crate::model::chamber::{ChamberFrame, ChamberKind};
 use crate::model::mesh::Mesh;
-use crate::model::noise::fbm;
 use crate::render::environment::EnvironmentMap;
 use crate::render::lighting::Lighting;
 use crate::render::lit_mesh::{FrameSlot, FrameUniforms, GpuMesh, LitMeshPass, ObjectPush};
@@ -27,32 +28,37 @@ pub(super) const ROCK: ObjectPush = ObjectPush {
     albedo: Vec4::new(0.13, 0.122, 0.112, 1.0),
     material: Vec4::new(12.0, 0.05, 0.0, 0.0),
 };
+/// The enclosed chamber's rock: limestone stained by iron and clay, its colour and
+/// relief from solid noise in the shader (`lit_mesh.glsl`, `material.w` 1), so the
+/// walls' steep faces are textured as the floor is, without a projection's seams.
+pub(super) const CAVE_ROCK: ObjectPush = ObjectPush {
+    model: Mat4::IDENTITY,
+    albedo: Vec4::new(0.15, 0.118, 0.088, 1.0),
+    material: Vec4::new(10.0, 0.06, 0.05, 1.0),
+};
 pub(super) const CLEAR: [f32; 4] = [0.004, 0.0035, 0.003, 1.0];
 /// Camera samples of a still camera's rock kept per frame beside the frame's own
 /// (`Chamber::begin_frame`): all 16 within five frames, each such frame drawing the
 /// rock up to four times.
 const KEPT_PER_FRAME: u32 = 3;
+/// Boulders on the enclosed chamber's floor.
+const RUBBLE: u32 = 70;
 
-/// Rock surfaces of the chamber: the floor rises and the ceiling hangs a little, so the
-/// speleothem bases sink into them.
-fn chamber_meshes(scene: &GrowthScene) -> (Mesh, Mesh) {
-    // Wide enough that the planes' far edges sink into the lamp's falloff.
-    let half = scene.extent * 12.0;
-    let amp = 0.04 * (scene.ceiling_y - scene.floor_y);
-    let seed = scene.seed;
-    let relief =
-        move |x: f32, z: f32| amp * fbm(seed ^ 0xCA7E, Vec3::new(x, 0.0, z) * 1.3, 4, 0.5).abs();
-    // Graded: the cells under the speleothems as fine as a uniform 128-cell grid's
-    // (0.6 of a uniform 80-cell one's), three times coarser at the edges, where the
-    // planes recede into the dark: 2.6 times fewer triangles, most of those dropped
-    // smaller than a pixel.
-    let (cells, centre) = (80, 0.6);
-    let floor = Mesh::graded_height_grid(half, scene.floor_y, cells, centre, true, relief);
-    let ceiling =
-        Mesh::graded_height_grid(half, scene.ceiling_y, cells, centre, false, move |x, z| {
-            -relief(x + 17.0, z)
-        });
-    (floor, ceiling)
+/// The rock of `kind` around `scene`'s speleothems, and how it is shaded.
+fn chamber_meshes(scene: &GrowthScene, kind: ChamberKind) -> (Vec<Mesh>, ObjectPush) {
+    let frame = ChamberFrame {
+        floor_y: scene.floor_y,
+        ceiling_y: scene.ceiling_y,
+        extent: scene.extent,
+        seed: scene.seed,
+    };
+    match kind {
+        ChamberKind::Planes => {
+            let (floor, ceiling) = frame.planes();
+            (vec![floor, ceiling], ROCK)
+        }
+        ChamberKind::Cave => (vec![frame.cave(), frame.rubble(RUBBLE)], CAVE_ROCK),
+    }
 }
 
 /// The chamber's rock and its pass.
@@ -75,8 +81,12 @@ pub(super) struct Chamber {
     pub(super) shadow_key: Option<u32>,
     /// Times the rock was drawn (into a frame or a kept target).
     pub(super) rock_draws: u64,
-    pub(super) floor: GpuMesh,
-    pub(super) ceiling: GpuMesh,
+    /// The rock's meshes (floor and ceiling, or the chamber and its rubble).
+    pub(super) meshes: Vec<GpuMesh>,
+    /// How the rock is shaded.
+    pub(super) push: ObjectPush,
+    /// Which rock it is.
+    pub(super) kind: ChamberKind,
 }
 
 impl Chamber {
@@ -84,11 +94,11 @@ impl Chamber {
     /// (which must outlive the chamber).
     pub(super) fn new(
         ctx: &Arc<Context>,
-        scene: &GrowthScene,
+        (scene, kind): (&GrowthScene, ChamberKind),
         tone: ToneMap,
         shadow: &ShadowMap,
     ) -> Result<Self> {
-        let (floor, ceiling) = chamber_meshes(scene);
+        let (meshes, push) = chamber_meshes(scene, kind);
         let lighting = lamp_lighting(scene, &Look::default());
         let rock = LitMeshPass::shadowed(ctx, ctx.frame_format(), tone, shadow)?;
         Ok(Self {
@@ -103,8 +113,13 @@ impl Chamber {
             shadow_key: None,
             rock_draws: 0,
             rock,
-            floor: GpuMesh::upload(ctx, "cave floor", &floor)?,
-            ceiling: GpuMesh::upload(ctx, "cave ceiling", &ceiling)?,
+            meshes: meshes
+                .iter()
+                .enumerate()
+                .map(|(i, m)| GpuMesh::upload(ctx, &format!("chamber rock {i}"), m))
+                .collect::<Result<_>>()?,
+            push,
+            kind,
         })
     }
 
@@ -148,15 +163,16 @@ impl Chamber {
                 let Self {
                     rock,
                     kept_frames,
-                    floor,
-                    ceiling,
+                    meshes,
+                    push,
                     ..
                 } = self;
                 self.kept.keep(cmd, target, &k, CLEAR, |cmd, slot| {
                     let slot = &mut kept_frames[slot];
                     slot.set_frame(&frame)?;
-                    rock.draw_from(cmd, slot, floor, &ROCK)?;
-                    rock.draw_from(cmd, slot, ceiling, &ROCK)
+                    meshes
+                        .iter()
+                        .try_for_each(|mesh| rock.draw_from(cmd, slot, mesh, push))
                 })?;
                 self.rock_draws += 1;
                 budget -= 1;
@@ -166,8 +182,9 @@ impl Chamber {
             }
         }
         target.begin(cmd, CLEAR);
-        self.rock.draw(cmd, &self.floor, &ROCK)?;
-        self.rock.draw(cmd, &self.ceiling, &ROCK)?;
+        for mesh in &self.meshes {
+            self.rock.draw(cmd, mesh, &self.push)?;
+        }
         self.rock_draws += 1;
         Ok(())
     }
@@ -204,7 +221,11 @@ impl Chamber {
                 },
                 1.0,
             ),
-            &[(&self.floor, ROCK), (&self.ceiling, ROCK)],
+            &self
+                .meshes
+                .iter()
+                .map(|mesh| (mesh, self.push))
+                .collect::<Vec<_>>(),
         )
     }
 }

@@ -29,6 +29,7 @@ use crate::frame::{
 };
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::input::Key;
+use crate::model::chamber::ChamberKind;
 use crate::model::speleothem::plan::Kind as SpeleothemKind;
 use crate::model::speleothem::plan::{GrowthParams, ParamChange};
 use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
@@ -101,6 +102,7 @@ impl GrowthFrame {
             SpeleothemScene {
                 growth: scene,
                 look: Look::default(),
+                chamber: ChamberKind::default(),
             },
             path,
         )
@@ -111,7 +113,7 @@ impl GrowthFrame {
         let shadow = ShadowMap::keeping_static(ctx, shadow_map::DEFAULT_SIZE)?;
         let chamber = Some(Chamber::new(
             ctx,
-            &scene.growth,
+            (&scene.growth, scene.chamber),
             scene.look.tonemap,
             &shadow,
         )?);
@@ -138,6 +140,7 @@ impl GrowthFrame {
                     shadows: false,
                     ..look
                 },
+                chamber: ChamberKind::default(),
             },
             path,
             (None, ShadowMap::new(ctx, 1)?),
@@ -155,6 +158,7 @@ impl GrowthFrame {
         let SpeleothemScene {
             growth: scene,
             look,
+            chamber: _,
         } = scene;
         let plan = scene.plan()?;
         let environment = EnvironmentMap::new(ctx, ENVIRONMENT_SIZE)?;
@@ -400,11 +404,11 @@ impl GrowthFrame {
         self.surface.set_subsurface(self.look.subsurface);
         self.surface
             .set_age_colours((self.look.color == ColorBy::Age).then_some(plan.passes));
-        if self.chamber.is_some() {
+        if let Some(kind) = self.chamber.as_ref().map(|c| c.kind) {
             // The chamber's relief follows the seed: its reflection too.
             self.chamber = Some(Chamber::new(
                 ctx,
-                &self.scene,
+                (&self.scene, kind),
                 self.look.tonemap,
                 &self.shadow,
             )?);
@@ -523,11 +527,10 @@ impl Scene for GrowthFrame {
                 shadow.record_over_static(
                     cmd,
                     |shadow, cmd| {
-                        if let Some(c) = chamber {
-                            shadow.draw_mesh(cmd, &c.floor, glam::Mat4::IDENTITY)?;
-                            shadow.draw_mesh(cmd, &c.ceiling, glam::Mat4::IDENTITY)?;
-                        }
-                        Ok(())
+                        chamber
+                            .iter()
+                            .flat_map(|c| &c.meshes)
+                            .try_for_each(|mesh| shadow.draw_mesh(cmd, mesh, glam::Mat4::IDENTITY))
                     },
                     |_, cmd| surface.draw_casters(cmd, source, lod),
                 )
