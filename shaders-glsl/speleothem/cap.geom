@@ -1,13 +1,23 @@
 #version 450
 // Caps for open growth fronts, drawn beside the paper's mesh (which the transform
 // feedback keeps as it is): a front-band triangle with two vertices on the tip ring
-// (ID -1) and one on the ring behind it (ID 0) gives the cap triangle between the two
-// tips and the ring's centre, found from the chord: p1 = c + r n1 and p2 = c + r n2, so
-// r = |p1 - p2| / |n1 - n2|. Fronts that closed to a point or joined a column have no
-// tip ring left, so get no cap. The CPU twin is `model::speleothem::caps`.
+// (ID -1) and one on the ring behind it (ID 0) gives the sector between the two tips
+// and the ring's centre, raised into a dome: Franke's stationary profile
+// (`model::speleothem::DOME_PROFILE`, whose numbers these are) scaled in height by the
+// speleothem's dome factor (`GrowthPlan::dome`; 0: flat). Each point on a spoke from a
+// tip vertex depends on that vertex alone, so neighbouring sectors meet exactly; the
+// rim takes the flank's normal, so the join shows no crease. Fronts that closed to a
+// point or joined a column have no tip ring left, so get no cap. The CPU twin is
+// `model::speleothem::caps`.
 
 layout(triangles) in;
-layout(triangle_strip, max_vertices = 3) out;
+layout(triangle_strip, max_vertices = 11) out;
+
+const int DOME_ROWS = 5;
+// Rows from the rim inward: radius share, height in tip-ring radii, slope dy/dx.
+const float DOME_U[DOME_ROWS] = float[](1.0, 0.9, 0.75, 0.55, 0.3);
+const float DOME_H[DOME_ROWS] = float[](0.0, 0.4093, 0.703, 0.9209, 1.0652);
+const float DOME_SLOPE[DOME_ROWS] = float[](6.7516, 2.7138, 1.449, 0.8101, 0.3777);
 
 layout(set = 0, binding = 0) uniform Frame {
     mat4 view_proj;
@@ -27,6 +37,7 @@ layout(location = 4) in vec3 in_color[];
 layout(location = 5) in vec4 in_tip_centre[];
 layout(location = 6) in float in_id[];
 layout(location = 7) in vec3 in_growth[];
+layout(location = 8) in vec2 in_dome[];
 
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_normal;
@@ -77,8 +88,27 @@ void main() {
         a = b;
         b = t;
     }
-    corner(a, in_world[a], g);
-    corner(b, in_world[b], g);
-    corner(a, c, g);
+    float k = in_dome[a].x;
+    if (k <= 0.0) {
+        corner(a, in_world[a], g);
+        corner(b, in_world[b], g);
+        corner(a, c, g);
+        EndPrimitive();
+        return;
+    }
+    // A strip from the rim inward, alternating the two spokes, closed at the apex.
+    for (int row = 0; row < DOME_ROWS; ++row) {
+        for (int side = 0; side < 2; ++side) {
+            int v = side == 0 ? a : b;
+            vec3 p = in_world[v];
+            float r = length(p - c);
+            vec3 radial = (p - c) / max(r, 1e-12);
+            vec3 point = row == 0 ? p : c + (p - c) * DOME_U[row] + g * (k * DOME_H[row] * r);
+            vec3 normal = row == 0 ? in_normal[v] : normalize(g + radial * (k * DOME_SLOPE[row]));
+            corner(v, point, normal);
+        }
+    }
+    // One apex for every sector of the front (`model::speleothem::dome_apex`).
+    corner(a, c + g * in_dome[a].y, g);
     EndPrimitive();
 }

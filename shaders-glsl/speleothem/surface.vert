@@ -12,7 +12,8 @@ layout(set = 0, binding = 0) uniform Frame {
 } frame;
 
 // Per speleothem, 3 vec4: (mineral colour rgb, rings grown so far), (growth sign,
-// mineral mix intensity, thickening accumulated so far, 0), (tip ring centre, 0).
+// mineral mix intensity, thickening accumulated so far, the height of the dome capping
+// its open front), (tip ring centre, the dome's height factor).
 layout(set = 0, binding = 1, std430) readonly buffer Speleothems {
     vec4 info[];
 } speleothems;
@@ -43,6 +44,9 @@ layout(location = 4) out vec3 out_color;
 layout(location = 5) out vec4 out_tip_centre;
 layout(location = 6) out float out_id;
 layout(location = 7) out vec3 out_growth;
+// The cap pass's dome: its height factor (`GrowthPlan::dome`) and its apex's height
+// above the tip ring's centre (`model::speleothem::dome_apex`).
+layout(location = 8) out vec2 out_dome;
 
 const vec3 CALCITE = vec3(0.8, 0.8, 0.8);
 
@@ -83,7 +87,9 @@ void main() {
     // it left the front; add the current total (model::speleothem::unfreeze).
     vec3 p = in_pos_id.xyz + n_radial * (misc.z * surface.params.w);
     out_world = p;
-    out_tip_centre = vec4(speleothems.info[3u * sp + 2u].xyz, 1.0);
+    vec4 tip = speleothems.info[3u * sp + 2u];
+    out_tip_centre = vec4(tip.xyz, 1.0);
+    out_dome = vec2(tip.w, misc.w);
     out_id = in_pos_id.w;
     out_growth = g;
     gl_Position = frame.view_proj * vec4(p, 1.0);

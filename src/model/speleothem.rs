@@ -297,13 +297,76 @@ pub fn grow_pass(
     }
 }
 
+/// The rounded top over an open growth front: Franke's stationary profile for a
+/// Gaussian deposit (the layer thickness `exp(-(s/r)^2)` along the surface from the
+/// apex, so every point rises alike: `cos(slope) = exp(-(s/r)^2)`), cut where it
+/// reaches 95 % of its asymptotic radius 0.886 r, that cut being the tip ring.
+/// Rows from the rim inward: (radius as a share of the tip ring's, height above the
+/// rim in tip-ring radii, the surface's slope dy/dx); the apex last. The same numbers
+/// are `cap.geom`'s `DOME_*` (a test holds them equal); `dome_profile` integrates them.
+pub const DOME_PROFILE: [(f32, f32, f32); 5] = [
+    (1.0, 0.0, 6.7516),
+    (0.9, 0.4093, 2.7138),
+    (0.75, 0.703, 1.449),
+    (0.55, 0.9209, 0.8101),
+    (0.3, 1.0652, 0.3777),
+];
+/// The apex's height above the tip ring, in tip-ring radii.
+pub const DOME_APEX: f32 = 1.1203;
+
+/// The height of speleothem `index`'s dome apex above its tip ring's centre after
+/// `passes` passes: `DOME_APEX` times its dome factor and its tip ring's radius, the
+/// thickening included. One number per front (not per spoke, whose rings the flank
+/// deposits bump), so that every sector of the cap meets at one apex.
+pub fn dome_apex(plan: &GrowthPlan, index: usize, passes: u32) -> f32 {
+    let thickening = accumulated_thickening(plan, passes)
+        .get(index)
+        .copied()
+        .unwrap_or(0.0);
+    plan.dome(index, passes) * DOME_APEX * (plan.tip_radius(index, passes) + thickening).max(0.0)
+}
+
+/// `DOME_PROFILE` and `DOME_APEX` integrated from the deposit law (with step `ds` in
+/// units of r): what the constants must equal.
+pub fn dome_profile(ds: f64) -> ([(f64, f64, f64); 5], f64) {
+    let radius = std::f64::consts::PI.sqrt() / 2.0;
+    let rim = 0.95 * radius;
+    // (x, y, slope) along the surface from the apex.
+    let mut path = vec![(0.0f64, 0.0f64, 0.0f64)];
+    let (mut s, mut x, mut y) = (0.0f64, 0.0f64, 0.0f64);
+    while x < rim {
+        let c = (-(s * s)).exp();
+        let sin = (1.0 - c * c).max(0.0).sqrt();
+        x += c * ds;
+        y -= sin * ds;
+        s += ds;
+        path.push((x, y, sin / c));
+    }
+    let at = |x: f64| {
+        path.iter()
+            .find(|p| p.0 >= x)
+            .copied()
+            .unwrap_or(path[path.len() - 1])
+    };
+    let rim_y = at(rim).1;
+    let row = |u: f64| {
+        let p = at(u * rim);
+        (u, (p.1 - rim_y) / rim, p.2)
+    };
+    (
+        [row(1.0), row(0.9), row(0.75), row(0.55), row(0.3)],
+        (0.0 - rim_y) / rim,
+    )
+}
+
 /// One cap triangle of an open growth front.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cap {
     /// Counter-clockwise seen from outside (along the growth direction).
     pub corners: [Vec3; 3],
-    /// The growth direction (the cap's outward normal).
-    pub normal: Vec3,
+    /// Each corner's normal: the flank's at the tip ring (so the join shows no
+    /// crease), the dome's inside.
+    pub normals: [Vec3; 3],
     /// The tip vertex whose attributes the cap takes (colour, ring).
     pub from: RingVertex,
 }
@@ -311,8 +374,12 @@ pub struct Cap {
 /// The caps of the open growth fronts of `mesh` after `passes` passes of `plan` (the
 /// CPU twin of `shaders-glsl/speleothem/cap.geom`): a front-band triangle with two
 /// vertices on the tip ring (ID -1) and one on the ring behind (ID 0) gives the
-/// triangle between the two tips and the tip ring's centre (`GrowthPlan::tip_centre`).
-/// The mesh itself, the paper's, stays open; the caps are drawn and exported beside it.
+/// sector between the two tips and the tip ring's centre (`GrowthPlan::tip_centre`),
+/// raised into a dome of `DOME_PROFILE` scaled by `GrowthPlan::dome` (flat at 0):
+/// a strip of quads from the rim inward and a triangle at the apex. Each point on a
+/// spoke from a tip vertex depends on that vertex alone, so neighbouring sectors share
+/// their spokes exactly. The mesh itself, the paper's, stays open; the caps are drawn
+/// and exported beside it.
 pub fn caps(mesh: &[RingVertex], plan: &GrowthPlan, passes: u32) -> Vec<Cap> {
     let mut out = Vec::new();
     for tri in mesh.chunks_exact(3) {
@@ -322,36 +389,86 @@ pub fn caps(mesh: &[RingVertex], plan: &GrowthPlan, passes: u32) -> Vec<Cap> {
             continue;
         }
         let (a, b) = (tips[0], tips[1]);
-        let c = plan.tip_centre(a.speleothem(), passes);
+        let index = a.speleothem();
+        let c = plan.tip_centre(index, passes);
         if (a.position() - b.position()).length() < 1e-6 {
             continue;
         }
-        let sign = plan
-            .speleothems
-            .get(a.speleothem())
-            .map_or(1.0, |s| s.kind.sign());
+        let sign = plan.speleothems.get(index).map_or(1.0, |s| s.kind.sign());
         let g = Vec3::new(0.0, sign, 0.0);
-        let (pa, pb) = if (b.position() - a.position()).cross(c - a.position()).dot(g) < 0.0 {
-            (b.position(), a.position())
+        let (a, b) = if (b.position() - a.position()).cross(c - a.position()).dot(g) < 0.0 {
+            (b, a)
         } else {
-            (a.position(), b.position())
+            (a, b)
         };
-        out.push(Cap {
-            corners: [pa, pb, c],
-            normal: g,
-            from: *a,
-        });
+        let k = plan.dome(index, passes);
+        // The flank's normal at a tip vertex, as the surface pass shades it.
+        let flank = |v: &RingVertex| (v.normal() - g * v.extra[2]).normalize_or(g);
+        let spoke = |v: &RingVertex, row: usize| -> (Vec3, Vec3) {
+            let p = v.position();
+            let r = (p - c).length();
+            let radial = (p - c) / r.max(1e-12);
+            let (u, h, slope) = DOME_PROFILE[row];
+            // The rim is the tip vertex itself, bit for bit (c + (p - c) need not be).
+            let point = if row == 0 {
+                p
+            } else {
+                c + (p - c) * u + g * (k * h * r)
+            };
+            let normal = if k <= 0.0 {
+                g
+            } else if row == 0 {
+                flank(v)
+            } else {
+                (g + radial * (k * slope)).normalize()
+            };
+            (point, normal)
+        };
+        let apex = c + g * dome_apex(plan, index, passes);
+        if k <= 0.0 {
+            out.push(Cap {
+                corners: [a.position(), b.position(), c],
+                normals: [g; 3],
+                from: *a,
+            });
+            continue;
+        }
+        for row in 0..DOME_PROFILE.len() {
+            let (a0, na0) = spoke(a, row);
+            let (b0, nb0) = spoke(b, row);
+            if row + 1 < DOME_PROFILE.len() {
+                let (a1, na1) = spoke(a, row + 1);
+                let (b1, nb1) = spoke(b, row + 1);
+                out.push(Cap {
+                    corners: [a0, b0, a1],
+                    normals: [na0, nb0, na1],
+                    from: *a,
+                });
+                out.push(Cap {
+                    corners: [a1, b0, b1],
+                    normals: [na1, nb0, nb1],
+                    from: *a,
+                });
+            } else {
+                out.push(Cap {
+                    corners: [a0, b0, apex],
+                    normals: [na0, nb0, g],
+                    from: *a,
+                });
+            }
+        }
     }
     out
 }
 
-/// The open boundary of `mesh` with `caps`: the edges (welded by position, to 0.1 mm
-/// of scene units) that only one non-degenerate triangle has — where a drawn or
-/// exported surface is not closed.
+/// The open boundary of `mesh` with `caps`: the edges (welded by position, to a
+/// micrometre of scene units: shared points are computed alike, and the domes over a
+/// millimetre straw have points 0.1 mm apart) that only one non-degenerate triangle
+/// has — where a drawn or exported surface is not closed.
 pub fn open_boundary(mesh: &[RingVertex], caps: &[Cap]) -> Vec<(Vec3, Vec3)> {
     use std::collections::HashMap;
     let key = |p: Vec3| {
-        let q = p * 1e4;
+        let q = p * 1e6;
         (q.x.round() as i64, q.y.round() as i64, q.z.round() as i64)
     };
     // Welded edge (smaller end first) -> triangles using it, and its ends.
@@ -370,8 +487,13 @@ pub fn open_boundary(mesh: &[RingVertex], caps: &[Cap]) -> Vec<(Vec3, Vec3)> {
         .map(|t| [t[0].position(), t[1].position(), t[2].position()])
         .chain(caps.iter().map(|c| c.corners));
     for [a, b, c] in triangles {
-        // Degenerate (cone apex) triangles add no area and close nothing.
-        if (b - a).cross(c - a).length_squared() < 1e-14 {
+        // Degenerate (cone apex) triangles add no area and close nothing; the measure
+        // is relative, so that a dome's sub-millimetre triangles over a straw count.
+        let longest = (b - a)
+            .length_squared()
+            .max((c - a).length_squared())
+            .max((c - b).length_squared());
+        if (b - a).cross(c - a).length_squared() <= 1e-10 * longest * longest {
             continue;
         }
         add(a, b);

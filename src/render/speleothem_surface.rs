@@ -110,9 +110,9 @@ pub fn speleothem_info(plan: &GrowthPlan, passes: u32) -> Vec<Vec4> {
             s.kind.sign(),
             s.mineral_intensity,
             thickening[i],
-            0.0,
+            crate::model::speleothem::dome_apex(plan, i, passes),
         ));
-        out.push(plan.tip_centre(i, passes).extend(0.0));
+        out.push(plan.tip_centre(i, passes).extend(plan.dome(i, passes)));
     }
     out
 }

@@ -78,3 +78,74 @@ fn the_cap_pass_closes_the_open_front_its_cpu_twin_finds() {
         );
     });
 }
+
+/// The dome the cap pass raises over an open stalagmite front stands as high as its CPU
+/// twin's apex (`model::speleothem::dome_apex`): seen from the side, the topmost row
+/// the caps add to the picture is the CPU apex's row, within a pixel.
+#[test]
+fn the_cap_pass_raises_the_dome_its_cpu_twin_computes() {
+    common::with_gpu(|ctx| {
+        let scene = GrowthScene {
+            count: 1,
+            passes: 6,
+            params: GrowthParams {
+                pil: Pil::Dripping,
+                drip: DripInterval::Standard,
+                co2: Co2::Low,
+                ..GrowthParams::default()
+            },
+            ..GrowthScene::default()
+        };
+        let plan = scene.plan().expect("plan");
+        let index = plan
+            .speleothems
+            .iter()
+            .position(|s| s.kind == Kind::Stalagmite)
+            .expect("a stalagmite");
+        let apex_height = sediment::model::speleothem::dome_apex(&plan, index, plan.passes);
+        assert!(
+            apex_height > 0.5 * plan.tip_radius(index, plan.passes),
+            "a rounded top, {apex_height}"
+        );
+        let tip = plan.tip_centre(index, plan.passes);
+        let apex = tip + Vec3::Y * apex_height;
+        let camera = Camera {
+            eye: tip + Vec3::new(0.0, 0.0, 0.6),
+            target: tip,
+            up: Vec3::Y,
+            fov_y_degrees: 30.0,
+            near: 0.01,
+            far: 20.0,
+            jitter: Jitter::NONE,
+        };
+        let size = Size::new(128, 128);
+        let render = |capped: bool| {
+            let mut frame =
+                GrowthFrame::new(ctx, scene.clone(), GrowthPath::XfbRestream).expect("frame");
+            frame.show_caps(capped);
+            let mut runner = FrameRunner::new(ctx, size).expect("runner");
+            runner
+                .render(&mut frame, &camera, Time::At(plan.passes))
+                .expect("render")
+                .0
+        };
+        let (open, capped) = (render(false), render(true));
+        // The topmost row where the caps change the centre columns.
+        let top = (0..size.height)
+            .find(|&y| {
+                (62..66).any(|x| {
+                    let (a, b) = (open.get_pixel(x, y), capped.get_pixel(x, y));
+                    (0..3).any(|c| a[c].abs_diff(b[c]) > 24)
+                })
+            })
+            .expect("the caps show");
+        let clip = camera.view_proj(1.0) * apex.extend(1.0);
+        // Vulkan's clip space: y runs down the picture.
+        let row = (1.0 + clip.y / clip.w) * 0.5 * size.height as f32;
+        eprintln!("dome apex: CPU row {row:.2}, drawn from row {top}");
+        assert!(
+            (top as f32 - row).abs() <= 1.5,
+            "the drawn dome tops out at row {top}, its CPU twin at {row:.2}"
+        );
+    });
+}

@@ -357,6 +357,44 @@ impl GrowthPlan {
         s.base + g * self.ring_thickness + grown
     }
 
+    /// How tall the rounded cap over speleothem `index`'s open front stands after
+    /// `passes` passes, as a factor on the stationary profile's height
+    /// (`super::DOME_PROFILE`): a stalagmite's top flattens as it widens, the drip
+    /// that widens it splashing wider (Franke: wetter, wider and flatter), from 1 (its
+    /// tip ring at most 0.75 of its base ring's radius) down to 0.3 (2.5 times it);
+    /// a stalactite's open tip is a pendant drop's, 0.5; a front stopped against
+    /// another speleothem stays flat (0), so that nothing pierces what it touched.
+    pub fn dome(&self, index: usize, passes: u32) -> f32 {
+        let Some(s) = self.speleothems.get(index) else {
+            return 0.0;
+        };
+        if matches!(s.stop, Some((pass, StopReason::Contact)) if pass < passes) {
+            return 0.0;
+        }
+        match s.kind {
+            Kind::Stalactite => 0.5,
+            Kind::Stalagmite => {
+                let tip = self.tip_radius(index, passes);
+                if tip <= 0.0 {
+                    return 0.0;
+                }
+                (0.75 * s.initial_radius / tip).clamp(0.3, 1.0)
+            }
+        }
+    }
+
+    /// Speleothem `index`'s tip ring radius after `passes` passes, as the steps set
+    /// it: flank deposits and thickening aside.
+    pub fn tip_radius(&self, index: usize, passes: u32) -> f32 {
+        let Some(s) = self.speleothems.get(index) else {
+            return 0.0;
+        };
+        (0..passes.min(self.passes))
+            .map(|p| self.step(p, index))
+            .filter(|st| st.action == PassAction::Grow)
+            .fold(s.initial_radius, |r, st| r + st.radius)
+    }
+
     /// Speleothem `index`'s rings after all passes, base band first: each ring's
     /// distance along the growth from the base (its band's tip ring), its radius, and
     /// the pass that made it (`None` for the base band). Thickening and flank deposits

@@ -620,3 +620,95 @@ fn no_tip_ends_inside_another_speleothem_in_any_preset() {
     eprintln!("{}", report.join("\n"));
     assert_eq!(pierced_total, 0, "{}", report.join("\n"));
 }
+
+#[test]
+fn the_dome_is_franke_stationary_profile_in_both_twins() {
+    // The constants are the deposit law integrated...
+    let (rows, apex) = super::dome_profile(1e-5);
+    for (row, table) in rows.iter().zip(super::DOME_PROFILE) {
+        assert!(
+            (row.0 - f64::from(table.0)).abs() < 1e-6,
+            "{row:?} {table:?}"
+        );
+        assert!(
+            (row.1 - f64::from(table.1)).abs() < 2e-3,
+            "{row:?} {table:?}"
+        );
+        assert!(
+            (row.2 - f64::from(table.2)).abs() < 2e-2 * row.2.max(1.0),
+            "{row:?} {table:?}"
+        );
+    }
+    assert!((apex - f64::from(super::DOME_APEX)).abs() < 2e-3, "{apex}");
+    // ...and `cap.geom` holds the same numbers.
+    let shader = include_str!("../../../shaders-glsl/speleothem/cap.geom");
+    let array = |name: &str| -> Vec<f32> {
+        let line = shader
+            .lines()
+            .find(|l| l.contains(&format!("float {name}[")))
+            .unwrap_or_else(|| panic!("{name} in cap.geom"));
+        let inside = &line[line.find("float[](").expect("array") + 8..line.rfind(')').expect(")")];
+        inside
+            .split(',')
+            .map(|v| v.trim().parse().expect("a number"))
+            .collect()
+    };
+    let column = |k: usize| -> Vec<f32> {
+        super::DOME_PROFILE
+            .iter()
+            .map(|r| [r.0, r.1, r.2][k])
+            .collect()
+    };
+    assert_eq!(array("DOME_U"), column(0));
+    assert_eq!(array("DOME_H"), column(1));
+    assert_eq!(array("DOME_SLOPE"), column(2));
+}
+
+#[test]
+fn stalagmite_tops_flatten_as_they_widen_and_contacts_stay_flat() {
+    use super::plan::{GrowthParams, StopReason};
+    use super::table2::{Co2, DripInterval, Pil};
+    let dome = |drip: DripInterval| {
+        let scene = GrowthScene {
+            count: 1,
+            passes: 12,
+            params: GrowthParams {
+                pil: Pil::Dripping,
+                drip,
+                co2: Co2::High,
+                ..GrowthParams::default()
+            },
+            ..GrowthScene::default()
+        };
+        let plan = scene.plan().expect("plan");
+        let i = plan
+            .speleothems
+            .iter()
+            .position(|s| s.kind == Kind::Stalagmite)
+            .expect("a stalagmite");
+        (plan.dome(i, plan.passes), plan.tip_radius(i, plan.passes))
+    };
+    let (dry, standard, wet) = (
+        dome(DripInterval::Dry),
+        dome(DripInterval::Standard),
+        dome(DripInterval::Wet),
+    );
+    assert!(
+        dry.1 < standard.1 && standard.1 < wet.1,
+        "{dry:?} {standard:?} {wet:?}"
+    );
+    assert!(
+        dry.0 > standard.0 && standard.0 > wet.0,
+        "{dry:?} {standard:?} {wet:?}"
+    );
+    assert!((0.3..=1.0).contains(&wet.0) && (0.3..=1.0).contains(&dry.0));
+    // A front stopped against another speleothem stays flat: nothing pierces it.
+    for (_, scene) in crate::scene::grow::preset_scenes() {
+        let plan = scene.plan().expect("plan");
+        for (i, s) in plan.speleothems.iter().enumerate() {
+            if let Some((_, StopReason::Contact)) = s.stop {
+                assert_eq!(plan.dome(i, plan.passes), 0.0);
+            }
+        }
+    }
+}

@@ -69,9 +69,9 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
     for cap in crate::model::speleothem::caps(vertices, plan, plan.passes) {
         let (color, _) = color_of(&cap.from);
         let soup = &mut soups[part_of(cap.from.speleothem())];
-        for p in cap.corners {
+        for (p, n) in cap.corners.into_iter().zip(cap.normals) {
             soup.0.push(p);
-            soup.1.push(cap.normal);
+            soup.1.push(n);
             soup.2.push(color);
         }
     }
@@ -220,11 +220,11 @@ mod tests {
                         *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
                     }
                 }
-                for (&(a, _), &n) in &edges {
+                for (&(a, b), &n) in &edges {
                     assert_eq!(
                         n, 2,
-                        "{name} {}: an edge in {n} triangles at {:?}",
-                        part.name, m.positions[a as usize]
+                        "{name} {}: an edge in {n} triangles at {:?} to {:?}",
+                        part.name, m.positions[a as usize], m.positions[b as usize]
                     );
                 }
                 let p = |i: u32| Vec3::from(m.positions[i as usize]);
