@@ -218,6 +218,9 @@ pub enum StopReason {
     /// The front touched a speleothem of the other kind (its flank, or a tip that had
     /// stopped) and stopped there, joined to it.
     Contact,
+    /// A stalagmite narrowed to the narrowest its drip keeps (`STALAGMITE_NARROWEST`):
+    /// it stops rising, its top rounded rather than closed to a needle.
+    Narrowed,
 }
 
 /// What the geometry shader does for one speleothem in one pass.
@@ -232,6 +235,11 @@ pub enum PassAction {
     /// Join the front to the meeting ring (`target`, `target_radius`) of a column.
     Join = 3,
 }
+
+/// The narrowest a stalagmite's rings get, as a share of its base ring's radius: the
+/// drip that feeds it keeps a splash of finite width (Table 2's dry steps narrow the
+/// rings; read literally they would close to a needle).
+pub const STALAGMITE_NARROWEST: f32 = 0.25;
 
 /// One speleothem's step in one pass.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -892,6 +900,17 @@ impl GrowthScene {
                 let s = &mut speleothems[i];
                 let g = Vec3::Y * s.kind.sign();
                 let f = &mut fronts[i];
+                // A stalagmite never narrows to a point: while drops fall, their splash
+                // keeps a top of finite width (Franke; Dreybrodt), which the cap rounds.
+                // Where Table 2's dry steps would narrow it past STALAGMITE_NARROWEST of
+                // its base ring's radius, it stops rising instead.
+                if s.kind == Kind::Stalagmite
+                    && c.radius < 0.0
+                    && f.radius + c.radius < STALAGMITE_NARROWEST * s.initial_radius
+                {
+                    s.stop = Some((pass, StopReason::Narrowed));
+                    continue;
+                }
                 // A climate's rings relax toward a positive radius and never close.
                 if self.climate.is_none() && f.radius + c.radius <= 0.5 * u.radius_unit {
                     pass_steps[i] = GrowthStep {

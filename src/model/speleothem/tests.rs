@@ -712,3 +712,43 @@ fn stalagmite_tops_flatten_as_they_widen_and_contacts_stay_flat() {
         }
     }
 }
+
+#[test]
+fn dry_stalagmites_stop_narrowing_with_a_rounded_top_not_a_needle() {
+    // Figure 9e: dry drip narrows the stalagmites' rings every pass. They stop rising
+    // at a quarter of their base radius, their open tops domed; the stalactites above
+    // them still close to points.
+    let scene = crate::scene::grow::preset("fig9e")
+        .expect("preset")
+        .growth_scene()
+        .expect("scene");
+    let plan = scene.plan().expect("plan");
+    let mut stalagmites = 0;
+    for (i, s) in plan.speleothems.iter().enumerate() {
+        match s.kind {
+            Kind::Stalagmite => {
+                stalagmites += 1;
+                assert!(
+                    matches!(s.stop, Some((_, super::StopReason::Narrowed))),
+                    "{i}: {:?}",
+                    s.stop
+                );
+                let r = plan.tip_radius(i, plan.passes);
+                assert!(
+                    r >= super::plan::STALAGMITE_NARROWEST * s.initial_radius - 1e-6,
+                    "{i}: {r}"
+                );
+                assert!(
+                    super::dome_apex(&plan, i, plan.passes) > r,
+                    "{i}: a rounded top"
+                );
+            }
+            Kind::Stalactite => assert!(
+                matches!(s.stop, Some((_, super::StopReason::TipClosed))),
+                "{i}: {:?}",
+                s.stop
+            ),
+        }
+    }
+    assert_eq!(stalagmites, 9);
+}
