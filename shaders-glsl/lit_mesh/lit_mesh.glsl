@@ -62,10 +62,10 @@ vec4 value_noise(vec3 x) {
 // noise bent into the normal. Solid noise, not a projected texture: steep walls and
 // floors are textured alike and no seam shows where projections would meet.
 // An octave of `frequency` (per unit) fades out to its mean where its period spans
-// fewer than about four pixels (`footprint`: the pixel's size on the surface): below
+// fewer than about three pixels (`footprint`: the pixel's size on the surface): below
 // that it would only alias.
 float octave_weight(float frequency, float footprint) {
-    return 1.0 - smoothstep(0.25, 0.5, frequency * footprint);
+    return 1.0 - smoothstep(0.3, 0.6, frequency * footprint);
 }
 
 void rock(vec3 p, inout vec3 n, inout vec3 albedo) {
@@ -78,8 +78,8 @@ void rock(vec3 p, inout vec3 n, inout vec3 albedo) {
     float f = octave_weight(31.0, footprint);
     vec3 grey = vec3(0.095, 0.09, 0.085);
     float stain = smoothstep(0.25, 0.8, patches.x);
-    albedo = mix(grey, albedo, stain) * (0.91 + g * 0.38 * (grain.x - 0.5))
-           * (1.0 + f * 0.3 * (fine.x - 0.5));
+    albedo = mix(grey, albedo, stain) * (0.91 + g * 0.46 * (grain.x - 0.5))
+           * (1.0 + f * 0.36 * (fine.x - 0.5));
     vec3 slope = 0.05 * patches.yzw + g * 0.045 * grain.yzw + f * 0.02 * fine.yzw;
     n = normalize(n - (slope - dot(slope, n) * n));
 }
