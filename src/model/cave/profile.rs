@@ -160,6 +160,47 @@ impl Profile {
             }
         }
         mesh.recompute_normals();
+        // The rings' normals from the outline itself, not from the faces: where ring
+        // spacing changes (the drop cap's rings meet the body's), area-weighted face
+        // normals lean toward the larger faces and shade a crease the outline does
+        // not have. The outline's direction at a ring is the mean of its two
+        // segments' unit directions, each weighted by the other's length (exact on
+        // a circle however unevenly it is sampled); an end ring has one segment.
+        let direction = |i: usize| {
+            let at = |j: usize| glam::Vec2::from(self.points[j]);
+            let segment = |a: usize, b: usize| at(b) - at(a);
+            let before = if i > 0 {
+                segment(i - 1, i)
+            } else {
+                glam::Vec2::ZERO
+            };
+            let after = if i + 1 < self.points.len() {
+                segment(i, i + 1)
+            } else {
+                glam::Vec2::ZERO
+            };
+            let (lb, la) = (before.length(), after.length());
+            match (lb > 0.0, la > 0.0) {
+                (true, true) => (before * (la / lb) + after * (lb / la)).normalize_or_zero(),
+                (true, false) => before.normalize_or_zero(),
+                (false, true) => after.normalize_or_zero(),
+                (false, false) => glam::Vec2::ZERO,
+            }
+        };
+        for (ring, i) in starts.iter().zip(first_wide..=last_wide) {
+            // (d radius, d distance) along the outline; outward is (d distance, -d radius)
+            // in (radial, up).
+            let d = direction(i);
+            if d == glam::Vec2::ZERO {
+                continue;
+            }
+            for k in 0..n {
+                let a = std::f32::consts::TAU * k as f32 / n as f32;
+                let radial = side * a.cos() + side2 * a.sin();
+                let normal = (radial * d.y - up * d.x).normalize_or(radial);
+                mesh.normals[(ring + k) as usize] = normal;
+            }
+        }
         mesh
     }
 }
@@ -215,5 +256,32 @@ mod tests {
                 .sum();
             assert!(volume > 0.0, "{volume}");
         }
+    }
+
+    #[test]
+    fn ring_normals_follow_the_outline_however_unevenly_it_is_sampled() {
+        // A unit sphere's lower half from its bottom point (the tip), rings crowded
+        // near the tip and sparse above, as the drop cap's rings meet the body's:
+        // every inner ring's normal is the sphere's own, within half a degree.
+        let angles = [0.0f32, 0.05, 0.1, 0.15, 0.2, 0.25, 0.6, 1.0, 1.3, 1.5];
+        let p = Profile {
+            points: angles.iter().map(|&t| [t.sin(), 1.0 - t.cos()]).collect(),
+        };
+        let mesh = p.mesh(Vec3::Y, 32);
+        let centre = Vec3::Y;
+        let mut worst = 0.0f32;
+        let last = 1.0 - 1.5f32.cos();
+        for (q, n) in mesh.positions.iter().zip(&mesh.normals) {
+            let r = (q.x * q.x + q.z * q.z).sqrt();
+            if r < 1e-3 || q.y >= last - 1e-4 {
+                continue; // the tip point, the end ring (one segment) and the end disk
+            }
+            let exact = (*q - centre).normalize();
+            worst = worst.max(n.dot(exact).clamp(-1.0, 1.0).acos().to_degrees());
+        }
+        assert!(
+            worst < 0.5,
+            "a ring normal {worst:.2} degrees off the sphere's"
+        );
     }
 }
