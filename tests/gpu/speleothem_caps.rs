@@ -9,31 +9,67 @@ use glam::Vec3;
 use sediment::Size;
 use sediment::camera::{Camera, Jitter};
 use sediment::frame::{FrameRunner, Time};
-use sediment::model::speleothem::plan::{GrowthParams, GrowthScene, Kind};
+use sediment::model::speleothem::plan::{GrowthParams, GrowthPlan, GrowthScene, Kind};
 use sediment::model::speleothem::table2::{Co2, DripInterval, Pil};
 use sediment::render::growth::GrowthPath;
 use sediment::scene::grow::GrowthFrame;
 
+/// One site dripping at `drip` for six passes, its plan and its stalagmite's index.
+fn one_stalagmite(drip: DripInterval) -> (GrowthScene, GrowthPlan, usize) {
+    let scene = GrowthScene {
+        count: 1,
+        passes: 6,
+        params: GrowthParams {
+            pil: Pil::Dripping,
+            drip,
+            co2: Co2::Low,
+            ..GrowthParams::default()
+        },
+        ..GrowthScene::default()
+    };
+    let plan = scene.plan().expect("plan");
+    let index = plan
+        .speleothems
+        .iter()
+        .position(|s| s.kind == Kind::Stalagmite)
+        .expect("a stalagmite");
+    (scene, plan, index)
+}
+
+/// A camera from `eye` onto `target`, 30 degrees high.
+fn looking(eye: Vec3, target: Vec3) -> Camera {
+    Camera {
+        eye,
+        target,
+        up: Vec3::Y,
+        fov_y_degrees: 30.0,
+        near: 0.01,
+        far: 20.0,
+        jitter: Jitter::NONE,
+    }
+}
+
+/// `scene` grown and drawn from `camera`, with or without the cap pass.
+fn drawn(
+    ctx: &std::sync::Arc<sediment::gpu::Context>,
+    (scene, passes): (&GrowthScene, u32),
+    camera: &Camera,
+    size: Size,
+    capped: bool,
+) -> image::RgbaImage {
+    let mut frame = GrowthFrame::new(ctx, scene.clone(), GrowthPath::XfbRestream).expect("frame");
+    frame.show_caps(capped);
+    let mut runner = FrameRunner::new(ctx, size).expect("runner");
+    runner
+        .render(&mut frame, camera, Time::At(passes))
+        .expect("render")
+        .0
+}
+
 #[test]
 fn the_cap_pass_closes_the_open_front_its_cpu_twin_finds() {
     common::with_gpu(|ctx| {
-        let scene = GrowthScene {
-            count: 1,
-            passes: 6,
-            params: GrowthParams {
-                pil: Pil::Dripping,
-                drip: DripInterval::Wet,
-                co2: Co2::Low,
-                ..GrowthParams::default()
-            },
-            ..GrowthScene::default()
-        };
-        let plan = scene.plan().expect("plan");
-        let index = plan
-            .speleothems
-            .iter()
-            .position(|s| s.kind == Kind::Stalagmite)
-            .expect("a stalagmite");
+        let (scene, plan, index) = one_stalagmite(DripInterval::Wet);
         assert!(plan.speleothems[index].stop.is_none(), "still open");
         let mesh = sediment::model::speleothem::grow_reference(&plan, plan.passes);
         let caps = sediment::model::speleothem::caps(&mesh, &plan, plan.passes);
@@ -42,24 +78,10 @@ fn the_cap_pass_closes_the_open_front_its_cpu_twin_finds() {
             "the CPU twin caps the stalagmite"
         );
         let tip = plan.tip_centre(index, plan.passes);
-        let camera = Camera {
-            eye: tip + Vec3::new(0.0, 0.25, 0.001),
-            target: tip,
-            up: Vec3::Y,
-            fov_y_degrees: 30.0,
-            near: 0.01,
-            far: 20.0,
-            jitter: Jitter::NONE,
-        };
+        let camera = looking(tip + Vec3::new(0.0, 0.25, 0.001), tip);
         let size = Size::new(64, 64);
         let centre = |capped: bool| {
-            let mut frame =
-                GrowthFrame::new(ctx, scene.clone(), GrowthPath::XfbRestream).expect("frame");
-            frame.show_caps(capped);
-            let mut runner = FrameRunner::new(ctx, size).expect("runner");
-            let (image, _) = runner
-                .render(&mut frame, &camera, Time::At(plan.passes))
-                .expect("render");
+            let image = drawn(ctx, (&scene, plan.passes), &camera, size, capped);
             // The mean of the middle 4x4 pixels: inside the tip ring.
             let mut sum = 0.0;
             for y in 30..34 {
@@ -85,23 +107,7 @@ fn the_cap_pass_closes_the_open_front_its_cpu_twin_finds() {
 #[test]
 fn the_cap_pass_raises_the_dome_its_cpu_twin_computes() {
     common::with_gpu(|ctx| {
-        let scene = GrowthScene {
-            count: 1,
-            passes: 6,
-            params: GrowthParams {
-                pil: Pil::Dripping,
-                drip: DripInterval::Standard,
-                co2: Co2::Low,
-                ..GrowthParams::default()
-            },
-            ..GrowthScene::default()
-        };
-        let plan = scene.plan().expect("plan");
-        let index = plan
-            .speleothems
-            .iter()
-            .position(|s| s.kind == Kind::Stalagmite)
-            .expect("a stalagmite");
+        let (scene, plan, index) = one_stalagmite(DripInterval::Standard);
         let apex_height = sediment::model::speleothem::dome_apex(&plan, index, plan.passes);
         assert!(
             apex_height > 0.5 * plan.tip_radius(index, plan.passes),
@@ -109,26 +115,9 @@ fn the_cap_pass_raises_the_dome_its_cpu_twin_computes() {
         );
         let tip = plan.tip_centre(index, plan.passes);
         let apex = tip + Vec3::Y * apex_height;
-        let camera = Camera {
-            eye: tip + Vec3::new(0.0, 0.0, 0.6),
-            target: tip,
-            up: Vec3::Y,
-            fov_y_degrees: 30.0,
-            near: 0.01,
-            far: 20.0,
-            jitter: Jitter::NONE,
-        };
+        let camera = looking(tip + Vec3::new(0.0, 0.0, 0.6), tip);
         let size = Size::new(128, 128);
-        let render = |capped: bool| {
-            let mut frame =
-                GrowthFrame::new(ctx, scene.clone(), GrowthPath::XfbRestream).expect("frame");
-            frame.show_caps(capped);
-            let mut runner = FrameRunner::new(ctx, size).expect("runner");
-            runner
-                .render(&mut frame, &camera, Time::At(plan.passes))
-                .expect("render")
-                .0
-        };
+        let render = |capped: bool| drawn(ctx, (&scene, plan.passes), &camera, size, capped);
         let (open, capped) = (render(false), render(true));
         // The topmost row where the caps change the centre columns.
         let top = (0..size.height)
