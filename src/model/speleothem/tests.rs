@@ -752,3 +752,40 @@ fn dry_stalagmites_stop_narrowing_with_a_rounded_top_not_a_needle() {
     }
     assert_eq!(stalagmites, 9);
 }
+
+#[test]
+fn a_joined_pair_grows_on_only_by_thickening() {
+    // Issue 43 item 1: once two speleothems meet (a column of one site, or a contact
+    // between two), neither rises again; each pass after the join only thickens them.
+    let mut joined = 0;
+    for (name, scene) in crate::scene::grow::preset_scenes() {
+        let plan = scene.plan().expect("plan");
+        for (i, s) in plan.speleothems.iter().enumerate() {
+            let Some((stop, super::StopReason::Column | super::StopReason::Contact)) = s.stop
+            else {
+                continue;
+            };
+            joined += 1;
+            for pass in stop + 1..plan.passes {
+                let step = plan.step(pass, i);
+                assert_eq!(
+                    step.action,
+                    PassAction::Idle,
+                    "{name}: speleothem {i} joined in pass {stop} acts again in pass {pass}"
+                );
+                assert!(
+                    step.height == 0.0 && step.radius == 0.0,
+                    "{name}: {i} {pass}"
+                );
+            }
+            let thickened: f32 = (stop + 1..plan.passes)
+                .map(|p| plan.step(p, i).thicken)
+                .sum();
+            assert!(
+                stop + 1 >= plan.passes || thickened > 0.0,
+                "{name}: speleothem {i} joined in pass {stop} never thickens"
+            );
+        }
+    }
+    assert!(joined >= 10, "{joined} joined speleothems over the presets");
+}
