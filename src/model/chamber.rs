@@ -19,6 +19,21 @@ use super::mesh::Mesh;
 use super::noise::fbm;
 use super::random::mix64;
 
+/// Where, as a share of the flat floor's radius, the floor starts rising into the
+/// wall and the ceiling sagging to meet it.
+const RISE_FROM: f32 = 0.72;
+/// The floor's rise at the wall's foot (times its lumps, 0..1), in chamber heights.
+const FLOOR_RISE: f32 = 0.22;
+/// The ceiling's sag at the wall's top, likewise.
+const CEILING_SAG: f32 = 0.1;
+
+/// 0 inside `RISE_FROM` of the flat radius, smoothly 1 at the wall (`s`: the share of
+/// the flat radius).
+fn toward_wall(s: f32) -> f32 {
+    let t = ((s - RISE_FROM) / (1.0 - RISE_FROM)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
 /// What surrounds the growth presets (`--chamber`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ChamberKind {
@@ -171,16 +186,21 @@ impl ChamberFrame {
                         let (x, z) = (out.x * flat * s, out.z * flat * s);
                         // Toward the wall the floor rises (flowstone, fallen rock) and
                         // the ceiling sags, with the walls' own lumps.
-                        let edge = ((s - 0.72) / 0.28).clamp(0.0, 1.0);
-                        let edge = edge * edge * (3.0 - 2.0 * edge);
+                        let edge = toward_wall(s);
                         let lumps = 0.5
                             + 0.5 * fbm(seed ^ 0xF10E, Vec3::new(x, 0.0, z) * 0.9 / depth, 3, 0.5);
                         if matches!(part, Part::Floor(_)) {
-                            Vec3::new(x, self.floor_y + relief(x, z) + edge * 0.22 * h * lumps, z)
+                            Vec3::new(
+                                x,
+                                self.floor_y + relief(x, z) + edge * FLOOR_RISE * h * lumps,
+                                z,
+                            )
                         } else {
                             Vec3::new(
                                 x,
-                                self.ceiling_y - relief(x + 17.0, z) - edge * 0.1 * h * lumps,
+                                self.ceiling_y
+                                    - relief(x + 17.0, z)
+                                    - edge * CEILING_SAG * h * lumps,
                                 z,
                             )
                         }
@@ -264,10 +284,8 @@ impl ChamberFrame {
             // On the floor as it is there (the rise toward the wall included), its
             // lower part buried.
             let ground = self.floor_at(x, z);
-            let rise = {
-                let edge = ((rho / flat - 0.72) / 0.28).clamp(0.0, 1.0);
-                edge * edge * (3.0 - 2.0 * edge) * 0.22 * h * 0.5
-            };
+            // The rise at its mean lumpiness.
+            let rise = toward_wall(rho / flat) * FLOOR_RISE * h * 0.5;
             let at = Vec3::new(x, ground + rise + 0.15 * radius, z);
             for p in &mut stone.positions {
                 *p += at;
@@ -279,6 +297,7 @@ impl ChamberFrame {
         mesh
     }
 
+    #[cfg(test)]
     /// Whether `p` lies inside the chamber's room: between its floor and ceiling
     /// where they are flat, and inside the wall's rounding.
     pub fn contains(&self, p: Vec3) -> bool {
@@ -287,8 +306,8 @@ impl ChamberFrame {
         let flat = self.wall_radius(theta) - self.wall_depth();
         let (lo, hi) = (self.floor_at(p.x, p.z), self.ceiling_at(p.x, p.z));
         if rho <= flat {
-            return p.y > lo + 0.22 * self.height() && p.y < hi - 0.1 * self.height()
-                || (rho < 0.72 * flat && p.y > lo && p.y < hi);
+            return p.y > lo + FLOOR_RISE * self.height() && p.y < hi - CEILING_SAG * self.height()
+                || (rho < RISE_FROM * flat && p.y > lo && p.y < hi);
         }
         // Inside the half-round wall, short of its bulges (45 % of its depth).
         let mid = 0.5 * (self.floor_y + self.ceiling_y);

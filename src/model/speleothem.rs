@@ -302,8 +302,9 @@ pub fn grow_pass(
 /// apex, so every point rises alike: `cos(slope) = exp(-(s/r)^2)`), cut where it
 /// reaches 95 % of its asymptotic radius 0.886 r, that cut being the tip ring.
 /// Rows from the rim inward: (radius as a share of the tip ring's, height above the
-/// rim in tip-ring radii, the surface's slope dy/dx); the apex last. The same numbers
+/// rim in tip-ring radii, the surface's slope dy/dx). The same numbers
 /// are `cap.geom`'s `DOME_*` (a test holds them equal); `dome_profile` integrates them.
+/// The apex is `DOME_APEX`.
 pub const DOME_PROFILE: [(f32, f32, f32); 5] = [
     (1.0, 0.0, 6.7516),
     (0.9, 0.4093, 2.7138),
@@ -319,10 +320,18 @@ pub const DOME_APEX: f32 = 1.1203;
 /// thickening included. One number per front (not per spoke, whose rings the flank
 /// deposits bump), so that every sector of the cap meets at one apex.
 pub fn dome_apex(plan: &GrowthPlan, index: usize, passes: u32) -> f32 {
-    let thickening = accumulated_thickening(plan, passes)
-        .get(index)
-        .copied()
-        .unwrap_or(0.0);
+    let thickening = accumulated_thickening(plan, passes);
+    dome_apex_over(
+        plan,
+        index,
+        passes,
+        thickening.get(index).copied().unwrap_or(0.0),
+    )
+}
+
+/// `dome_apex` with the speleothem's accumulated thickening already summed (the
+/// callers that need every speleothem's sum it once, `accumulated_thickening`).
+pub fn dome_apex_over(plan: &GrowthPlan, index: usize, passes: u32, thickening: f32) -> f32 {
     plan.dome(index, passes) * DOME_APEX * (plan.tip_radius(index, passes) + thickening).max(0.0)
 }
 
@@ -381,6 +390,18 @@ pub struct Cap {
 /// their spokes exactly. The mesh itself, the paper's, stays open; the caps are drawn
 /// and exported beside it.
 pub fn caps(mesh: &[RingVertex], plan: &GrowthPlan, passes: u32) -> Vec<Cap> {
+    // Per speleothem once, not per front triangle: the tip ring's centre, the dome's
+    // height factor and its apex (each sums the steps so far).
+    let thickening = accumulated_thickening(plan, passes);
+    let fronts: Vec<(Vec3, f32, f32)> = (0..plan.speleothems.len())
+        .map(|i| {
+            (
+                plan.tip_centre(i, passes),
+                plan.dome(i, passes),
+                dome_apex_over(plan, i, passes, thickening[i]),
+            )
+        })
+        .collect();
     let mut out = Vec::new();
     for tri in mesh.chunks_exact(3) {
         let tips: Vec<&RingVertex> = tri.iter().filter(|v| (v.id() + 1.0).abs() < 0.25).collect();
@@ -390,7 +411,9 @@ pub fn caps(mesh: &[RingVertex], plan: &GrowthPlan, passes: u32) -> Vec<Cap> {
         }
         let (a, b) = (tips[0], tips[1]);
         let index = a.speleothem();
-        let c = plan.tip_centre(index, passes);
+        let Some(&(c, k, apex_height)) = fronts.get(index) else {
+            continue;
+        };
         if (a.position() - b.position()).length() < 1e-6 {
             continue;
         }
@@ -401,7 +424,6 @@ pub fn caps(mesh: &[RingVertex], plan: &GrowthPlan, passes: u32) -> Vec<Cap> {
         } else {
             (a, b)
         };
-        let k = plan.dome(index, passes);
         // The flank's normal at a tip vertex, as the surface pass shades it.
         let flank = |v: &RingVertex| (v.normal() - g * v.extra[2]).normalize_or(g);
         let spoke = |v: &RingVertex, row: usize| -> (Vec3, Vec3) {
@@ -424,7 +446,7 @@ pub fn caps(mesh: &[RingVertex], plan: &GrowthPlan, passes: u32) -> Vec<Cap> {
             };
             (point, normal)
         };
-        let apex = c + g * dome_apex(plan, index, passes);
+        let apex = c + g * apex_height;
         if k <= 0.0 {
             out.push(Cap {
                 corners: [a.position(), b.position(), c],

@@ -110,7 +110,7 @@ pub fn speleothem_info(plan: &GrowthPlan, passes: u32) -> Vec<Vec4> {
             s.kind.sign(),
             s.mineral_intensity,
             thickening[i],
-            crate::model::speleothem::dome_apex(plan, i, passes),
+            crate::model::speleothem::dome_apex_over(plan, i, passes, thickening[i]),
         ));
         out.push(plan.tip_centre(i, passes).extend(plan.dome(i, passes)));
     }
