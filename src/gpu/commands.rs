@@ -43,21 +43,39 @@ impl Commands<'_> {
 
     /// Viewport and scissor covering `width` x `height` from the origin.
     pub fn set_viewport(&self, width: u32, height: u32) {
+        self.set_viewport_at(0.0, width as f32, height as f32);
+        self.set_scissor(0, 0, width, height);
+    }
+
+    /// Viewport of `width` x `height` from column `x` (which may lie left of the
+    /// target, within the device's viewport bounds: a frame-sized viewport centred
+    /// on a panel); the scissor is left as it was.
+    pub fn set_viewport_at(&self, x: f32, width: f32, height: f32) {
         let viewport = [vk::Viewport {
-            x: 0.0,
+            x,
             y: 0.0,
-            width: width as f32,
-            height: height as f32,
+            width,
+            height,
             min_depth: 0.0,
             max_depth: 1.0,
         }];
-        let scissor = [vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent: vk::Extent2D { width, height },
-        }];
-        // SAFETY: `raw` is recording; the pipelines declare both states dynamic.
+        // SAFETY: `raw` is recording; the pipelines declare the viewport dynamic.
         unsafe {
             self.ctx.device.cmd_set_viewport(self.raw, 0, &viewport);
+        }
+    }
+
+    /// Scissor to `width` x `height` from pixel (`x`, `y`): nothing drawn outside.
+    pub fn set_scissor(&self, x: u32, y: u32, width: u32, height: u32) {
+        let scissor = [vk::Rect2D {
+            offset: vk::Offset2D {
+                x: i32::try_from(x).unwrap_or(i32::MAX),
+                y: i32::try_from(y).unwrap_or(i32::MAX),
+            },
+            extent: vk::Extent2D { width, height },
+        }];
+        // SAFETY: `raw` is recording; the pipelines declare the scissor dynamic.
+        unsafe {
             self.ctx.device.cmd_set_scissor(self.raw, 0, &scissor);
         }
     }

@@ -315,6 +315,31 @@ pub const DOME_PROFILE: [(f32, f32, f32); 5] = [
 /// The apex's height above the tip ring, in tip-ring radii.
 pub const DOME_APEX: f32 = 1.1203;
 
+/// The dome's height above its rim at `share` of the tip ring's radius out from the
+/// axis (0..=1), in tip-ring radii: `DOME_PROFILE`'s rows joined by cubic Hermite
+/// segments through their slopes (flat at the apex), for drawings that want the
+/// curve between the rows `cap.geom` draws as straight segments.
+pub fn dome_height(share: f32) -> f32 {
+    let u = share.clamp(0.0, 1.0);
+    let apex = (0.0, DOME_APEX, 0.0);
+    let rows = std::iter::once(apex).chain(DOME_PROFILE.into_iter().rev());
+    let mut inner = apex;
+    for outer in rows.skip(1) {
+        if u <= outer.0 {
+            let (width, t) = (outer.0 - inner.0, (u - inner.0) / (outer.0 - inner.0));
+            let (h00, h10) = (
+                2.0 * t.powi(3) - 3.0 * t * t + 1.0,
+                t.powi(3) - 2.0 * t * t + t,
+            );
+            let (h01, h11) = (-2.0 * t.powi(3) + 3.0 * t * t, t.powi(3) - t * t);
+            // The rows' slopes fall outward: dy/du = -slope.
+            return h00 * inner.1 + h10 * width * -inner.2 + h01 * outer.1 + h11 * width * -outer.2;
+        }
+        inner = outer;
+    }
+    0.0
+}
+
 /// The height of speleothem `index`'s dome apex above its tip ring's centre after
 /// `passes` passes: `DOME_APEX` times its dome factor and its tip ring's radius, the
 /// thickening included. One number per front (not per spoke, whose rings the flank

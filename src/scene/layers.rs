@@ -193,6 +193,12 @@ crate::params! {
         [camera, "Camera"] eye: Option<Point3> = None, "X,Y,Z", "", check::any();
         /// The point the camera looks at.
         [camera, "Camera"] target: Option<Point3> = None, "X,Y,Z", "", check::any();
+        /// Pieces the picture lays the stalagmite out in, side by side from left to
+        /// right, bottom to top, as a drill core lies in its box: a tall stalagmite
+        /// shown large; 0: as many as show it largest in the frame (1 when --eye or
+        /// --target is given); with more than 1 the camera keeps its direction and
+        /// frames each piece.
+        [camera, "Camera"] pieces: usize = 0, "N", "", check::within(0..=MAX_PIECES);
     }
     validate = LayersScene::check_setup;
 }
@@ -319,22 +325,204 @@ impl LayersSetup {
     }
 }
 
+/// The most pieces a picture lays a stalagmite out in (`pieces`).
+pub const MAX_PIECES: usize = 8;
+
+/// The gap between two pieces, as a share of the frame's width.
+const PIECE_GAP: f32 = 0.02;
+
+/// The default camera's vertical field of view.
+const FOV_Y_DEGREES: f32 = 35.0;
+
+/// The share of the frame's half-height and half-width the framed points may take.
+const FILL: f32 = 0.9;
+
+/// What a picture's layout needs of a cut-away: its height and base, and how far out
+/// its outer surface stands at each height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Extent {
+    /// Lowest to highest layer point.
+    pub height: f32,
+    /// Height of the lowest layer point.
+    pub base_y: f32,
+    /// The outer surface's radius in each of `PROFILE_BINS` equal slices of the
+    /// height, lowest first: every layer's widest there (`CutAway::radius` is the last
+    /// layer's alone). The lowest 10 % of the height, where the foot flares into the
+    /// floor, takes the radius above it: the floor is cut to the panel.
+    pub profile: [f32; PROFILE_BINS],
+}
+
+/// Slices of a stalagmite's height in `Extent::profile`.
+pub const PROFILE_BINS: usize = 64;
+
+impl From<&CutAway> for Extent {
+    fn from(c: &CutAway) -> Self {
+        let height = c.height.max(1e-6);
+        let clear = c.base_y + 0.1 * height;
+        let mut profile = [0.0f32; PROFILE_BINS];
+        for p in c.surface.positions.iter().filter(|p| p.y > clear) {
+            let y = p.y - c.base_y;
+            let bin = ((y / height * PROFILE_BINS as f32) as usize).min(PROFILE_BINS - 1);
+            profile[bin] = profile[bin].max(p.x.hypot(p.z));
+        }
+        // Slices no vertex falls in (the foot's) take their neighbour's radius.
+        let first = profile.iter().position(|&r| r > 0.0).unwrap_or(0);
+        let fill = profile[first].max(1e-3 * height);
+        for r in &mut profile[..=first] {
+            *r = fill;
+        }
+        for k in 1..PROFILE_BINS {
+            if profile[k] == 0.0 {
+                profile[k] = profile[k - 1];
+            }
+        }
+        Self {
+            height,
+            base_y: c.base_y,
+            profile,
+        }
+    }
+}
+
+impl Extent {
+    /// The widest the outer surface stands between heights `from` and `to` above the
+    /// base.
+    fn radius_between(&self, from: f32, to: f32) -> f32 {
+        let bin = |y: f32| (y / self.height * PROFILE_BINS as f32).max(0.0) as usize;
+        let (a, b) = (
+            bin(from).min(PROFILE_BINS - 1),
+            bin(to).clamp(1, PROFILE_BINS),
+        );
+        self.profile[a..b.max(a + 1)]
+            .iter()
+            .copied()
+            .fold(0.0, f32::max)
+    }
+}
+
+/// A picture's layout: the cut-away in `count` pieces of equal height side by side,
+/// the lowest on the left, each lowered onto the lowest one's place and seen through
+/// the same camera in its own panel, as wide as its piece needs (the panels
+/// `PIECE_GAP` apart, the width left over shared out): a stalagmite ten times as tall
+/// as it is wide fills a 3:2 frame instead of a thin stripe of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pieces {
+    /// Pieces, 1..=MAX_PIECES.
+    pub count: usize,
+    /// Each piece's height, in the stalagmite's units.
+    pub height: f32,
+    /// The share of the frame's height a piece's axis spans (1 unless the width
+    /// limits the scale).
+    pub fill: f32,
+    /// Each panel's left and right edges, as shares of the frame's width.
+    pub panels: [(f32, f32); MAX_PIECES],
+}
+
+impl Pieces {
+    /// `count` pieces of `c` seen by `looking`, 0 meaning as many as show it largest
+    /// in a frame of `aspect` (width over height): the fewest within 3 % of the largest
+    /// scale.
+    pub fn new(c: &Extent, count: usize, looking: &Camera, aspect: f32) -> Self {
+        let layout = |n: usize| Self::laid_out(c, n, looking, aspect);
+        if count > 0 {
+            return layout(count.min(MAX_PIECES));
+        }
+        let best = (1..=MAX_PIECES)
+            .map(|n| layout(n).fill * n as f32)
+            .fold(0.0, f32::max);
+        (1..=MAX_PIECES)
+            .map(layout)
+            .find(|p| p.fill * p.count as f32 >= 0.97 * best)
+            .unwrap_or_else(|| layout(1))
+    }
+
+    /// `n` pieces: each axis spans the frame's height where the panels' widths (each
+    /// piece's widest radius, with the framing's margin) fit; where they do not, all
+    /// shrink alike until they do.
+    fn laid_out(c: &Extent, n: usize, looking: &Camera, aspect: f32) -> Self {
+        let height = c.height / n as f32;
+        // Widths in frame heights, at a scale where a piece spans the frame's height:
+        // seen from above, the axis is foreshortened by the elevation's cosine, and
+        // the flank nearest the camera stands closer than the axis.
+        let back = (looking.eye - looking.target).normalize_or(Vec3::Z);
+        let upright = back.with_y(0.0).length().max(0.1) * height;
+        let distance = upright / (2.0 * (0.5 * looking.fov_y_degrees.to_radians()).tan());
+        let needs: Vec<f32> = (0..n)
+            .map(|k| {
+                let r = c.radius_between(k as f32 * height, (k + 1) as f32 * height);
+                let nearer = distance / (distance - r).max(0.5 * distance);
+                2.0 * r * nearer / upright / FILL
+            })
+            .collect();
+        let gaps = (n - 1) as f32 * PIECE_GAP * aspect;
+        let needed: f32 = needs.iter().sum();
+        let fill = ((aspect - gaps) / needed.max(1e-9)).min(1.0);
+        let spare = (aspect - gaps - fill * needed) / n as f32;
+        let mut panels = [(0.0, 0.0); MAX_PIECES];
+        let mut left = 0.0;
+        for (k, need) in needs.iter().enumerate() {
+            let right = left + fill * need + spare;
+            panels[k] = (left / aspect, right / aspect);
+            left = right + PIECE_GAP * aspect;
+        }
+        Self {
+            count: n,
+            height,
+            fill,
+            panels,
+        }
+    }
+
+    /// The camera of every panel: `looking`'s direction kept, moved so that the
+    /// lowest piece's axis spans `fill` of the frame's height at `aspect`, centred.
+    /// The panels' viewports are the whole frame's size, centred on each panel, so
+    /// that one projection serves them all.
+    pub fn camera(&self, c: &Extent, looking: &Camera, aspect: f32) -> Camera {
+        let back = (looking.eye - looking.target).normalize_or(Vec3::Z);
+        let size = self.height.max(2.5 * c.profile[0]);
+        let middle = Vec3::new(0.0, c.base_y + 0.5 * self.height, 0.0);
+        let axis = [
+            middle.with_y(c.base_y),
+            middle.with_y(c.base_y + self.height),
+        ];
+        let (centre, distance) = framed(
+            &axis,
+            back,
+            looking.fov_y_degrees,
+            aspect,
+            (1e6, self.fill),
+            middle,
+            2.2 * size,
+        );
+        Camera {
+            eye: centre + back * distance,
+            target: centre,
+            near: size * 0.01,
+            far: size * 10.0 + distance,
+            ..looking.clone()
+        }
+    }
+
+    /// Where the lowest piece's axis lies in a panel seen by `camera` at `aspect`: its
+    /// top and bottom as shares of the frame's height from the top. Each panel draws
+    /// only these rows (a piece cut straight, as a core lies in its box).
+    pub fn rows(&self, c: &Extent, camera: &Camera, aspect: f32) -> (f32, f32) {
+        let share = |y: f32| {
+            let p = camera.view_proj(aspect) * Vec3::new(0.0, y, 0.0).extend(1.0);
+            (0.5 * (p.y / p.w.max(1e-9)) + 0.5).clamp(0.0, 1.0)
+        };
+        (share(c.base_y + self.height), share(c.base_y))
+    }
+}
+
 /// The camera looking into the cut from the open wedge, slightly from above, as near as
 /// keeps the whole cut-away (surface and floor) inside a 3:2 frame with a margin: the
 /// stalagmite as large as the frame allows.
 pub fn default_camera(c: &CutAway) -> Camera {
-    const FOV_Y_DEGREES: f32 = 35.0;
-    // The share of the frame's half-height (and half-width at 3:2) the cut-away may
-    // take.
-    const FILL: f32 = 0.9;
     const ASPECT: f32 = 1.5;
     let size = c.height.max(2.5 * c.radius);
     // The wedge opens toward +x, -z.
     let back = Vec3::new(1.0, 0.45, -1.2).normalize();
-    let right = Vec3::Y.cross(back).normalize();
-    let up = back.cross(right);
-    let tan_y = (0.5 * FOV_Y_DEGREES.to_radians()).tan() * FILL;
-    let tan_x = tan_y * ASPECT;
     let points: Vec<Vec3> = c
         .surface
         .positions
@@ -342,8 +530,43 @@ pub fn default_camera(c: &CutAway) -> Camera {
         .chain(&c.floor.positions)
         .copied()
         .collect();
-    let mut centre = Vec3::new(0.0, c.base_y + 0.5 * c.height, 0.0);
-    let mut distance = size * 2.2;
+    let (centre, distance) = framed(
+        &points,
+        back,
+        FOV_Y_DEGREES,
+        ASPECT,
+        (FILL, FILL),
+        Vec3::new(0.0, c.base_y + 0.5 * c.height, 0.0),
+        size * 2.2,
+    );
+    Camera {
+        eye: centre + back * distance,
+        target: centre,
+        up: Vec3::Y,
+        fov_y_degrees: FOV_Y_DEGREES,
+        near: size * 0.01,
+        far: size * 10.0 + distance,
+        jitter: Jitter::NONE,
+    }
+}
+
+/// The centre and distance at which a camera looking along `-back` (field of view
+/// `fov_y_degrees`, `aspect`) frames every one of `points` within `fill` of the
+/// frame's half-width and half-height (a share over 1 lets points past that side);
+/// `centre` and `distance` where there are none.
+fn framed(
+    points: &[Vec3],
+    back: Vec3,
+    fov_y_degrees: f32,
+    aspect: f32,
+    fill: (f32, f32),
+    mut centre: Vec3,
+    mut distance: f32,
+) -> (Vec3, f32) {
+    let right = Vec3::Y.cross(back).normalize_or(Vec3::X);
+    let up = back.cross(right);
+    let tan = (0.5 * fov_y_degrees.to_radians()).tan();
+    let (tan_x, tan_y) = (tan * aspect * fill.0, tan * fill.1);
     if !points.is_empty() {
         // Twice: the nearest distance that frames every point about the centre, then
         // the centre moved to the middle of what that distance shows.
@@ -366,15 +589,7 @@ pub fn default_camera(c: &CutAway) -> Camera {
             centre += up * (0.5 * (lo + hi) * distance);
         }
     }
-    Camera {
-        eye: centre + back * distance,
-        target: centre,
-        up: Vec3::Y,
-        fov_y_degrees: FOV_Y_DEGREES,
-        near: size * 0.01,
-        far: size * 10.0 + distance,
-        jitter: Jitter::NONE,
-    }
+    (centre, distance)
 }
 
 /// `--supply`: Franke's relative supply, or a climate timeline file in real units.
@@ -492,5 +707,95 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// An upright cylinder of `radius` and `height` as a layout sees it.
+    fn cylinder(height: f32, radius: f32) -> Extent {
+        Extent {
+            height,
+            base_y: 0.0,
+            profile: [radius; PROFILE_BINS],
+        }
+    }
+
+    /// A stalagmite twelve times as tall as wide lies in several pieces in a 3:2 frame,
+    /// a squat one in one; the panels lie inside the frame, left to right with their
+    /// gaps, each as wide as its piece needs; each piece's axis spans the frame's
+    /// height where the width allows (else all shrink alike) and its flank stays in
+    /// its panel.
+    #[test]
+    fn a_tall_stalagmite_lies_in_pieces_whose_axes_span_their_panels() {
+        let looking = Camera {
+            eye: Vec3::new(1.0, 0.45, -1.2),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_degrees: 35.0,
+            near: 0.1,
+            far: 100.0,
+            jitter: Jitter::NONE,
+        };
+        assert_eq!(Pieces::new(&cylinder(2.0, 1.0), 0, &looking, 1.5).count, 1);
+        // A cylinder, and a cone whose upper pieces need narrower panels.
+        let mut cone = cylinder(1000.0, 40.0);
+        for (k, r) in cone.profile.iter_mut().enumerate() {
+            *r = 40.0 * (1.0 - k as f32 / PROFILE_BINS as f32);
+        }
+        for tall in [cylinder(1000.0, 40.0), cone] {
+            assert_eq!(Pieces::new(&tall, 3, &looking, 1.5).count, 3, "as asked");
+            let pieces = Pieces::new(&tall, 0, &looking, 1.5);
+            let n = pieces.count;
+            assert!((3..=MAX_PIECES).contains(&n), "{pieces:?}");
+            assert!((pieces.height * n as f32 - tall.height).abs() < 1e-3);
+            let panels = &pieces.panels[..n];
+            assert!(panels[0].0 >= 0.0 && (panels[n - 1].1 - 1.0).abs() < 1e-5);
+            assert!(
+                panels.windows(2).all(|w| w[1].0 > w[0].1),
+                "gaps between panels"
+            );
+            let aspect = 1.5;
+            let camera = pieces.camera(&tall, &looking, aspect);
+            let (first, last) = pieces.rows(&tall, &camera, aspect);
+            // Framing centres in two rounds: within a percent.
+            assert!(
+                (last - first - pieces.fill).abs() < 0.01,
+                "rows {first} to {last}"
+            );
+            assert!(pieces.fill > 0.5, "{pieces:?}");
+            let ndc = |p: Vec3| {
+                let p = camera.view_proj(aspect) * p.extend(1.0);
+                p.truncate() / p.w
+            };
+            assert!(ndc(Vec3::ZERO).x.abs() < 1e-3, "the axis centred");
+            // Each piece's flank (lowered onto the first's place) inside its panel, the
+            // viewport centred on it.
+            for (k, (left, right)) in panels.iter().enumerate() {
+                let half = 0.5 * (right - left) * 2.0;
+                let low = k as f32 * pieces.height;
+                for a in 0..24 {
+                    let a = std::f32::consts::TAU * a as f32 / 24.0;
+                    for y in [low, low + pieces.height] {
+                        let r = tall.radius_between(y, y + 1e-3);
+                        let p = ndc(Vec3::new(r * a.cos(), y - low, r * a.sin()));
+                        assert!(
+                            p.x.abs() <= half,
+                            "piece {k}: {} over {half} at {a} rad",
+                            p.x
+                        );
+                    }
+                }
+            }
+            // Its direction is the camera's it was given.
+            let turned = (camera.eye - camera.target).normalize();
+            assert!(turned.dot(looking.eye.normalize()) > 0.9999);
+        }
+        let tall = cylinder(1000.0, 40.0);
+        let cone_pieces = Pieces::new(&cone, 4, &looking, 1.5);
+        let cylinder_pieces = Pieces::new(&tall, 4, &looking, 1.5);
+        assert!(
+            cone_pieces.fill > cylinder_pieces.fill
+                || cone_pieces.panels[3].1 - cone_pieces.panels[3].0
+                    < cone_pieces.panels[0].1 - cone_pieces.panels[0].0,
+            "the cone's narrow top shows larger or in a narrower panel"
+        );
     }
 }

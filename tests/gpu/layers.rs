@@ -98,3 +98,34 @@ fn cut_away_matches_its_golden() {
         common::assert_golden("layers-drying-cutaway-240x160", &image, CUT_AWAY_TOLERANCE);
     });
 }
+
+/// The cut-away's clear colour (0.02, 0.02, 0.025 linear) as sRGB bytes.
+const CLEAR: [u8; 3] = [39, 39, 44];
+
+/// Every preset's cut-away fills its 3:2 frame: at most 60 % of the pixels are the
+/// background (the clear colour), tall ones laid out in pieces side by side.
+#[test]
+fn every_preset_fills_at_least_two_fifths_of_its_frame() {
+    common::with_gpu(|ctx| {
+        for (name, _) in layers::PRESETS {
+            let (s, _) = layers::preset(name)
+                .expect("preset")
+                .setup()
+                .expect("setup")
+                .grow()
+                .expect("grow");
+            let cut = layers::cut_away(&s, 18);
+            let image = layers::picture(ctx, &cut, Size::new(240, 160)).expect("render");
+            let background = image
+                .pixels()
+                .filter(|p| (0..3).all(|c| p[c].abs_diff(CLEAR[c]) <= 3))
+                .count() as f64
+                / f64::from(240 * 160);
+            assert!(
+                background <= 0.6,
+                "{name}: {:.1} % background",
+                100.0 * background
+            );
+        }
+    });
+}

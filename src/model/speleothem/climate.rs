@@ -194,6 +194,9 @@ pub fn calendar_year(year: f64) -> String {
     }
 }
 
+/// Points of each dated layer's dome in `dated_layers`, axis first.
+const CAP_POINTS: usize = 16;
+
 /// The synthetic Holocene record sediment ships (`examples/holocene.csv`).
 pub const HOLOCENE: &str = include_str!("../../../examples/holocene.csv");
 
@@ -204,10 +207,12 @@ pub const HOLOCENE: &str = include_str!("../../../examples/holocene.csv");
 ///
 /// Ring growth does not coat the flank as Franke's layers do: each ring adds a band on
 /// top of the last, so the surfaces after rings k and k + 1 share the flank below ring
-/// k, and the layer between them on the cut is that band. Every layer has the same
+/// k, and the layer between them on the cut is that band under the dome that topped
+/// ring k: the cut shows the fronts as nested domes (`super::dome_height`, each
+/// front's own `GrowthPlan::dome`), as the rendered tops are. Every layer has the same
 /// points in the same order — cap points at fractions of its tip ring's radius, then
-/// flank points at heights common to all layers (clamped to its own tip), then the
-/// so the ribbons between consecutive layers pair points of one height.
+/// flank points at heights common to all layers (clamped to its own tip) — so the
+/// ribbons between consecutive layers pair points of one height.
 pub fn dated_layers(
     plan: &super::GrowthPlan,
     index: usize,
@@ -237,14 +242,16 @@ pub fn dated_layers(
         }
         below.1
     };
-    const CAP: usize = 8;
+    const CAP: usize = CAP_POINTS;
     let flank = (2 * rings.len()).clamp(16, 600);
-    let layer = |tip: Option<(f64, f64)>| -> Vec<[f64; 2]> {
+    let layer = |tip: Option<(f64, f64)>, dome: f32| -> Vec<[f64; 2]> {
         // `tip`: the tip ring's height and radius; none for the floor.
         let (h, r) = tip.unwrap_or((0.0, mm(rings[0].radius)));
         let mut points = Vec::with_capacity(CAP + flank);
         for i in 0..CAP {
-            points.push([r * i as f64 / CAP as f64, h]);
+            let share = i as f32 / CAP as f32;
+            let rise = f64::from(dome * super::dome_height(share));
+            points.push([r * f64::from(share), h + r * rise]);
         }
         for i in 0..flank {
             let y = top * (1.0 - i as f64 / (flank - 1) as f64);
@@ -252,12 +259,13 @@ pub fn dated_layers(
         }
         points
     };
-    let mut layers = vec![layer(None)];
+    let mut layers = vec![layer(None, 0.0)];
     let mut steps = Vec::with_capacity(rings.len());
     let dates = plan.dates.unwrap_or((0.0, 1.0));
     for r in &rings {
-        layers.push(layer(Some((mm(r.height), mm(r.radius)))));
         let pass = r.pass.map_or(0, |p| p + 1);
+        let dome = plan.dome(index, pass);
+        layers.push(layer(Some((mm(r.height), mm(r.radius))), dome));
         steps.push(LayerStep {
             dic: 0.0,
             r: mm(r.radius),
@@ -340,6 +348,34 @@ mod tests {
         assert_eq!((c.start(), c.end(), c.passes()), (-9700.0, 2000.0, 234));
         let grown: f64 = (0..c.passes()).map(|p| c.height(p)).sum();
         assert!((0.8..1.3).contains(&grown), "{grown} m in the Holocene");
+    }
+
+    /// The cut-away's layers are the dated fronts' domes, nested: each front's apex
+    /// above the last's, and each cap rounded (its apex a third of its tip radius or
+    /// more above its rim), as the rendered tops are.
+    #[test]
+    fn dated_layers_nest_as_domes() {
+        let plan = crate::model::speleothem::GrowthScene {
+            count: 1,
+            climate: Some(record()),
+            ..Default::default()
+        }
+        .plan()
+        .expect("plan");
+        let index = plan
+            .speleothems
+            .iter()
+            .position(|s| s.kind == crate::model::speleothem::Kind::Stalagmite)
+            .expect("a stalagmite");
+        let s = dated_layers(&plan, index).expect("layers");
+        let apexes: Vec<f64> = s.layers[1..].iter().map(|l| l[0][1]).collect();
+        assert!(apexes.windows(2).all(|w| w[1] > w[0]), "{apexes:?}");
+        for layer in &s.layers[1..] {
+            // The first point after the cap's is the tip ring's (the flank's top).
+            let rim = layer[CAP_POINTS];
+            let rise = layer[0][1] - rim[1];
+            assert!(rise > 0.3 * rim[0], "rise {rise} over radius {}", rim[0]);
+        }
     }
 
     #[test]

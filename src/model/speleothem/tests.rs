@@ -789,3 +789,24 @@ fn a_joined_pair_grows_on_only_by_thickening() {
     }
     assert!(joined >= 10, "{joined} joined speleothems over the presets");
 }
+
+/// The dome's curve between `DOME_PROFILE`'s rows passes through every row and the
+/// apex, falls steadily outward and leaves the apex flat.
+#[test]
+fn the_dome_curve_runs_through_the_profile_rows() {
+    assert!((super::dome_height(0.0) - super::DOME_APEX).abs() < 1e-6);
+    for (share, height, _) in super::DOME_PROFILE {
+        assert!(
+            (super::dome_height(share) - height).abs() < 1e-5,
+            "row {share}"
+        );
+    }
+    let samples: Vec<f32> = (0..=100)
+        .map(|i| super::dome_height(i as f32 / 100.0))
+        .collect();
+    assert!(
+        samples.windows(2).all(|w| w[1] <= w[0] + 1e-6),
+        "falls outward"
+    );
+    assert!(super::DOME_APEX - samples[3] < 0.01, "flat at the apex");
+}

@@ -7,7 +7,8 @@ use std::sync::Arc;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use super::{
-    BaseSpec, CutAway, LayersScene, PRESETS, SupplySpec, cut_away, default_camera, preset,
+    BaseSpec, CutAway, Extent, LayersScene, PRESETS, Pieces, SupplySpec, cut_away, default_camera,
+    preset,
 };
 use crate::Size;
 use crate::camera::Camera;
@@ -34,6 +35,14 @@ pub struct CutAwayFrame {
     layers: usize,
     /// The cut-away and its metres per unit, kept for `Scene::asset`.
     exported: Option<(CutAway, f32)>,
+    /// The stalagmite's extent, for its layout.
+    extent: Extent,
+    /// Pieces asked for, 0 for as many as fit the frame best.
+    asked: usize,
+    /// This frame's layout and the rows each panel draws (`Pieces::rows`), set by
+    /// `set_frame`.
+    pieces: Pieces,
+    rows: (f32, f32),
 }
 
 impl CutAwayFrame {
@@ -54,7 +63,18 @@ impl CutAwayFrame {
             parts,
             layers,
             exported: None,
+            extent: Extent::from(c),
+            asked: 1,
+            pieces: Pieces::new(&Extent::from(c), 1, &default_camera(c), 1.5),
+            rows: (0.0, 1.0),
         })
+    }
+
+    /// Laid out in `pieces` pieces side by side (`Pieces`), 0 for as many as show the
+    /// stalagmite largest in each frame.
+    pub fn in_pieces(mut self, pieces: usize) -> Self {
+        self.asked = pieces;
+        self
     }
 
     /// Also exports the cut-away as an asset (`--mesh`), `metres_per_unit` metres per
@@ -81,8 +101,16 @@ impl Scene for CutAwayFrame {
             sun_direction: Vec3::new(0.8, 0.9, -0.2),
             ..Lighting::default()
         };
+        self.pieces = Pieces::new(&self.extent, self.asked, camera, aspect);
+        if self.pieces.count == 1 {
+            return self
+                .pass
+                .set_frame(&lighting.frame_uniforms(camera, aspect));
+        }
+        let camera = self.pieces.camera(&self.extent, camera, aspect);
+        self.rows = self.pieces.rows(&self.extent, &camera, aspect);
         self.pass
-            .set_frame(&lighting.frame_uniforms(camera, aspect))
+            .set_frame(&lighting.frame_uniforms(&camera, aspect))
     }
 
     /// Records the frame into `target` (span "cut-away").
@@ -94,16 +122,37 @@ impl Scene for CutAwayFrame {
     ) -> Result<()> {
         timer.span(cmd, "cut-away", |cmd| {
             target.begin(cmd, [0.02, 0.02, 0.025, 1.0]);
-            for (mesh, color, spec) in &self.parts {
-                self.pass.draw(
-                    cmd,
-                    mesh,
-                    &ObjectPush {
-                        model: Mat4::IDENTITY,
-                        albedo: color.extend(1.0),
-                        material: Vec4::new(20.0, *spec, 0.0, 0.0),
-                    },
-                )?;
+            let (width, height) = (target.width() as f32, target.height());
+            let pieces = self.pieces;
+            for k in 0..pieces.count {
+                if pieces.count > 1 {
+                    // Each piece in its panel, lowered onto the lowest one's place.
+                    // A frame-sized viewport centred on the panel, cut to it.
+                    let (left, right) = pieces.panels[k];
+                    let centre = 0.5 * (left + right) * width;
+                    cmd.set_viewport_at(centre - 0.5 * width, width, height as f32);
+                    let (left, right) = ((left * width).round(), (right * width).round());
+                    let rows = |share: f32| (share * height as f32).round() as u32;
+                    let (top, bottom) = (rows(self.rows.0), rows(self.rows.1));
+                    cmd.set_scissor(
+                        left as u32,
+                        top,
+                        (right - left).max(1.0) as u32,
+                        bottom.saturating_sub(top).max(1),
+                    );
+                }
+                let lowered = Vec3::new(0.0, -pieces.height * k as f32, 0.0);
+                for (mesh, color, spec) in &self.parts {
+                    self.pass.draw(
+                        cmd,
+                        mesh,
+                        &ObjectPush {
+                            model: Mat4::from_translation(lowered),
+                            albedo: color.extend(1.0),
+                            material: Vec4::new(20.0, *spec, 0.0, 0.0),
+                        },
+                    )?;
+                }
             }
             target.end(cmd);
             Ok(())
@@ -111,7 +160,14 @@ impl Scene for CutAwayFrame {
     }
 
     fn status(&self) -> Vec<String> {
-        vec![format!("{} growth layers, a quarter cut away", self.layers)]
+        let mut status = format!("{} growth layers, a quarter cut away", self.layers);
+        if self.pieces.count > 1 {
+            status += &format!(
+                ", in {} pieces, bottom to top from left to right",
+                self.pieces.count
+            );
+        }
+        vec![status]
     }
 
     fn exportable(&self) -> Option<&dyn Exportable> {
@@ -356,13 +412,20 @@ impl SceneDef for LayersDef {
     fn frame(
         &self,
         ctx: &Arc<Context>,
-        _params: &LayersScene,
+        params: &LayersScene,
         model: &Arc<LayersModel>,
         _realtime: bool,
     ) -> Result<Box<dyn Scene>> {
         let layers = model.stalagmite.layers.len().saturating_sub(1);
+        // A camera the user placed is kept as given unless pieces are asked for.
+        let own_camera = params.eye.is_some() || params.target.is_some();
+        let pieces = match params.pieces {
+            0 if own_camera => 1,
+            n => n,
+        };
         Ok(Box::new(
             CutAwayFrame::new(ctx, &model.cut, layers)?
+                .in_pieces(pieces)
                 .exporting(&model.cut, metres_per_unit(model.unit.as_deref())),
         ))
     }
@@ -477,10 +540,11 @@ impl SceneDef for LayersDef {
     }
 }
 
-/// The cut-away of `c` drawn at `size` from its default camera (grow's `--cut-away`).
+/// The cut-away of `c` drawn at `size` from its default camera, in as many pieces as
+/// show it largest (grow's `--cut-away`).
 pub fn picture(ctx: &Arc<Context>, c: &CutAway, size: Size) -> Result<image::RgbaImage> {
     let mut runner = crate::frame::FrameRunner::new(ctx, size)?;
-    let mut frame = CutAwayFrame::new(ctx, c, 0)?;
+    let mut frame = CutAwayFrame::new(ctx, c, 0)?.in_pieces(0);
     Ok(runner
         .render(&mut frame, &default_camera(c), Time::At(0))?
         .0)
