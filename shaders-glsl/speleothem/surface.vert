@@ -77,7 +77,8 @@ void main() {
         // By age: each ring by its date (ring number over the whole growth's), a ramp
         // from dark umber (oldest) through ochre to pale cream (newest), times the
         // mineral's colour (white calcite: the ramp itself).
-        float age = clamp(in_extra.w / surface.look.z, 0.0, 1.0);
+        // A foot (ring -1, `model::speleothem::feet`) is coated still: the newest.
+        float age = in_extra.w < 0.0 ? 1.0 : clamp(in_extra.w / surface.look.z, 0.0, 1.0);
         vec3 ramp = age < 0.5
             ? mix(vec3(0.18, 0.08, 0.03), vec3(0.72, 0.42, 0.14), age * 2.0)
             : mix(vec3(0.72, 0.42, 0.14), vec3(0.98, 0.95, 0.85), age * 2.0 - 1.0);

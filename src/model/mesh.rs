@@ -215,6 +215,59 @@ impl Mesh {
     }
 }
 
+/// A mesh's heights over a disc: vertical lines through points of the disc met with
+/// the triangles whose footprints reach into it (what stands on a surface that is no
+/// height field, such as a cave's wall, finds the surface under it).
+pub struct HeightProbe {
+    triangles: Vec<[Vec3; 3]>,
+}
+
+impl HeightProbe {
+    /// The triangles of `mesh` whose (x, z) bounds meet the square of half-side
+    /// `radius` about `centre`.
+    pub fn new(mesh: &Mesh, centre: Vec3, radius: f32) -> Self {
+        let triangles = mesh
+            .triangles()
+            .map(|t| t.map(|i| mesh.positions[i as usize]))
+            .filter(|t| {
+                let (lo, hi) = t.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), &p| {
+                    (lo.min(p), hi.max(p))
+                });
+                lo.x <= centre.x + radius
+                    && hi.x >= centre.x - radius
+                    && lo.z <= centre.z + radius
+                    && hi.z >= centre.z - radius
+            })
+            .collect();
+        Self { triangles }
+    }
+
+    /// The height of the surface on the vertical line through (x, z) nearest to
+    /// `near`, or `None` where the line meets no triangle kept.
+    pub fn height_near(&self, x: f32, z: f32, near: f32) -> Option<f32> {
+        let mut best: Option<f32> = None;
+        for [a, b, c] in &self.triangles {
+            // Barycentric coordinates of (x, z) in the triangle's footprint.
+            let (e1, e2) = (*b - *a, *c - *a);
+            let det = e1.x * e2.z - e1.z * e2.x;
+            if det.abs() < 1e-12 {
+                continue;
+            }
+            let (px, pz) = (x - a.x, z - a.z);
+            let u = (px * e2.z - pz * e2.x) / det;
+            let v = (e1.x * pz - e1.z * px) / det;
+            if u < 0.0 || v < 0.0 || u + v > 1.0 {
+                continue;
+            }
+            let y = a.y + u * e1.y + v * e2.y;
+            if best.is_none_or(|h| (y - near).abs() < (h - near).abs()) {
+                best = Some(y);
+            }
+        }
+        best
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -271,5 +324,20 @@ mod tests {
                 .zip(&sphere.positions)
                 .all(|(n, p)| (*n - *p).length() < 0.2)
         );
+    }
+
+    /// A probe finds the surface under a point of a tilted grid, the crossing nearest
+    /// the height asked for where two layers overlap, and none outside.
+    #[test]
+    fn a_height_probe_finds_the_nearest_surface_on_a_vertical_line() {
+        let tilted = |x: f32, z: f32| 0.3 * x - 0.2 * z;
+        let mut mesh = Mesh::height_grid(2.0, 0.0, 8, true, tilted);
+        mesh.append(&Mesh::height_grid(2.0, 5.0, 8, true, |_, _| 0.0));
+        let probe = HeightProbe::new(&mesh, Vec3::ZERO, 0.5);
+        let low = probe.height_near(0.3, -0.2, 1.0).expect("the tilted layer");
+        assert!((low - tilted(0.3, -0.2)).abs() < 1e-5, "{low}");
+        let high = probe.height_near(0.3, -0.2, 4.0).expect("the flat layer");
+        assert!((high - 5.0).abs() < 1e-5, "{high}");
+        assert!(probe.height_near(30.0, 0.0, 0.0).is_none());
     }
 }

@@ -23,6 +23,7 @@
 //! front triangle emits at most three triangles (9 vertices).
 
 pub mod climate;
+pub mod feet;
 pub mod lod;
 pub mod plan;
 pub mod table2;

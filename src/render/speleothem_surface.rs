@@ -19,7 +19,9 @@ use crate::gpu::{
     PipelineLayout, Pod, Sampler, TargetFormat, vk,
 };
 use crate::model::normal_map::calcite_normal_map;
-use crate::model::speleothem::{GrowthPlan, PassAction, VERTEX_STRIDE, accumulated_thickening};
+use crate::model::speleothem::{
+    GrowthPlan, PassAction, RingVertex, VERTEX_STRIDE, accumulated_thickening,
+};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
 /// Push constants of the surface shaders.
@@ -137,6 +139,9 @@ pub struct SpeleothemSurfacePass {
     /// The same stages with `cap.geom` between them: the caps of open fronts.
     caps: Pipeline,
     caps_on: bool,
+    /// Where the speleothems meet the rock (`model::speleothem::feet`), drawn with
+    /// the mesh, and its vertex count.
+    feet: Option<(Buffer, u32)>,
     /// What the pipelines were built for (`set_tone_map` rebuilds them).
     fragment: &'static ShaderInterface,
     target: TargetFormat,
@@ -252,6 +257,7 @@ impl SpeleothemSurfacePass {
             pipeline,
             caps,
             caps_on: true,
+            feet: None,
             fragment,
             target,
             tone,
@@ -309,6 +315,23 @@ impl SpeleothemSurfacePass {
     /// Draws the caps of open fronts (on unless a test compares without them).
     pub fn set_caps(&mut self, on: bool) {
         self.caps_on = on;
+    }
+
+    /// Draws `feet` (`model::speleothem::feet`: triangles stored less the thickening)
+    /// with the mesh from now on, into the frames and the shadow map; none when empty.
+    pub fn set_feet(&mut self, feet: &[RingVertex]) -> Result<()> {
+        self.feet = if feet.is_empty() {
+            None
+        } else {
+            let buffer = Buffer::with_data(
+                &self.ctx,
+                "speleothem feet",
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+                feet,
+            )?;
+            Some((buffer, u32::try_from(feet.len()).unwrap_or(u32::MAX)))
+        };
+        Ok(())
     }
 
     /// The normal-map strength (0..=4) and the environment reflection's (0..=4).
@@ -419,6 +442,14 @@ impl SpeleothemSurfacePass {
                         }
                     }
                 }
+            }
+            if let (Some((feet, vertices)), true) = (&self.feet, std::ptr::eq(pipeline, surface)) {
+                // Stored as frozen vertices are: shifted by the thickening.
+                let mut push = self.push;
+                push.params.w = 1.0;
+                cmd.push_constants(&self.layout, &push)?;
+                cmd.bind_vertex_buffer(feet, 0);
+                cmd.draw(*vertices, 1);
             }
         }
         Ok(())

@@ -22,8 +22,9 @@ use crate::frame::{
 use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget};
 use crate::input::Key;
 use crate::model::cave::placement::site_meshes;
-use crate::model::mesh::Mesh;
-use crate::model::speleothem::{GrowthPlan, RingVertex};
+use crate::model::mesh::{HeightProbe, Mesh};
+use crate::model::speleothem::feet::{FOOT_REACH_RADII, feet};
+use crate::model::speleothem::{GrowthPlan, Kind, RingVertex};
 use crate::render::ambient_occlusion::{AmbientOcclusionPass, Output};
 use crate::render::cave_wall::{CaveFrame as WallUniforms, CaveWallPass, Style};
 use crate::render::environment::EnvironmentMap;
@@ -188,17 +189,19 @@ impl CaveFrame {
             Some(g) => {
                 let plan = g.plan()?;
                 let environment = cave_environment(ctx, scene, &model)?;
+                let mut surface = SpeleothemSurfacePass::new(
+                    ctx,
+                    ctx.frame_format(),
+                    cave_lighting().tonemap,
+                    &plan,
+                    scene.seed,
+                    (&environment, &shadow),
+                )?;
+                surface.set_feet(&cave_feet(&plan, &model))?;
                 Some(Grown {
                     // Append-only: all passes in one submission at O(one ring) each.
                     growth: GrowthPath::XfbAppend.start(ctx, &plan)?,
-                    surface: SpeleothemSurfacePass::new(
-                        ctx,
-                        ctx.frame_format(),
-                        cave_lighting().tonemap,
-                        &plan,
-                        scene.seed,
-                        (&environment, &shadow),
-                    )?,
+                    surface,
                     _environment: environment,
                     plan,
                     done: false,
@@ -733,4 +736,40 @@ impl BenchScene for CaveBench {
             wall / frames.len().max(1) as f64,
         )])
     }
+}
+
+/// Where the grown speleothems meet the cave's wall: each foot on the wall under it
+/// (the wall is no height field: each point of a foot finds the wall's crossing
+/// nearest the site's rock on its vertical line); none where the wall under a foot
+/// is not found or too steep.
+fn cave_feet(plan: &GrowthPlan, model: &CaveModel) -> Vec<RingVertex> {
+    let probes: Vec<(HeightProbe, f32, f32)> = plan
+        .speleothems
+        .iter()
+        .map(|s| {
+            let rock = match (model.sites.get(s.site as usize), s.kind) {
+                (Some(site), Kind::Stalactite) => site.ceiling.y,
+                (Some(site), Kind::Stalagmite) => site.floor.y,
+                (None, _) => s.base.y,
+            };
+            let reach = FOOT_REACH_RADII * s.initial_radius;
+            // Down a slope the foot drapes over the wall as flowstone does, at most
+            // a base radius; a wall steeper than that under it gets no foot (one
+            // standing clear of the wall reads as a mushroom).
+            let slack = s.initial_radius;
+            (
+                HeightProbe::new(&model.cave.mesh, s.base, reach),
+                rock,
+                slack,
+            )
+        })
+        .collect();
+    feet(plan, &|index, x, z| {
+        probes.get(index).map_or(0.0, |(probe, rock, slack)| {
+            match probe.height_near(x, z, *rock) {
+                Some(wall) if (wall - rock).abs() <= *slack => wall,
+                _ => f32::NAN,
+            }
+        })
+    })
 }

@@ -16,6 +16,7 @@ use crate::frame::temporal;
 use crate::gpu::{Commands, Context, OffscreenTarget};
 use crate::model::chamber::{ChamberFrame, ChamberKind};
 use crate::model::mesh::Mesh;
+use crate::model::speleothem::{GrowthPlan, Kind, RingVertex};
 use crate::render::environment::EnvironmentMap;
 use crate::render::lighting::Lighting;
 use crate::render::lit_mesh::{FrameSlot, FrameUniforms, GpuMesh, LitMeshPass, ObjectPush};
@@ -44,14 +45,33 @@ const KEPT_PER_FRAME: u32 = 3;
 /// Boulders on the enclosed chamber's floor.
 const RUBBLE: u32 = 70;
 
-/// The rock of `kind` around `scene`'s speleothems, and how it is shaded.
-fn chamber_meshes(scene: &GrowthScene, kind: ChamberKind) -> (Vec<Mesh>, ObjectPush) {
-    let frame = ChamberFrame {
+/// The chamber's frame around `scene`'s speleothems.
+fn frame_of(scene: &GrowthScene) -> ChamberFrame {
+    ChamberFrame {
         floor_y: scene.floor_y,
         ceiling_y: scene.ceiling_y,
         extent: scene.extent,
         seed: scene.seed,
-    };
+    }
+}
+
+/// Where `plan`'s speleothems meet the chamber's rock (`model::speleothem::feet`),
+/// following its relief.
+pub(super) fn feet(scene: &GrowthScene, plan: &GrowthPlan) -> Vec<RingVertex> {
+    let frame = frame_of(scene);
+    crate::model::speleothem::feet::feet(plan, &|index, x, z| match plan
+        .speleothems
+        .get(index)
+        .map(|s| s.kind)
+    {
+        Some(Kind::Stalactite) => frame.ceiling_at(x, z),
+        _ => frame.floor_at(x, z),
+    })
+}
+
+/// The rock of `kind` around `scene`'s speleothems, and how it is shaded.
+fn chamber_meshes(scene: &GrowthScene, kind: ChamberKind) -> (Vec<Mesh>, ObjectPush) {
+    let frame = frame_of(scene);
     match kind {
         ChamberKind::Planes => {
             let (floor, ceiling) = frame.planes();

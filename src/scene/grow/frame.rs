@@ -174,6 +174,9 @@ impl GrowthFrame {
         surface.set_look(look.bump, look.environment);
         surface.set_subsurface(look.subsurface);
         surface.set_age_colours((look.color == ColorBy::Age).then_some(plan.passes));
+        if chamber.is_some() {
+            surface.set_feet(&super::chamber::feet(&scene, &plan))?;
+        }
         let mut frame = Self {
             occlusion: AmbientOcclusionPass::new(ctx, occlusion_radius(&scene))?,
             growth: path.start(ctx, &plan)?,
@@ -404,6 +407,10 @@ impl GrowthFrame {
         self.surface.set_subsurface(self.look.subsurface);
         self.surface
             .set_age_colours((self.look.color == ColorBy::Age).then_some(plan.passes));
+        if self.chamber.is_some() {
+            self.surface
+                .set_feet(&super::chamber::feet(&self.scene, &plan))?;
+        }
         if let Some(kind) = self.chamber.as_ref().map(|c| c.kind) {
             // The chamber's relief follows the seed: its reflection too.
             self.chamber = Some(Chamber::new(
