@@ -166,6 +166,12 @@ struct ReferenceArgs {
 const ABOUT: &str = "Simulates and renders depositional natural scenes (speleothems, caves, \
                      stalagmite layers, dunes) on raw Vulkan";
 
+/// The exit statuses, below the top-level help.
+const EXIT_STATUS: &str = "Exit status: 0 done; 1 a failure while working (driver, files, a \
+                           bench target missed); 2 a usage error (an unknown option or \
+                           preset, a value out of range, a refused input file); 130 \
+                           interrupted";
+
 /// The command line of `scenes`: the global options, `info`, `demo`, a subcommand per
 /// scene, `bench` and `view`.
 pub fn command(name: &'static str, scenes: &[&'static dyn AnyScene]) -> Command {
@@ -173,6 +179,7 @@ pub fn command(name: &'static str, scenes: &[&'static dyn AnyScene]) -> Command 
     let mut cmd = Globals::augment_args(Command::new(name))
         .version(VERSION)
         .about(ABOUT)
+        .after_help(EXIT_STATUS)
         .subcommand_required(true)
         .arg_required_else_help(true);
     cmd = cmd.subcommand(InfoArgs::augment_args(Command::new("info")).about(
@@ -365,10 +372,28 @@ fn run_program(
                     names.join(", ")
                 );
             }
-            ExitCode::FAILURE
+            ExitCode::from(exit_status(&e))
         }
     }
 }
+
+/// The exit status of a run that failed with `e`: 2 for a usage error (a value the
+/// command line or a scene file gave that is refused: out of range, an unknown preset,
+/// a device no name matches), as clap exits for the errors it finds itself; 1 for a
+/// failure while working. (Interrupted runs exit 130, from the signal handler.)
+pub fn exit_status(e: &anyhow::Error) -> u8 {
+    use crate::error::Error;
+    let usage = e.chain().any(|cause| {
+        matches!(
+            cause.downcast_ref::<Error>(),
+            Some(Error::InvalidArgument { .. } | Error::NoMatchingDevice { .. })
+        )
+    });
+    if usage { USAGE_ERROR } else { 1 }
+}
+
+/// The exit status of a usage error (clap's).
+pub const USAGE_ERROR: u8 = 2;
 
 /// `--size`: clap names the option; say only what is wrong.
 pub fn parse_size(s: &str) -> Result<Size, String> {

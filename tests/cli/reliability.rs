@@ -564,7 +564,8 @@ fn heights_beyond_an_exrs_floats_are_refused_and_nothing_is_left() {
         &map,
     ]);
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    // The value given (--ripple-q) is refused: a usage error, though found late.
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(
         stderr.contains("does not fit the 32-bit floats of an EXR"),
         "{stderr}"
@@ -608,7 +609,8 @@ fn endless_inputs_are_refused_by_their_limit() {
     ] {
         let run = sediment(args);
         let stderr = String::from_utf8_lossy(&run.stderr);
-        assert_eq!(run.status.code(), Some(1), "{args:?}: {stderr}");
+        // A file given whose content is refused is a usage error (exit 2).
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
         assert!(
             stderr.contains("/dev/zero holds more than the") && stderr.contains("MiB"),
             "{args:?}: {stderr}"
@@ -1040,4 +1042,64 @@ fn messages_blame_what_was_given_and_never_echo_a_long_value_whole() {
         "{stderr}"
     );
     std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// Issue 46 #2: every subcommand exits 2 for a usage error, whether clap finds it (an
+/// unknown option) or sediment does after parsing (an unknown preset, a value out of
+/// range, a device no name matches), and 1 for a failure while working (its report
+/// cannot be written); the interrupt's 130 is `an_interrupted_write_leaves_no_partial_file`'s.
+#[test]
+fn usage_errors_exit_2_and_failures_exit_1_in_every_subcommand() {
+    let dir = scratch("rel-exit");
+    let png = dir.join("x.png").to_string_lossy().into_owned();
+    let usage: &[&[&str]] = &[
+        &["grow", "--no-such-option"],
+        &["grow", "--preset", "fig9z", "-o", &png],
+        &["grow", "--passes", "100000", "-o", &png],
+        &["dunes", "--preset", "fig99", "-o", &png],
+        &["dunes", "--cell", "1e38", "-o", &png],
+        &["cave", "--depth", "12", "-o", &png],
+        &["cave", "--mesh", "x.fbx"],
+        &["layers", "--rep", "0", "-o", &png],
+        &["layers", "--preset", "nope"],
+        &["bench", "grow", "--frames", "0"],
+        &["bench", "nosuchscene"],
+        &["view", "grow", "--preset", "fig9z"],
+        &["demo", "--no-such-option"],
+        &["info", "--no-such-option"],
+        &[
+            "--device",
+            "no-such-gpu-anywhere",
+            "grow",
+            "--size",
+            "8x8",
+            "-o",
+            &png,
+        ],
+    ];
+    for args in usage {
+        let out = sediment(args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .expect("/dev/full");
+    for args in [
+        &["grow", "--print-scene"][..],
+        &["dunes", "--print-scene"],
+        &["cave", "--print-scene"],
+        &["layers", "--print-scene"],
+        &["presets"],
+    ] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_sediment"))
+            .args(args)
+            .stdout(full.try_clone().expect("clone /dev/full"))
+            .output()
+            .expect("run the sediment binary");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+    }
 }
