@@ -42,6 +42,7 @@ pub mod bench;
 pub mod output;
 pub mod reference;
 mod scene;
+pub mod shell;
 #[cfg(feature = "view")]
 mod view;
 
@@ -209,6 +210,9 @@ pub fn command(name: &'static str, scenes: &[&'static dyn AnyScene]) -> Command 
     {
         cmd = cmd.subcommand(view::command(scenes));
     }
+    cmd = cmd
+        .subcommand(shell::completions_command())
+        .subcommand(shell::man_command());
     cmd.subcommand(
         ReferenceArgs::augment_args(Command::new("reference"))
             .hide(true)
@@ -225,14 +229,18 @@ pub fn main() -> ExitCode {
 /// `sediment`'s (a subcommand per scene, `view`, `bench`, `demo`, `info`).
 pub fn main_with(name: &'static str, scenes: &[&'static dyn AnyScene]) -> ExitCode {
     let cmd = command(name, scenes);
-    run_program(cmd, |globals, matches| dispatch(globals, scenes, matches))
+    run_program(cmd, |globals, matches| {
+        dispatch(globals, scenes, matches, &|| command(name, scenes))
+    })
 }
 
-/// Runs the subcommand `matches` holds.
+/// Runs the subcommand `matches` holds; `program` is the whole command line (for the
+/// completion scripts and man pages).
 fn dispatch(
     globals: &Globals,
     scenes: &[&'static dyn AnyScene],
     matches: &ArgMatches,
+    program: &dyn Fn() -> Command,
 ) -> anyhow::Result<()> {
     {
         let (sub, sub_matches) = matches
@@ -261,6 +269,11 @@ fn dispatch(
             ),
             #[cfg(feature = "view")]
             "view" => view::run(globals, scenes, sub_matches),
+            "completions" => shell::completions(
+                program(),
+                &shell::CompletionsArgs::from_arg_matches(sub_matches)?,
+            ),
+            "man" => shell::man(program(), &shell::ManArgs::from_arg_matches(sub_matches)?),
             "reference" => {
                 let page = ReferenceArgs::from_arg_matches(sub_matches)?.page;
                 report(reference::page(page, scenes)?.trim_end())
@@ -290,8 +303,9 @@ pub fn scene_main(name: &'static str, def: &'static dyn AnyScene) -> ExitCode {
             cmd = cmd.subcommand(sub.clone());
         }
     }
+    let program = cmd.clone();
     run_program(cmd, |globals, matches| match matches.subcommand() {
-        Some(_) => dispatch(globals, &scenes, matches),
+        Some(_) => dispatch(globals, &scenes, matches, &|| program.clone()),
         None => scene::run(globals, def, matches),
     })
 }

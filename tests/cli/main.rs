@@ -19,4 +19,5 @@ mod mesh_export;
 mod output;
 mod reliability;
 mod scene_files;
+mod shell;
 mod view;
