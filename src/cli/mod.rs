@@ -173,6 +173,75 @@ const EXIT_STATUS: &str = "Exit status: 0 done; 1 a failure while working (drive
                            preset, a value out of range, a refused input file); 130 \
                            interrupted";
 
+/// `cmd` and its subcommands with every option's help cut to a summary for `-h` (its
+/// first clause, then its range, unit and default), the whole text kept for `--help`.
+pub fn with_summaries(cmd: Command) -> Command {
+    let cmd = cmd.mut_args(|arg| {
+        let Some(help) = arg.get_help().map(|h| h.to_string()) else {
+            return arg;
+        };
+        if arg.get_long_help().is_some() {
+            return arg;
+        }
+        let short = summary(&help);
+        if short == help {
+            arg
+        } else {
+            arg.help(short).long_help(help)
+        }
+    });
+    let names: Vec<String> = cmd
+        .get_subcommands()
+        .map(|s| s.get_name().to_owned())
+        .collect();
+    names
+        .iter()
+        .fold(cmd, |cmd, name| cmd.mut_subcommand(name, with_summaries))
+}
+
+/// A help text's summary: its first clause (to the first `. `, `; `, `: ` or ` (`
+/// outside brackets; the whole text where that is under 15 characters; at most 60
+/// characters, cut on a word), then its bracketed range, unit and default if it ends
+/// with one.
+fn summary(help: &str) -> String {
+    let (text, values) = match help.rfind(" [") {
+        Some(i) if help.ends_with(']') => (&help[..i], &help[i..]),
+        _ => (help, ""),
+    };
+    let mut end = text.len();
+    let mut depth = 0i32;
+    for (i, c) in text.char_indices() {
+        match c {
+            '(' | '[' | '{' => {
+                if depth == 0 && c == '(' && text[..i].ends_with(' ') {
+                    end = i - 1;
+                    break;
+                }
+                depth += 1;
+            }
+            ')' | ']' | '}' => depth -= 1,
+            '.' | ';' | ':' if depth == 0 && text[i + 1..].starts_with(' ') => {
+                end = i;
+                break;
+            }
+            _ => {}
+        }
+    }
+    let mut first = text[..end].trim_end().trim_end_matches('.').to_owned();
+    // A clause too short to say anything ("manual: ...") gives way to the text's start.
+    if first.chars().count() < 15 {
+        first = text.trim_end().trim_end_matches('.').to_owned();
+    }
+    if first.chars().count() > 60 {
+        let cut: String = first.chars().take(60).collect();
+        first = match cut.rfind(' ') {
+            Some(i) => format!("{}...", &cut[..i]),
+            None => cut,
+        };
+    }
+    format!("{first}{values}")
+}
+
 /// The command line of `scenes`: the global options, `info`, `demo`, a subcommand per
 /// scene, `bench` and `view`.
 pub fn command(name: &'static str, scenes: &[&'static dyn AnyScene]) -> Command {
@@ -228,9 +297,11 @@ pub fn main() -> ExitCode {
 /// A program named `name` whose scenes are `scenes`: the same command line as
 /// `sediment`'s (a subcommand per scene, `view`, `bench`, `demo`, `info`).
 pub fn main_with(name: &'static str, scenes: &[&'static dyn AnyScene]) -> ExitCode {
-    let cmd = command(name, scenes);
+    let cmd = with_summaries(command(name, scenes));
     run_program(cmd, |globals, matches| {
-        dispatch(globals, scenes, matches, &|| command(name, scenes))
+        dispatch(globals, scenes, matches, &|| {
+            with_summaries(command(name, scenes))
+        })
     })
 }
 
@@ -303,6 +374,7 @@ pub fn scene_main(name: &'static str, def: &'static dyn AnyScene) -> ExitCode {
             cmd = cmd.subcommand(sub.clone());
         }
     }
+    let cmd = with_summaries(cmd);
     let program = cmd.clone();
     run_program(cmd, |globals, matches| match matches.subcommand() {
         Some(_) => dispatch(globals, &scenes, matches, &|| program.clone()),
@@ -408,6 +480,37 @@ pub fn exit_status(e: &anyhow::Error) -> u8 {
 
 /// The exit status of a usage error (clap's).
 pub const USAGE_ERROR: u8 = 2;
+
+#[cfg(test)]
+mod summary_tests {
+    use super::summary;
+
+    /// `-h`'s summaries: the first clause and the values, never a bare word.
+    #[test]
+    fn a_summary_keeps_the_first_clause_and_the_values() {
+        assert_eq!(
+            summary("Segments per ring. [3..=128; default: 32]"),
+            "Segments per ring [3..=128; default: 32]"
+        );
+        assert_eq!(
+            summary("Start from a preset: fig9a (stalactites), fig9b [default: none]"),
+            "Start from a preset [default: none]"
+        );
+        assert_eq!(
+            summary("Wind direction, from +x toward +z [in degrees; default: 0.0]"),
+            "Wind direction, from +x toward +z [in degrees; default: 0.0]"
+        );
+        assert_eq!(
+            summary("manual: Table 2's steps as given; random: jittered [default: manual]"),
+            "manual: Table 2's steps as given; random: jittered [default: manual]"
+        );
+        let long = summary(&"word ".repeat(40));
+        assert!(
+            long.ends_with("...") && long.chars().count() <= 63,
+            "{long}"
+        );
+    }
+}
 
 /// `--size`: clap names the option; say only what is wrong.
 pub fn parse_size(s: &str) -> Result<Size, String> {

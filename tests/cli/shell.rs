@@ -73,3 +73,28 @@ fn man_pages_are_written_for_every_command() {
     }
     assert!(!dir.join("sediment-help.1").exists());
 }
+
+/// `-h` is a summary (every option, its help cut to a clause and its values; under two
+/// thirds of the text) and
+/// `--help` the whole text, for every scene.
+#[test]
+fn dash_h_summarises_what_dash_dash_help_explains() {
+    for scene in ["grow", "dunes", "cave", "layers"] {
+        let short = String::from_utf8_lossy(&sediment(&[scene, "-h"]).stdout).into_owned();
+        let long = String::from_utf8_lossy(&sediment(&[scene, "--help"]).stdout).into_owned();
+        assert!(
+            short.len() * 3 < long.len() * 2,
+            "{scene}: -h {} bytes, --help {}",
+            short.len(),
+            long.len()
+        );
+        for word in long.split_whitespace().filter(|w| w.starts_with("--")) {
+            let option = word.trim_end_matches([',', '.', ')', ';', ':', '`', '\'']);
+            if long.contains(&format!("\n      {option} "))
+                || long.contains(&format!("  {option} <"))
+            {
+                assert!(short.contains(option), "{scene}: -h lacks {option}");
+            }
+        }
+    }
+}
