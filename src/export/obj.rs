@@ -9,8 +9,10 @@
 //!   `Pr`/`Pm` (the PBR extension of the MTL format) carry roughness and metallic for
 //!   readers that know them (Blender does).
 //! - A textured part (the dunes) writes its normal map beside the file as a PNG and
-//!   names it with `map_Bump` (Blender reads it as a tangent-space normal map over the
-//!   `vt` coordinates); its base colour map uses a second set of texture coordinates,
+//!   names it twice: `norm`, where the PBR extension of MTL puts a tangent-space
+//!   normal map, and `map_Bump`, which older readers take (Blender reads it as a
+//!   normal map over the `vt` coordinates); its base colour map uses a second set of
+//!   texture coordinates,
 //!   which OBJ cannot hold, so OBJ keeps the sand's colour in `Kd` alone.
 
 use std::fmt::Write as _;
@@ -68,14 +70,12 @@ pub fn write_obj(path: &Path, asset: &Asset) -> Result<Vec<PathBuf>> {
             let normal =
                 path.with_file_name(format!("{stem}-{}-normals.png", identifier(&part.name)));
             super::png::write_png(&normal, &t.normal)?;
-            let _ = writeln!(
-                mtl,
-                "map_Bump {}",
-                normal
-                    .file_name()
-                    .map(|f| f.to_string_lossy())
-                    .unwrap_or_default()
-            );
+            let file = normal
+                .file_name()
+                .map(|f| f.to_string_lossy())
+                .unwrap_or_default();
+            // `norm` for readers of the PBR extension, `map_Bump` for older ones.
+            let _ = writeln!(mtl, "norm {file}\nmap_Bump {file}");
             files.push(normal);
         }
         let _ = writeln!(obj, "o {}\nusemtl {material}", identifier(&part.name));

@@ -298,6 +298,31 @@ fn dunes_and_layers_export_textured_and_named() {
     );
     assert!((lo[0] + hi[0]).abs() < 1e-3 && (lo[2] + hi[2]).abs() < 1e-3);
     assert_eq!(field.positions().len(), 33 * 33);
+    // As OBJ: the normal map named for PBR-MTL readers (`norm`) and older ones.
+    let obj = s(&dir.join("d.obj"));
+    let out = sediment(&[
+        "dunes",
+        "--preset",
+        "fig17",
+        "--ripple-size",
+        "64",
+        "--ripple-steps",
+        "40",
+        "--dune-size",
+        "32",
+        "--dune-steps",
+        "100",
+        "--mesh",
+        &obj,
+    ]);
+    assert_success(&out, "sediment dunes --mesh d.obj");
+    let mtl = std::fs::read_to_string(dir.join("d.mtl")).expect("mtl");
+    let map = "d-dune_field-normals.png";
+    assert!(
+        mtl.contains(&format!("norm {map}")) && mtl.contains(&format!("map_Bump {map}")),
+        "{mtl}"
+    );
+    assert!(dir.join(map).exists());
 
     let svg = s(&dir.join("l.svg"));
     let (glb, _, _) = exported(&dir, "l.glb", &["layers", "--rep", "60", "--section", &svg]);
