@@ -436,6 +436,18 @@ impl Pieces {
             .unwrap_or_else(|| layout(1))
     }
 
+    /// The stalagmite whole, in one panel: the frame.
+    pub fn whole(c: &Extent) -> Self {
+        let mut panels = [(0.0, 0.0); MAX_PIECES];
+        panels[0] = (0.0, 1.0);
+        Self {
+            count: 1,
+            height: c.height,
+            fill: 1.0,
+            panels,
+        }
+    }
+
     /// `n` pieces: each axis spans the frame's height where the panels' widths (each
     /// piece's widest radius, with the framing's margin) fit; where they do not, all
     /// shrink alike until they do.

@@ -259,27 +259,23 @@ fn short_profile_speleothems_export_closed() {
 fn dunes_and_layers_export_textured_and_named() {
     let dir = scratch("export-dunes");
     let png = s(&dir.join("d.png"));
-    let (glb, _, _) = exported(
-        &dir,
-        "d.glb",
-        &[
-            "dunes",
-            "--preset",
-            "fig17",
-            "-o",
-            &png,
-            "--size",
-            "32x24",
-            "--ripple-size",
-            "64",
-            "--ripple-steps",
-            "40",
-            "--dune-size",
-            "32",
-            "--dune-steps",
-            "100",
-        ],
-    );
+    // A small field: 32 cells of 4 m, 64-cell ripples.
+    let field_args = [
+        "dunes",
+        "--preset",
+        "fig17",
+        "--ripple-size",
+        "64",
+        "--ripple-steps",
+        "40",
+        "--dune-size",
+        "32",
+        "--dune-steps",
+        "100",
+    ];
+    let mut args = field_args.to_vec();
+    args.extend(["-o", &png, "--size", "32x24"]);
+    let (glb, _, _) = exported(&dir, "d.glb", &args);
     assert_eq!(glb.names(), ["dune field"]);
     let field = glb.part("dune field");
     for a in ["TEXCOORD_0", "TEXCOORD_1", "TANGENT", "NORMAL"] {
@@ -300,21 +296,9 @@ fn dunes_and_layers_export_textured_and_named() {
     assert_eq!(field.positions().len(), 33 * 33);
     // As OBJ: the normal map named for PBR-MTL readers (`norm`) and older ones.
     let obj = s(&dir.join("d.obj"));
-    let out = sediment(&[
-        "dunes",
-        "--preset",
-        "fig17",
-        "--ripple-size",
-        "64",
-        "--ripple-steps",
-        "40",
-        "--dune-size",
-        "32",
-        "--dune-steps",
-        "100",
-        "--mesh",
-        &obj,
-    ]);
+    let mut args = field_args.to_vec();
+    args.extend(["--mesh", &obj]);
+    let out = sediment(&args);
     assert_success(&out, "sediment dunes --mesh d.obj");
     let mtl = std::fs::read_to_string(dir.join("d.mtl")).expect("mtl");
     let map = "d-dune_field-normals.png";

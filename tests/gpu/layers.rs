@@ -14,10 +14,19 @@ use sediment::scene::layers;
 const SECTION_TOLERANCE: Tolerance = Tolerance { mean: 0.0, p99: 0 };
 const CUT_AWAY_TOLERANCE: Tolerance = Tolerance { mean: 1.0, p99: 16 };
 
+/// Preset `name`'s stalagmite and its unit.
+fn grown(name: &str) -> (sediment::model::layers::Stalagmite, Option<String>) {
+    layers::preset(name)
+        .expect("preset")
+        .setup()
+        .expect("setup")
+        .grow()
+        .expect("grow")
+}
+
 #[test]
 fn drying_section_matches_its_golden_and_lists_every_layer() {
-    let setup = layers::preset("drying").expect("preset");
-    let (s, unit) = setup.setup().expect("setup").grow().expect("grow");
+    let (s, unit) = grown("drying");
     let style = SectionStyle {
         colouring: Colouring::Age,
         unit,
@@ -63,12 +72,7 @@ fn drying_section_matches_its_golden_and_lists_every_layer() {
 
 #[test]
 fn timeline_section_has_a_scale_bar_in_millimetres() {
-    let (s, unit) = layers::preset("timeline")
-        .expect("preset")
-        .setup()
-        .expect("setup")
-        .grow()
-        .expect("grow");
+    let (s, unit) = grown("timeline");
     assert_eq!(unit.as_deref(), Some("mm"));
     assert!(s.fold.is_none());
     let svg = section::svg(
@@ -86,12 +90,7 @@ fn timeline_section_has_a_scale_bar_in_millimetres() {
 #[test]
 fn cut_away_matches_its_golden() {
     common::with_gpu(|ctx| {
-        let (s, _) = layers::preset("drying")
-            .expect("preset")
-            .setup()
-            .expect("setup")
-            .grow()
-            .expect("grow");
+        let (s, _) = grown("drying");
         let cut = layers::cut_away(&s, 18);
         assert!(!cut.light.indices.is_empty() && !cut.dark.indices.is_empty());
         let image = layers::picture(ctx, &cut, Size::new(240, 160)).expect("render");
@@ -108,12 +107,7 @@ const CLEAR: [u8; 3] = [39, 39, 44];
 fn every_preset_fills_at_least_two_fifths_of_its_frame() {
     common::with_gpu(|ctx| {
         for (name, _) in layers::PRESETS {
-            let (s, _) = layers::preset(name)
-                .expect("preset")
-                .setup()
-                .expect("setup")
-                .grow()
-                .expect("grow");
+            let (s, _) = grown(name);
             let cut = layers::cut_away(&s, 18);
             let image = layers::picture(ctx, &cut, Size::new(240, 160)).expect("render");
             let background = image

@@ -73,6 +73,16 @@ pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<Rin
             }
             Vec3::new(at.x, y, at.z)
         };
+        // Every point once (the rock is probed once per point).
+        let grid: Vec<Vec3> = (0..=PROFILE_RINGS)
+            .flat_map(|k| (0..segments).map(move |i| (k, i)))
+            .map(|(k, i)| point(k, i))
+            .collect();
+        // Rock that cannot be found (`rock` not finite) under any point: no foot.
+        if grid.iter().any(|p| !p.is_finite()) {
+            continue;
+        }
+        let point = |k: u32, seg: u32| grid[(k * segments + seg) as usize];
         // The shader tilts the radial normal by dr/dh (`surface.vert`): taken along
         // the profile as built, over the rock's relief; the skirt stands upright;
         // where the profile runs level or down the growth (a foot on rock rising
@@ -106,10 +116,6 @@ pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<Rin
                 ],
             }
         };
-        // Rock that cannot be found (`rock` not finite) under any point: no foot.
-        if (0..=PROFILE_RINGS).any(|k| (0..segments).any(|i| !point(k, i).is_finite())) {
-            continue;
-        }
         for k in 0..PROFILE_RINGS {
             for i in 0..segments {
                 let i1 = (i + 1) % segments;

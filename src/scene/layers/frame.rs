@@ -48,6 +48,7 @@ pub struct CutAwayFrame {
 impl CutAwayFrame {
     /// The cut-away of a stalagmite of `layers` layers.
     pub fn new(ctx: &Arc<Context>, c: &CutAway, layers: usize) -> Result<Self> {
+        let extent = Extent::from(c);
         let parts = [
             (&c.surface, CALCITE, 0.15),
             (&c.light, BAND_LIGHT, 0.05),
@@ -63,9 +64,9 @@ impl CutAwayFrame {
             parts,
             layers,
             exported: None,
-            extent: Extent::from(c),
+            extent,
             asked: 1,
-            pieces: Pieces::new(&Extent::from(c), 1, &default_camera(c), 1.5),
+            pieces: Pieces::whole(&extent),
             rows: (0.0, 1.0),
         })
     }
