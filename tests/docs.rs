@@ -436,6 +436,44 @@ fn links(text: &str) -> Vec<(usize, String)> {
     out
 }
 
+/// Issue 46 #6: every picture the README shows is in the packaged crate: each matches
+/// an entry of Cargo.toml's `include`, exactly or under a `/**` folder.
+#[test]
+fn the_readmes_pictures_are_packaged_with_it() {
+    let manifest: toml::Table =
+        toml::from_str(&std::fs::read_to_string(root().join("Cargo.toml")).expect("Cargo.toml"))
+            .expect("Cargo.toml parses");
+    let include: Vec<&str> = manifest["package"]["include"]
+        .as_array()
+        .expect("an include list")
+        .iter()
+        .filter_map(|v| v.as_str())
+        .collect();
+    let readme = std::fs::read_to_string(root().join("README.md")).expect("README");
+    let local: Vec<String> = links(&readme)
+        .into_iter()
+        .map(|(_, target)| target)
+        .filter(|t| !t.contains("://") && !t.starts_with('#'))
+        .filter(|t| {
+            [".png", ".svg", ".gif", ".jpg"]
+                .iter()
+                .any(|e| t.ends_with(e))
+        })
+        .collect();
+    assert!(!local.is_empty(), "the README shows no picture");
+    for target in local {
+        let path = format!("/{}", target.split('#').next().unwrap_or(&target));
+        let packaged = include.iter().any(|entry| match entry.strip_suffix("/**") {
+            Some(folder) => path.starts_with(&format!("{folder}/")),
+            None => *entry == path,
+        });
+        assert!(
+            packaged,
+            "README links {target}, which the package leaves out"
+        );
+    }
+}
+
 #[test]
 fn every_relative_link_and_image_resolves() {
     let mut broken = Vec::new();
