@@ -163,20 +163,13 @@ impl GrowthFrame {
         let plan = scene.plan()?;
         let environment = EnvironmentMap::new(ctx, ENVIRONMENT_SIZE)?;
         shadow.set_spot(&lamp_spot(&scene), look.shadows)?;
-        let mut surface = SpeleothemSurfacePass::new(
+        let surface = surface_pass(
             ctx,
-            ctx.frame_format(),
             look.tonemap,
-            &plan,
-            scene.seed,
+            (&scene, &look, &plan),
             (&environment, &shadow),
+            chamber.is_some(),
         )?;
-        surface.set_look(look.bump, look.environment);
-        surface.set_subsurface(look.subsurface);
-        surface.set_age_colours((look.color == ColorBy::Age).then_some(plan.passes));
-        if chamber.is_some() {
-            surface.set_feet(&super::chamber::feet(&scene, &plan))?;
-        }
         let mut frame = Self {
             occlusion: AmbientOcclusionPass::new(ctx, occlusion_radius(&scene))?,
             growth: path.start(ctx, &plan)?,
@@ -394,23 +387,14 @@ impl GrowthFrame {
     /// submission.
     fn rebuild(&mut self, ctx: &Arc<Context>, plan: GrowthPlan, passes: u32) -> Result<()> {
         self.growth = self.growth.path().start(ctx, &plan)?;
-        self.surface = SpeleothemSurfacePass::new(
+        self.surface = surface_pass(
             ctx,
-            ctx.frame_format(),
             self.lighting().tonemap,
-            &plan,
-            self.scene.seed,
+            (&self.scene, &self.look, &plan),
             (&self.environment, &self.shadow),
+            self.chamber.is_some(),
         )?;
         self.shadow_drawn = None;
-        self.surface.set_look(self.look.bump, self.look.environment);
-        self.surface.set_subsurface(self.look.subsurface);
-        self.surface
-            .set_age_colours((self.look.color == ColorBy::Age).then_some(plan.passes));
-        if self.chamber.is_some() {
-            self.surface
-                .set_feet(&super::chamber::feet(&self.scene, &plan))?;
-        }
         if let Some(kind) = self.chamber.as_ref().map(|c| c.kind) {
             // The chamber's relief follows the seed: its reflection too.
             self.chamber = Some(Chamber::new(
@@ -438,6 +422,33 @@ impl GrowthFrame {
         "b normal map  g water film  u shadows  y light through calcite  o tone mapping",
         "k ambient occlusion  , . exposure  l lamp",
     ];
+}
+
+/// The surface pass for `plan` of `scene`, shaded with `look` through `tonemap`, its
+/// reflection and shadows from `environment` and `shadow`; with the speleothems' feet
+/// where a chamber's rock is `chambered` round them.
+fn surface_pass(
+    ctx: &Arc<Context>,
+    tonemap: ToneMap,
+    (scene, look, plan): (&GrowthScene, &Look, &GrowthPlan),
+    (environment, shadow): (&EnvironmentMap, &ShadowMap),
+    chambered: bool,
+) -> Result<SpeleothemSurfacePass> {
+    let mut surface = SpeleothemSurfacePass::new(
+        ctx,
+        ctx.frame_format(),
+        tonemap,
+        plan,
+        scene.seed,
+        (environment, shadow),
+    )?;
+    surface.set_look(look.bump, look.environment);
+    surface.set_subsurface(look.subsurface);
+    surface.set_age_colours((look.color == ColorBy::Age).then_some(plan.passes));
+    if chambered {
+        surface.set_feet(&super::chamber::feet(scene, plan))?;
+    }
+    Ok(surface)
 }
 
 /// How far ambient occlusion searches round each pixel: an eighth of the chamber's
