@@ -20,8 +20,8 @@ pub struct Asset {
 /// One named part: an indexed mesh and its material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
-    /// The part's name ("cave walls", "dune field"): the glTF node and mesh name, the
-    /// OBJ object name.
+    /// The part's name ("cave_walls", "dune_field"; see [`is_identifier`]): the glTF
+    /// node and mesh name, the OBJ object name.
     pub name: String,
     /// Its geometry.
     pub mesh: PartMesh,
@@ -62,7 +62,8 @@ pub struct SurfaceCoordinates {
 /// A PBR metallic-roughness material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
-    /// The material's name ("rock"): glTF's material name, the base of OBJ's `newmtl`.
+    /// The material's name ("cave_rock"; see [`is_identifier`]): glTF's material name
+    /// and OBJ's `newmtl`.
     pub name: String,
     /// Linear RGB; multiplied by the vertex colours and the base colour texture.
     pub base_color: [f32; 3],
@@ -270,12 +271,34 @@ impl Asset {
 
     /// Refuses what no reader could use: no parts, indices out of range, a broken
     /// triangle list, or a coordinate that is not a finite number (an overflowed
-    /// scale), naming the part.
+    /// scale), naming the part; and names outside the one naming scheme (see
+    /// [`is_identifier`]) or one material name given to two different materials.
     pub fn check(&self) -> Result<()> {
         if self.parts.is_empty() {
             return Err(Error::invalid("mesh export", "the scene has no geometry"));
         }
-        for part in &self.parts {
+        for (k, part) in self.parts.iter().enumerate() {
+            for name in [&part.name, &part.material.name] {
+                if !is_identifier(name) {
+                    return Err(Error::internal(
+                        "mesh export",
+                        format!("\"{name}\" is not a lower-case identifier"),
+                    ));
+                }
+            }
+            if let Some(other) = self.parts[..k]
+                .iter()
+                .find(|o| o.material.name == part.material.name && o.material != part.material)
+            {
+                return Err(Error::internal(
+                    "mesh export",
+                    format!(
+                        "parts \"{}\" and \"{}\" give the name \"{}\" to two different \
+                         materials",
+                        other.name, part.name, part.material.name
+                    ),
+                ));
+            }
             let m = &part.mesh;
             let n = m.positions.len();
             let bad = |why: &str| {
@@ -322,6 +345,17 @@ impl Asset {
         }
         Ok(())
     }
+}
+
+/// The one naming scheme of parts and materials, the same in glTF and OBJ: lower-case
+/// ASCII letters, digits and `_` (`cave_walls`, `grow_calcite`), so every reader's
+/// identifier rules keep a name as it is. Materials are named `SCENE_SUBSTANCE` after
+/// the scene that defines them, so one name is one material in every file.
+pub fn is_identifier(name: &str) -> bool {
+    !name.is_empty()
+        && name
+            .bytes()
+            .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_')
 }
 
 // One place for the sRGB transfer functions: the model's (Table 1's colours are
@@ -383,8 +417,43 @@ mod tests {
         let mut asset = Asset::new("test");
         let mut mesh = PartMesh::weld(&[Vec3::ZERO, Vec3::X, Vec3::Y], &[Vec3::Z; 3], None);
         mesh.positions[1][0] = f32::INFINITY;
-        asset.push("walls", mesh, Material::plain("rock", Vec3::ONE, 0.9));
+        asset.push("walls", mesh, Material::plain("cave_rock", Vec3::ONE, 0.9));
         let err = asset.check().expect_err("inf refused").to_string();
         assert!(err.contains("walls") && err.contains("finite"), "{err}");
+    }
+
+    #[test]
+    fn names_follow_one_scheme_and_name_one_material() {
+        let triangle = || PartMesh::weld(&[Vec3::ZERO, Vec3::X, Vec3::Y], &[Vec3::Z; 3], None);
+        let mut asset = Asset::new("test");
+        asset.push(
+            "cave walls",
+            triangle(),
+            Material::plain("cave_rock", Vec3::ONE, 0.9),
+        );
+        let err = asset.check().expect_err("a space refused").to_string();
+        assert!(err.contains("\"cave walls\""), "{err}");
+        let mut asset = Asset::new("test");
+        asset.push(
+            "a",
+            triangle(),
+            Material::plain("cave_rock", Vec3::ONE, 0.9),
+        );
+        asset.push(
+            "b",
+            triangle(),
+            Material::plain("cave_rock", Vec3::ONE, 0.9),
+        );
+        asset.check().expect("one material shared by two parts");
+        asset.push(
+            "c",
+            triangle(),
+            Material::plain("cave_rock", Vec3::ZERO, 0.9),
+        );
+        let err = asset
+            .check()
+            .expect_err("two materials, one name")
+            .to_string();
+        assert!(err.contains("\"a\" and \"c\""), "{err}");
     }
 }

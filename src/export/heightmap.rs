@@ -1,6 +1,6 @@
 //! Heightmaps for terrain tools that keep their heights: a 16-bit greyscale PNG whose
 //! tEXt chunks record the metres at 0 and at 65535 and the cell size, or a float
-//! OpenEXR holding the heights in metres, each with a JSON sidecar of the same range.
+//! OpenEXR holding the heights in metres in one `Y` channel, each with a JSON sidecar of the same range.
 //!
 //! The sidecar also carries the settings other tools need, computed from the range
 //! ([`ImportSettings`]): Blender's Displace modifier and Unreal's Landscape import.
@@ -169,22 +169,8 @@ pub fn write_heightmap(path: &Path, map: &Heightmap) -> Result<(HeightRange, Vec
         periodic: map.periodic,
         import: ImportSettings::of(map.width, map.height, map.cell_m, lo, hi, exr),
     };
-    let encode = |e: image::ImageError| Error::Encode {
-        path: path.to_path_buf(),
-        source: e,
-    };
     if exr {
-        let pixels: Vec<f32> = map.heights_m.iter().flat_map(|&h| [h as f32; 3]).collect();
-        let mut bytes = std::io::Cursor::new(Vec::new());
-        image::ImageEncoder::write_image(
-            image::codecs::openexr::OpenExrEncoder::new(&mut bytes),
-            bytemuck_f32(&pixels).as_slice(),
-            map.width as u32,
-            map.height as u32,
-            image::ExtendedColorType::Rgb32F,
-        )
-        .map_err(encode)?;
-        write_bytes(path, bytes.get_ref())?;
+        write_bytes(path, &exr_bytes(map)?)?;
     } else {
         let span = range.height_at_65535_m - range.height_at_0_m;
         // PNG's 16-bit samples are big-endian.
@@ -241,6 +227,23 @@ pub fn text_chunks(range: &HeightRange) -> Vec<(&'static str, String)> {
     ]
 }
 
-fn bytemuck_f32(v: &[f32]) -> Vec<u8> {
-    v.iter().flat_map(|f| f.to_ne_bytes()).collect()
+/// The channel a float heightmap's metres are in: `Y`, which Blender, Houdini and
+/// OpenEXR's own tools read as one grey (luminance) channel.
+pub const EXR_CHANNEL: &str = "Y";
+
+/// `map` as an OpenEXR file of one channel, [`EXR_CHANNEL`], of 32-bit float metres,
+/// row 0 first (the file's top line is the field's lowest z).
+fn exr_bytes(map: &Heightmap) -> Result<Vec<u8>> {
+    use exr::prelude::{Image, SpecificChannels, WritableImage as _};
+    let pixels = SpecificChannels::build()
+        .with_channel(EXR_CHANNEL)
+        .with_pixel_fn(|p: exr::math::Vec2<usize>| {
+            (map.heights_m[p.y() * map.width + p.x()] as f32,)
+        });
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    Image::from_channels((map.width, map.height), pixels)
+        .write()
+        .to_buffered(&mut bytes)
+        .map_err(|e| Error::invalid("--heightmap", format!("OpenEXR: {e}")))?;
+    Ok(bytes.into_inner())
 }

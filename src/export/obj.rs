@@ -4,8 +4,9 @@
 //! - Vertex colours `v x y z r g b` are written sRGB-encoded: Blender (3.x and later)
 //!   and MeshLab read them as sRGB into a colour attribute; Unity, Unreal and Godot
 //!   ignore them. Blender does not wire them into the material; glTF does.
-//! - Each part is an object (`o`) with its own material (`usemtl`). `Kd` is the part's
-//!   mean colour in linear RGB, which Blender's importer puts into Base Color as it is;
+//! - Each part is an object (`o`) with its material (`usemtl`), named as in glTF. `Kd`
+//!   is the mean colour of the material's parts in linear RGB, which Blender's importer
+//!   puts into Base Color as it is;
 //!   `Pr`/`Pm` (the PBR extension of the MTL format) carry roughness and metallic for
 //!   readers that know them (Blender does).
 //! - A textured part (the dunes) writes its normal map beside the file as a PNG and
@@ -39,47 +40,46 @@ pub fn write_obj(path: &Path, asset: &Asset) -> Result<Vec<PathBuf>> {
         asset.parts.len()
     );
     let (mut base_v, mut base_vt) = (1usize, 1usize);
-    // One MTL entry per distinct material and mean colour.
-    let mut written: Vec<(String, [f32; 3], String)> = Vec::new();
+    // One MTL entry per material, named as in glTF ([`Asset::check`] holds one name to
+    // one material); its `Kd` the mean colour of every part that uses it.
+    let mut written: Vec<&str> = Vec::new();
     for part in &asset.parts {
-        let m = &part.mesh;
-        let mean = mean_colour(part);
-        if let Some((_, _, name)) = written
-            .iter()
-            .find(|(name, colour, _)| *name == part.material.name && *colour == mean)
-        {
-            let _ = writeln!(obj, "o {}\nusemtl {name}", identifier(&part.name));
-            write_part(&mut obj, m, &mut base_v, &mut base_vt);
-            continue;
+        let material = &part.material;
+        if !written.contains(&material.name.as_str()) {
+            written.push(&material.name);
+            let users: Vec<_> = asset
+                .parts
+                .iter()
+                .filter(|p| p.material.name == material.name)
+                .collect();
+            let mean = mean_colour(&users);
+            let _ = writeln!(
+                mtl,
+                "\nnewmtl {}\nKd {:.6} {:.6} {:.6}\nKs 0.04 0.04 0.04\nNs {:.1}\nPr {:.3}\nPm {:.3}\nd 1\nillum 2",
+                material.name,
+                mean[0],
+                mean[1],
+                mean[2],
+                // Phong exponent from roughness, for readers without Pr (Blender's own
+                // mapping is roughness = 1 - sqrt(Ns / 1000)).
+                1000.0 * (1.0 - material.roughness).powi(2),
+                material.roughness,
+                material.metallic
+            );
+            if let Some(t) = &material.textures {
+                let normal = path.with_file_name(format!("{stem}-{}-normals.png", material.name));
+                super::png::write_png(&normal, &t.normal)?;
+                let file = normal
+                    .file_name()
+                    .map(|f| f.to_string_lossy())
+                    .unwrap_or_default();
+                // `norm` for readers of the PBR extension, `map_Bump` for older ones.
+                let _ = writeln!(mtl, "norm {file}\nmap_Bump {file}");
+                files.push(normal);
+            }
         }
-        let material = format!("m{}_{}", written.len(), identifier(&part.material.name));
-        written.push((part.material.name.clone(), mean, material.clone()));
-        let _ = writeln!(
-            mtl,
-            "\nnewmtl {material}\nKd {:.6} {:.6} {:.6}\nKs 0.04 0.04 0.04\nNs {:.1}\nPr {:.3}\nPm {:.3}\nd 1\nillum 2",
-            mean[0],
-            mean[1],
-            mean[2],
-            // Phong exponent from roughness, for readers without Pr (Blender's own
-            // mapping is roughness = 1 - sqrt(Ns / 1000)).
-            1000.0 * (1.0 - part.material.roughness).powi(2),
-            part.material.roughness,
-            part.material.metallic
-        );
-        if let Some(t) = &part.material.textures {
-            let normal =
-                path.with_file_name(format!("{stem}-{}-normals.png", identifier(&part.name)));
-            super::png::write_png(&normal, &t.normal)?;
-            let file = normal
-                .file_name()
-                .map(|f| f.to_string_lossy())
-                .unwrap_or_default();
-            // `norm` for readers of the PBR extension, `map_Bump` for older ones.
-            let _ = writeln!(mtl, "norm {file}\nmap_Bump {file}");
-            files.push(normal);
-        }
-        let _ = writeln!(obj, "o {}\nusemtl {material}", identifier(&part.name));
-        write_part(&mut obj, m, &mut base_v, &mut base_vt);
+        let _ = writeln!(obj, "o {}\nusemtl {}", part.name, material.name);
+        write_part(&mut obj, &part.mesh, &mut base_v, &mut base_vt);
     }
     write_bytes(&mtl_path, mtl.as_bytes())?;
     write_bytes(path, obj.as_bytes())?;
@@ -131,11 +131,15 @@ fn write_part(
     }
 }
 
-/// The part's colour as one linear RGB: the material's base colour times the mean
-/// vertex colour or the mean of its base colour texture.
-fn mean_colour(part: &super::asset::Part) -> [f32; 3] {
-    let mut base = part.material.base_color;
-    if let Some(t) = &part.material.textures {
+/// The colour of `parts` (of one material) as one linear RGB: the material's base
+/// colour times the mean of the vertex colours over every vertex of the parts (the
+/// mean of its base colour texture for a textured one).
+fn mean_colour(parts: &[&super::asset::Part]) -> [f32; 3] {
+    let Some(first) = parts.first() else {
+        return [1.0; 3];
+    };
+    let mut base = first.material.base_color;
+    if let Some(t) = &first.material.textures {
         let mut sum = [0.0f64; 3];
         for p in t.base_color.pixels() {
             for k in 0..3 {
@@ -147,24 +151,22 @@ fn mean_colour(part: &super::asset::Part) -> [f32; 3] {
             base[k] *= (sum[k] / n) as f32;
         }
     }
-    let Some(colors) = part.mesh.colors.as_ref().filter(|c| !c.is_empty()) else {
+    let colors: Vec<&[f32; 3]> = parts
+        .iter()
+        .filter_map(|p| p.mesh.colors.as_ref())
+        .flatten()
+        .collect();
+    if colors.is_empty() {
         return base;
-    };
+    }
     let mut sum = [0.0f64; 3];
-    for c in colors {
+    for c in &colors {
         for k in 0..3 {
             sum[k] += f64::from(c[k]);
         }
     }
     let n = colors.len() as f64;
     [0, 1, 2].map(|k| base[k] * (sum[k] / n) as f32)
-}
-
-/// A name safe as an OBJ/MTL token (no spaces).
-fn identifier(name: &str) -> String {
-    name.chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect()
 }
 
 #[cfg(test)]
@@ -187,7 +189,7 @@ mod tests {
         asset.push(
             "stalactites",
             mesh,
-            Material::plain("calcite", Vec3::ONE, 0.4),
+            Material::plain("grow_calcite", Vec3::ONE, 0.4),
         );
         let path = dir.join("t.obj");
         let files = write_obj(&path, &asset).expect("write");
@@ -215,7 +217,7 @@ mod tests {
         );
         let mtl = std::fs::read_to_string(dir.join("t.mtl")).expect("mtl");
         assert!(
-            mtl.contains("newmtl m0_calcite") && mtl.contains("Kd 0.022000 0.500000 1.000000"),
+            mtl.contains("newmtl grow_calcite") && mtl.contains("Kd 0.022000 0.500000 1.000000"),
             "{mtl}"
         );
         assert!(text.contains("f 1//1 2//2 3//3"), "{text}");

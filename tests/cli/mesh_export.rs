@@ -150,7 +150,7 @@ fn obj_colours_are_the_glb_colours_in_srgb() {
     assert!(text.contains("mtllib g.mtl"));
     let mtl = std::fs::read_to_string(dir.join("g.mtl")).expect("mtl beside");
     assert!(
-        mtl.contains("newmtl m0_calcite") && mtl.contains("Kd "),
+        mtl.contains("newmtl grow_calcite") && mtl.contains("Kd "),
         "{mtl}"
     );
     let objects: Vec<&str> = text.lines().filter_map(|l| l.strip_prefix("o ")).collect();
@@ -199,14 +199,14 @@ fn caves_export_watertight_walls_and_stay_small() {
     let bytes = std::fs::metadata(&path).expect("glb").len();
     eprintln!("depth-8 grown cave: {:.2} MB", bytes as f64 / 1e6);
     assert!(bytes < 8_000_000, "{bytes} bytes");
-    assert_eq!(glb.names()[0], "cave walls");
+    assert_eq!(glb.names()[0], "cave_walls");
     assert!(glb.names().len() >= 3, "{:?}", glb.names());
-    let walls = glb.part("cave walls");
+    let walls = glb.part("cave_walls");
     assert!(
         !walls.attributes.contains_key("COLOR_0"),
         "rock is the material's colour"
     );
-    assert_eq!(walls.material["name"], "rock");
+    assert_eq!(walls.material["name"], "cave_rock");
     let open = walls.open_edges();
     assert!(open.is_empty(), "{} open wall edges", open.len());
     let (lo, hi) = walls.bounds();
@@ -240,7 +240,7 @@ fn short_profile_speleothems_export_closed() {
     );
     assert_eq!(
         glb.names(),
-        ["cave walls", "stalactites", "stalagmites", "columns"]
+        ["cave_walls", "stalactites", "stalagmites", "columns"]
     );
     for part in &glb.parts {
         let open = part.open_edges();
@@ -276,13 +276,13 @@ fn dunes_and_layers_export_textured_and_named() {
     let mut args = field_args.to_vec();
     args.extend(["-o", &png, "--size", "32x24"]);
     let (glb, _, _) = exported(&dir, "d.glb", &args);
-    assert_eq!(glb.names(), ["dune field"]);
-    let field = glb.part("dune field");
+    assert_eq!(glb.names(), ["dune_field"]);
+    let field = glb.part("dune_field");
     for a in ["TEXCOORD_0", "TEXCOORD_1", "TANGENT", "NORMAL"] {
         assert!(field.attributes.contains_key(a), "{a}");
     }
     let m = &field.material;
-    assert_eq!(m["name"], "sand");
+    assert_eq!(m["name"], "dunes_sand");
     assert_eq!(m["normalTexture"]["texCoord"], 0);
     assert_eq!(m["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"], 1);
     assert_eq!(glb.json["images"].as_array().map(Vec::len), Some(2));
@@ -301,7 +301,7 @@ fn dunes_and_layers_export_textured_and_named() {
     let out = sediment(&args);
     assert_success(&out, "sediment dunes --mesh d.obj");
     let mtl = std::fs::read_to_string(dir.join("d.mtl")).expect("mtl");
-    let map = "d-dune_field-normals.png";
+    let map = "d-dunes_sand-normals.png";
     assert!(
         mtl.contains(&format!("norm {map}")) && mtl.contains(&format!("map_Bump {map}")),
         "{mtl}"
@@ -313,9 +313,9 @@ fn dunes_and_layers_export_textured_and_named() {
     assert_eq!(
         glb.names(),
         [
-            "outer surface",
-            "light growth bands",
-            "dark growth bands",
+            "outer_surface",
+            "light_growth_bands",
+            "dark_growth_bands",
             "floor"
         ]
     );
@@ -419,23 +419,138 @@ fn heightmaps_keep_their_heights_in_png_json_and_exr() {
             .map(|b| lo + f64::from(u16::from_be_bytes([b[0], b[1]])) / 65535.0 * (hi - lo))
             .collect();
         write("h.exr");
-        let exr = image::open(dir.join("h.exr")).expect("exr").to_rgb32f();
+        // One channel, `Y`, of 32-bit floats: what terrain tools read as metres.
+        let exr = exr::prelude::read_first_flat_layer_from_file(dir.join("h.exr")).expect("exr");
+        let size = exr.layer_data.size;
+        assert_eq!((size.x(), size.y()), (map.width, map.height));
+        let channels = &exr.layer_data.channel_data.list;
         assert_eq!(
-            (exr.width() as usize, exr.height() as usize),
-            (map.width, map.height)
+            channels
+                .iter()
+                .map(|c| c.name.to_string())
+                .collect::<Vec<_>>(),
+            ["Y"],
+            "one channel of metres"
         );
+        let exr::prelude::FlatSamples::F32(exr) = &channels[0].sample_data else {
+            panic!("32-bit float samples");
+        };
         let quantum = (hi - lo) / 65535.0;
         assert!(hi - lo > 1e-3, "a real range: {lo}..{hi} m");
-        for ((want, png), exr) in map.heights_m.iter().zip(&from_png).zip(exr.pixels()) {
+        for ((want, png), exr) in map.heights_m.iter().zip(&from_png).zip(exr) {
             assert!(
                 (want - png).abs() <= 0.5 * quantum + 1e-9,
                 "png {png} vs {want}"
             );
             assert!(
-                (want - f64::from(exr[0])).abs() <= 1e-6 * want.abs().max(1.0),
+                (want - f64::from(*exr)).abs() <= 1e-6 * want.abs().max(1.0),
                 "exr"
             );
         }
     }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// Issue 46: one naming scheme for parts and materials in glTF and OBJ (lower-case
+/// identifiers, the same in both formats), and one material per material name across
+/// every scene (the cave's Short-profile calcite and grow's mineral-ramp calcite were
+/// both "calcite").
+#[test]
+fn parts_and_materials_have_one_name_in_gltf_and_obj_across_scenes() {
+    let dir = scratch("export-names");
+    let small_dunes = [
+        "dunes",
+        "--preset",
+        "fig17",
+        "--ripple-size",
+        "64",
+        "--ripple-steps",
+        "20",
+        "--dune-size",
+        "32",
+        "--dune-steps",
+        "40",
+    ];
+    let runs: [(&str, Vec<&str>); 5] = [
+        ("grow", vec!["grow", "--preset", "fig9g"]),
+        ("cave", vec!["cave", "--preset", "fig8", "--depth", "5"]),
+        (
+            "cave_grown",
+            vec!["cave", "--depth", "5", "--speleothems", "grown"],
+        ),
+        ("dunes", small_dunes.to_vec()),
+        ("layers", vec!["layers", "--rep", "60"]),
+    ];
+    let identifier = |n: &str| {
+        !n.is_empty()
+            && n.bytes()
+                .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_')
+    };
+    // Material name -> (base colour factor, roughness, metallic) over every scene.
+    let mut materials: std::collections::BTreeMap<String, String> = Default::default();
+    for (name, args) in &runs {
+        let (glb, _, _) = exported(&dir, &format!("{name}.glb"), args);
+        let obj = dir.join(format!("{name}.obj"));
+        let mut all = args.clone();
+        let obj_arg = s(&obj);
+        all.extend(["--mesh", &obj_arg]);
+        assert_success(&sediment(&all), &format!("sediment {name} --mesh .obj"));
+        let text = std::fs::read_to_string(&obj).expect("obj");
+        let lines: Vec<&str> = text.lines().collect();
+        let objects: Vec<(&str, &str)> = lines
+            .windows(2)
+            .filter_map(|w| Some((w[0].strip_prefix("o ")?, w[1].strip_prefix("usemtl ")?)))
+            .collect();
+        let gltf: Vec<(&str, &str)> = glb
+            .parts
+            .iter()
+            .map(|p| (p.node.as_str(), p.material["name"].as_str().expect("named")))
+            .collect();
+        assert_eq!(
+            objects, gltf,
+            "{name}: OBJ objects and materials as in glTF"
+        );
+        let mtl = std::fs::read_to_string(obj.with_extension("mtl")).expect("mtl");
+        let mut newmtl: Vec<&str> = mtl
+            .lines()
+            .filter_map(|l| l.strip_prefix("newmtl "))
+            .collect();
+        let mut used: Vec<&str> = gltf.iter().map(|(_, m)| *m).collect();
+        used.sort_unstable();
+        used.dedup();
+        newmtl.sort_unstable();
+        assert_eq!(newmtl, used, "{name}: one MTL entry per material");
+        for part in &glb.parts {
+            let m = &part.material;
+            let material = m["name"].as_str().expect("named");
+            assert!(identifier(&part.node), "{name}: part {}", part.node);
+            assert!(identifier(material), "{name}: material {material}");
+            let pbr = &m["pbrMetallicRoughness"];
+            let definition = format!(
+                "{} {} {}",
+                pbr["baseColorFactor"], pbr["roughnessFactor"], pbr["metallicFactor"]
+            );
+            let seen = materials
+                .entry(material.to_owned())
+                .or_insert_with(|| definition.clone());
+            assert_eq!(
+                *seen, definition,
+                "{name}: \"{material}\" names one material in every file"
+            );
+        }
+    }
+    assert_eq!(
+        materials.keys().map(String::as_str).collect::<Vec<_>>(),
+        [
+            "cave_calcite",
+            "cave_rock",
+            "dunes_sand",
+            "grow_calcite",
+            "layers_band_dark",
+            "layers_band_light",
+            "layers_calcite",
+            "layers_rock"
+        ]
+    );
     std::fs::remove_dir_all(&dir).expect("clean up");
 }

@@ -527,7 +527,7 @@ pub fn export(
     let walls = PartMesh::from_mesh(&shown_wall(scene.smooth, model));
     // The walls' floor, before the speleothems (whose bases sink into the rock) join.
     let floor = floor_centre(walls.bounds());
-    asset.push("cave walls", walls, Material::plain("rock", ROCK, 0.9));
+    asset.push("cave_walls", walls, Material::plain("cave_rock", ROCK, 0.9));
     if !model.short_mesh.indices.is_empty() {
         // 0 stalactites, 1 stalagmites, 2 columns.
         let mut parts: [Mesh; 3] = Default::default();
@@ -541,7 +541,7 @@ pub fn export(
             asset.push(
                 name,
                 PartMesh::from_mesh(mesh),
-                Material::plain("calcite", CALCITE, 0.35),
+                Material::plain("cave_calcite", CALCITE, 0.35),
             );
         }
     }

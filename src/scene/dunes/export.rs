@@ -113,11 +113,11 @@ pub fn export(scene: &DunesScene, terrain: &Terrain, mesh: &Mesh, title: &str) -
             base_color: sand_colour_image(scene),
             normal: ripple_normal_image(scene, terrain),
         }),
-        ..Material::plain("sand", Vec3::ONE, 0.95)
+        ..Material::plain("dunes_sand", Vec3::ONE, 0.95)
     };
     let floor = floor_centre(part.bounds());
     let mut asset = Asset::new(title);
-    asset.push("dune field", part, material);
+    asset.push("dune_field", part, material);
     asset.to_metres(1.0, floor);
     asset
 }

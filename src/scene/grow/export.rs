@@ -114,7 +114,7 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
             name,
             PartMesh::weld_by_position(positions, normals, Some(colors)),
             // Wet calcite: a smooth dielectric; the colour is the vertices'.
-            Material::plain("calcite", Vec3::ONE, 0.35),
+            Material::plain("grow_calcite", Vec3::ONE, 0.35),
         );
     }
 }

@@ -205,15 +205,15 @@ pub fn metres_per_unit(unit: Option<&str>) -> f32 {
 pub fn export(c: &CutAway, title: &str, metres_per_unit: f32) -> Asset {
     let mut asset = Asset::new(title);
     for (mesh, name, material, colour) in [
-        (&c.surface, "outer surface", "calcite", CALCITE),
+        (&c.surface, "outer_surface", "layers_calcite", CALCITE),
         (
             &c.light,
-            "light growth bands",
-            "light calcite band",
+            "light_growth_bands",
+            "layers_band_light",
             BAND_LIGHT,
         ),
-        (&c.dark, "dark growth bands", "dark calcite band", BAND_DARK),
-        (&c.floor, "floor", "rock", FLOOR),
+        (&c.dark, "dark_growth_bands", "layers_band_dark", BAND_DARK),
+        (&c.floor, "floor", "layers_rock", FLOOR),
     ] {
         asset.push(
             name,
