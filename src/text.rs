@@ -64,3 +64,9 @@ pub fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::
     }
     d.deserialize_any(Text)
 }
+
+/// `x` as the `f64` whose shortest decimal is `x`'s own (`0.001_f32` is `0.001`, not
+/// `0.0010000000474974513`): for JSON reports of values the models hold as `f32`.
+pub fn json_f32(x: f32) -> f64 {
+    x.to_string().parse().unwrap_or(f64::from(x))
+}

@@ -42,6 +42,7 @@ pub mod bench;
 pub mod output;
 pub mod reference;
 mod scene;
+mod scene_report;
 pub mod shell;
 #[cfg(feature = "view")]
 mod view;
@@ -441,6 +442,11 @@ fn run_program(
     };
     // "wrote FILE" only once the files are in place.
     output::committed(committed);
+    let held = output::take_held_report();
+    let result = match (result, held) {
+        (Ok(()), Some(text)) if committed => report(&text),
+        (result, _) => result,
+    };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

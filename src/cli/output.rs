@@ -187,3 +187,21 @@ pub fn committed(written: bool) {
         }
     }
 }
+
+/// A report for standard output that describes the run's files (`--json -`), held
+/// until they are committed: a run that fails at the end prints no report of files
+/// that were never put in place.
+static HELD_REPORT: Mutex<Option<String>> = Mutex::new(None);
+
+/// Holds `text` to be printed on standard output once the run's outputs are committed.
+pub fn report_when_committed(text: String) {
+    *HELD_REPORT.lock().unwrap_or_else(PoisonError::into_inner) = Some(text);
+}
+
+/// The held report, taken (printed by the caller once the outputs are committed).
+pub fn take_held_report() -> Option<String> {
+    HELD_REPORT
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .take()
+}

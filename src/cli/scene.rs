@@ -164,6 +164,20 @@ pub fn command(def: &dyn AnyScene, name: &'static str) -> Command {
                 .help_heading("Outputs"),
         )
         .arg(
+            Arg::new("json")
+                .long("json")
+                .value_name("FILE.json|-")
+                .value_parser(clap::value_parser!(PathBuf))
+                .conflicts_with("print-scene")
+                .help(
+                    "What the run made as JSON, to FILE or (`-`) to standard output: the \
+                     scene's counts and sizes in metres, the mesh's parts and bounds, every \
+                     file written and the timings in ms; the book's \"Reports\" chapter lists \
+                     the keys (default: not written)",
+                )
+                .help_heading("Outputs"),
+        )
+        .arg(
             Arg::new("timing-frames")
                 .long("timing-frames")
                 .value_name("N")
@@ -242,7 +256,25 @@ pub fn run(g: &Globals, def: &dyn AnyScene, m: &ArgMatches) -> anyhow::Result<()
         def.check_output(&resolved, o)
             .map_err(|e| with_flags(def, e))?;
     }
-    let others = gif.is_some() || mesh.is_some() || !outputs.is_empty();
+    // `--json -` is the run's whole standard output.
+    let json = path("json");
+    let json_file = json.clone().filter(|p| p.as_os_str() != "-");
+    if json.is_some() && json_file.is_none() {
+        if let Some((o, _)) = outputs.iter().find(|(o, _)| o.value_name.is_empty()) {
+            return Err(crate::Error::invalid(
+                "--json",
+                format!(
+                    "`--json -` and --{} both write to standard output: give --json a file",
+                    o.flag
+                ),
+            )
+            .into());
+        }
+    }
+    if let Some(p) = &json_file {
+        check_extension(p, "--json", &["json"])?;
+    }
+    let others = gif.is_some() || mesh.is_some() || json.is_some() || !outputs.is_empty();
     let picture =
         path("output").or_else(|| (!others).then(|| format!("{}.png", def.name()).into()));
     if let Some(p) = &picture {
@@ -259,7 +291,12 @@ pub fn run(g: &Globals, def: &dyn AnyScene, m: &ArgMatches) -> anyhow::Result<()
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     // Every file the run writes, sidecars included, with the option that writes it.
     let mut written: Vec<(PathBuf, String)> = Vec::new();
-    for (p, what) in [(&picture, "-o"), (&gif, "--gif"), (&mesh, "--mesh")] {
+    for (p, what) in [
+        (&picture, "-o"),
+        (&gif, "--gif"),
+        (&mesh, "--mesh"),
+        (&json_file, "--json"),
+    ] {
         if let Some(p) = p {
             written.push((p.clone(), what.to_owned()));
         }
@@ -341,10 +378,33 @@ pub fn run(g: &Globals, def: &dyn AnyScene, m: &ArgMatches) -> anyhow::Result<()
         let asset = rendered.asset.as_ref().ok_or_else(|| {
             crate::Error::invalid("--mesh", format!("{} has nothing to export", def.name()))
         })?;
-        super::output::wrote_line(crate::export::mesh::write_mesh(path, asset)?.line());
+        let mesh_files = crate::export::mesh::write_mesh(path, asset)?;
+        // The normal maps an OBJ writes beside it are known only now.
+        for f in &mesh_files.files {
+            if !written.iter().any(|(p, _)| p == f) {
+                written.push((f.clone(), "--mesh".to_owned()));
+            }
+        }
+        super::output::wrote_line(mesh_files.line());
     }
-    for line in rendered.written {
+    for line in rendered.written.iter().cloned() {
         super::output::wrote_line(line);
+    }
+    if let Some(json) = &json {
+        let run = super::scene_report::Run {
+            scene: def.name(),
+            preset: resolved.preset.as_deref(),
+            size: g.size,
+            files: &written,
+        };
+        let text = serde_json::to_string_pretty(&super::scene_report::report(&run, &rendered))
+            .map_err(|e| crate::Error::internal("--json", e.to_string()))?;
+        if json_file.is_some() {
+            crate::export::atomic::write_bytes(json, format!("{text}\n").as_bytes())?;
+            super::output::wrote(json);
+        } else {
+            super::output::report_when_committed(text);
+        }
     }
     if !rendered.timed_ms.is_empty() {
         let ms = crate::stats::Stats::of(&rendered.timed_ms);

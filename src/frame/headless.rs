@@ -45,6 +45,10 @@ pub struct Rendered {
     pub written: Vec<String>,
     /// Wall-clock milliseconds of the whole run (model included).
     pub wall_ms: f64,
+    /// Wall-clock milliseconds of the CPU model (simulation, generation, planning).
+    pub model_ms: f64,
+    /// What the model made ([`super::SceneDef::made`]).
+    pub made: serde_json::Value,
 }
 
 /// Draws `scene` from each camera at each time, a picture each, handed to `on_shot`
@@ -99,6 +103,8 @@ pub fn render(
 ) -> Result<Rendered> {
     let start = Instant::now();
     let model: AnyModel = def.model(resolved, progress)?;
+    let model_ms = start.elapsed().as_secs_f64() * 1e3;
+    let made = def.made(resolved, &model)?;
     let mut written = Vec::new();
     let replaces = request
         .outputs
@@ -136,6 +142,8 @@ pub fn render(
             timed_ms: Vec::new(),
             written,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
+            model_ms,
+            made,
         });
     };
     let camera = def.camera(resolved, &model)?;
@@ -223,6 +231,8 @@ pub fn render(
         timed_ms,
         written,
         wall_ms: start.elapsed().as_secs_f64() * 1e3,
+        model_ms,
+        made,
     })
 }
 

@@ -102,6 +102,12 @@ pub trait SceneDef: Send + Sync + 'static {
     }
     /// The CPU model: simulation, generation, planning; `progress` names the steps.
     fn model(&self, params: &Self::Params, progress: Progress<'_>) -> Result<Self::Model>;
+    /// What the model made, for `--json`'s `made`: counts and sizes, each key naming
+    /// its unit (`_m`, `_ms`, `_years`). The book's "Reports" chapter documents each
+    /// scene's keys (default: an empty object).
+    fn made(&self, _params: &Self::Params, _model: &Self::Model) -> Result<serde_json::Value> {
+        Ok(serde_json::json!({}))
+    }
     /// The scene's own view of the model (the parameters' `eye`/`target` go over it).
     fn camera(&self, params: &Self::Params, model: &Self::Model) -> Camera;
     /// The frame that draws the model. `realtime`: for the viewer and the bench
@@ -273,6 +279,8 @@ pub trait AnyScene: Send + Sync {
     fn inputs(&self, resolved: &Resolved) -> Vec<std::path::PathBuf>;
     /// [`SceneDef::model`].
     fn model(&self, resolved: &Resolved, progress: Progress<'_>) -> Result<AnyModel>;
+    /// [`SceneDef::made`].
+    fn made(&self, resolved: &Resolved, model: &AnyModel) -> Result<serde_json::Value>;
     /// The camera: the scene's own view with the parameters' `eye`/`target` over it.
     fn camera(&self, resolved: &Resolved, model: &AnyModel) -> Result<Camera>;
     /// [`SceneDef::frame`].
@@ -465,6 +473,14 @@ impl<D: SceneDef> AnyScene for D {
             params_of(self, resolved)?,
             progress,
         )?))
+    }
+
+    fn made(&self, resolved: &Resolved, model: &AnyModel) -> Result<serde_json::Value> {
+        SceneDef::made(
+            self,
+            params_of(self, resolved)?,
+            model_of(self, model)?.as_ref(),
+        )
     }
 
     fn camera(&self, resolved: &Resolved, model: &AnyModel) -> Result<Camera> {

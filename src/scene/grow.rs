@@ -24,7 +24,7 @@ use crate::model::speleothem::table2::{Co2, DripInterval, Mineral, Pil};
 use crate::params::{Point3, check};
 use crate::render::growth::GrowthPath;
 use crate::render::tone_map::ToneMap;
-pub use export::{cut_away_render, export_asset, export_parts, write_rings_csv};
+pub use export::{cut_away_render, export_asset, export_parts, growth_made, write_rings_csv};
 pub use frame::{GrowDef, GrowthFrame};
 
 /// Names of the Figure 9 presets, with what each shows.

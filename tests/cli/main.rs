@@ -18,6 +18,7 @@ mod layers;
 mod mesh_export;
 mod output;
 mod reliability;
+mod reports;
 mod scene_files;
 mod shell;
 mod view;

@@ -599,6 +599,44 @@ impl SceneDef for CaveDef {
         build(params, progress)
     }
 
+    fn made(&self, params: &CaveScene, model: &CaveModel) -> Result<serde_json::Value> {
+        let cave = &model.cave;
+        let wall = shown_wall(params.smooth, model);
+        let (lo, hi) = wall.positions.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let columns = model.sites.iter().filter(|s| s.column).count();
+        let t = &cave.timings;
+        Ok(serde_json::json!({
+            "depth": params.depth,
+            "walls": {
+                "triangles_before_split": cave.triangles_before_split,
+                "triangles_after_split": cave.triangles_after_split(),
+                "triangles": wall.indices.len() / 3,
+                "vertices": wall.positions.len(),
+                "carved_voxels": cave.carved_voxels,
+                "size_m": (hi - lo).to_array().map(crate::text::json_f32),
+            },
+            "speleothems": {
+                "kind": params.speleothems.to_string(),
+                "sites": model.sites.len(),
+                "columns": columns,
+                "short_profile_triangles": model.short_mesh.indices.len() / 3,
+            },
+            "growth": match &model.growth {
+                Some(g) => crate::scene::grow::growth_made(&g.plan()?, 1.0),
+                None => serde_json::Value::Null,
+            },
+            "timings_ms": {
+                "octree": t.build_ms,
+                "walls": t.extract_ms,
+                "split": t.split_ms,
+                "smooth": t.smooth_ms,
+            },
+        }))
+    }
+
     fn camera(&self, params: &CaveScene, model: &CaveModel) -> Camera {
         default_camera(params, model)
     }

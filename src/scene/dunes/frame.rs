@@ -869,6 +869,33 @@ impl SceneDef for DunesDef {
         simulate(params, &mut |d, t| progress("simulation steps", d, t))
     }
 
+    fn made(&self, params: &DunesScene, model: &Terrain) -> Result<serde_json::Value> {
+        let summary = |map: &crate::export::heightmap::Heightmap| {
+            let n = map.heights_m.len().max(1) as f64;
+            let (lo, hi) = map
+                .heights_m
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| {
+                    (lo.min(h), hi.max(h))
+                });
+            // The heights are f32 in the model: their shortest decimals.
+            let short = |x: f64| crate::text::json_f32(x as f32);
+            serde_json::json!({
+                "samples": [map.width, map.height],
+                "cell_m": short(map.cell_m),
+                "period_m": short(map.width as f64 * map.cell_m),
+                "height_min_m": short(lo),
+                "height_max_m": short(hi),
+                "height_mean_m": short(map.heights_m.iter().sum::<f64>() / n),
+            })
+        };
+        Ok(serde_json::json!({
+            "dune_field": summary(&super::export::dune_heightmap(params, model)),
+            "ripple_tile": summary(&super::export::ripple_heightmap(params, model)),
+            "simulation_steps": { "dunes": params.dune_steps, "ripples": params.ripple_steps },
+        }))
+    }
+
     fn camera(&self, params: &DunesScene, model: &Terrain) -> Camera {
         default_camera(params, model)
     }

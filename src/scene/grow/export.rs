@@ -119,6 +119,50 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
     }
 }
 
+/// What a growth made, for `--json` (`made`): the speleothems by kind and by why they
+/// stopped, passes and rings, the longest and widest in metres (`metres_per_unit`
+/// metres per scene unit), and with a climate record the years the rings span.
+pub fn growth_made(plan: &GrowthPlan, metres_per_unit: f32) -> serde_json::Value {
+    let of_kind = |k: SpeleothemKind| plan.speleothems.iter().filter(|s| s.kind == k).count();
+    let stopped = |r: StopReason| {
+        plan.speleothems
+            .iter()
+            .filter(|s| s.stop.is_some_and(|(_, why)| why == r))
+            .count()
+    };
+    let (mut longest, mut widest) = (0.0f32, 0.0f32);
+    for i in 0..plan.speleothems.len() {
+        for ring in plan.rings(i) {
+            longest = longest.max(ring.height);
+            widest = widest.max(ring.radius);
+        }
+    }
+    let m = |units: f32| crate::text::json_f32(units * metres_per_unit);
+    serde_json::json!({
+        "speleothems": plan.speleothems.len(),
+        "stalactites": of_kind(SpeleothemKind::Stalactite),
+        "stalagmites": of_kind(SpeleothemKind::Stalagmite),
+        "stopped": {
+            "tip_closed": stopped(StopReason::TipClosed),
+            "cave_boundary": stopped(StopReason::CaveBoundary),
+            "column": stopped(StopReason::Column),
+            "contact": stopped(StopReason::Contact),
+            "narrowed": stopped(StopReason::Narrowed),
+        },
+        "passes": plan.passes,
+        "segments_per_ring": plan.segments,
+        "rings": plan.speleothems.iter().map(|s| u64::from(s.rings)).sum::<u64>(),
+        "longest_m": m(longest),
+        "widest_radius_m": m(widest),
+        "metres_per_unit": crate::text::json_f32(metres_per_unit),
+        "years": plan.dates.map(|(first, per_pass)| serde_json::json!({
+            "first": first,
+            "per_pass": per_pass,
+            "last": first + f64::from(plan.passes) * per_pass,
+        })),
+    })
+}
+
 /// The grown speleothems as a file's asset: in metres (`metres_per_unit` per scene
 /// unit) with the chamber's floor centre at the origin.
 pub fn export_asset(

@@ -924,6 +924,10 @@ impl SceneDef for GrowDef {
         params.speleothems()
     }
 
+    fn made(&self, params: &GrowScene, model: &SpeleothemScene) -> Result<serde_json::Value> {
+        Ok(super::growth_made(&model.growth.plan()?, params.unit_scale))
+    }
+
     fn camera(&self, _params: &GrowScene, model: &SpeleothemScene) -> Camera {
         default_camera(&model.growth)
     }

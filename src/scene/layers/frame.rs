@@ -350,6 +350,26 @@ impl SceneDef for LayersDef {
         files
     }
 
+    fn made(&self, _params: &LayersScene, model: &LayersModel) -> Result<serde_json::Value> {
+        let s = &model.stalagmite;
+        let m = crate::text::json_f32(metres_per_unit(model.unit.as_deref()));
+        let surface = s.surface();
+        let apex = surface.first().map_or(0.0, |p| p[1]);
+        let widest = surface.iter().fold(0.0f64, |w, p| w.max(p[0]));
+        Ok(serde_json::json!({
+            "layers": s.layers.len().saturating_sub(1),
+            "units": model.unit.as_deref().unwrap_or("franke"),
+            "metres_per_unit": m,
+            "apex_height_m": apex * m,
+            "widest_radius_m": widest * m,
+            "support_points": surface.len(),
+            "stopped_by_fold": s.fold.as_ref().map(|f| serde_json::json!({
+                "layer": f.layer + 1,
+                "time": f.time,
+            })),
+        }))
+    }
+
     fn model(&self, params: &LayersScene, progress: Progress<'_>) -> Result<LayersModel> {
         // The files first: a bad timeline or base is refused before any work starts.
         let setup = params.setup()?;
