@@ -43,11 +43,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // One scene unit is one metre; the floor at y = floor_y becomes y = 0.
     let mesh = frame.read_back(&ctx)?;
-    let asset = grow::export_asset(frame.plan(), &mesh, &preset, 1.0, floor_y);
+    let mut asset = grow::export_asset(frame.plan(), &mesh, &preset, 1.0, floor_y);
     let glb = out.join(format!("{preset}.glb"));
     println!(
         "{}",
-        sediment::export::mesh::write_mesh(&glb, &asset)?.line()
+        // Ordered for the vertex cache, no coarser levels of detail.
+        sediment::export::mesh::write_mesh(&glb, &mut asset, 0)?.line()
     );
     Ok(())
 }

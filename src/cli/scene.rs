@@ -164,6 +164,20 @@ pub fn command(def: &dyn AnyScene, name: &'static str) -> Command {
                 .help_heading("Outputs"),
         )
         .arg(
+            Arg::new("mesh-lods")
+                .long("mesh-lods")
+                .value_name("N")
+                .value_parser(clap::value_parser!(u32).range(0..=4))
+                .requires("mesh")
+                .help(
+                    "Coarser levels of detail in the --mesh .glb, 0..=4, each about half the \
+                     triangles of the one before (within 1 %, 2 %, 4 %, 8 % of the part's \
+                     size), as glTF's MSFT_lod over the same vertices: Babylon.js switches \
+                     them by screen coverage, other readers show the full mesh (default 0)",
+                )
+                .help_heading("Outputs"),
+        )
+        .arg(
             Arg::new("json")
                 .long("json")
                 .value_name("FILE.json|-")
@@ -283,8 +297,10 @@ pub fn run(g: &Globals, def: &dyn AnyScene, m: &ArgMatches) -> anyhow::Result<()
     if let Some(p) = &gif {
         check_extension(p, "--gif", &["gif"])?;
     }
+    let lods = m.get_one::<u32>("mesh-lods").copied().unwrap_or(0) as usize;
     if let Some(p) = &mesh {
         crate::export::mesh::check_mesh_path(p, "--mesh")?;
+        crate::export::mesh::check_lods(p, lods)?;
     }
     let mut inputs: Vec<PathBuf> = def.inputs(&resolved);
     inputs.extend(scene_file.cloned());
@@ -346,7 +362,7 @@ pub fn run(g: &Globals, def: &dyn AnyScene, m: &ArgMatches) -> anyhow::Result<()
         .as_ref()
         .map(|p| crate::export::gif::GifStream::create(p, 100))
         .transpose()?;
-    let rendered = headless::render(
+    let mut rendered = headless::render(
         def,
         ctx.as_ref(),
         &resolved,
@@ -375,10 +391,10 @@ pub fn run(g: &Globals, def: &dyn AnyScene, m: &ArgMatches) -> anyhow::Result<()
         super::output::wrote_line(format!("wrote {} ({frames} frames)", path.display()));
     }
     if let Some(path) = &mesh {
-        let asset = rendered.asset.as_ref().ok_or_else(|| {
+        let asset = rendered.asset.as_mut().ok_or_else(|| {
             crate::Error::invalid("--mesh", format!("{} has nothing to export", def.name()))
         })?;
-        let mesh_files = crate::export::mesh::write_mesh(path, asset)?;
+        let mesh_files = crate::export::mesh::write_mesh(path, asset, lods)?;
         // The normal maps an OBJ writes beside it are known only now.
         for f in &mesh_files.files {
             if !written.iter().any(|(p, _)| p == f) {

@@ -89,6 +89,7 @@ fn mesh(asset: &Asset) -> Value {
                 "material": p.material.name,
                 "vertices": p.mesh.positions.len(),
                 "triangles": p.mesh.indices.len() / 3,
+                "lod_triangles": p.mesh.lods.iter().map(|l| l.len() / 3).collect::<Vec<_>>(),
                 "bounds_m": bounds(p.mesh.bounds()),
             }))
             .collect::<Vec<_>>(),

@@ -155,7 +155,7 @@ pub fn run(g: &Globals, scenes: &[&'static dyn AnyScene], m: &ArgMatches) -> any
     super::output::done();
     let camera = def.camera(&resolved, &model)?;
     let build: SceneBuilder = Box::new(move |ctx| def.frame(ctx, &resolved, &model, true));
-    let report = view::run(options, build, &camera, &mut |line| say!("{line}"))?;
+    let mut report = view::run(options, build, &camera, &mut |line| say!("{line}"))?;
     if !report.validation_errors.is_empty() {
         bail!(
             "the Vulkan validation layer reported {} error(s); the first: {}",
@@ -227,8 +227,11 @@ pub fn run(g: &Globals, scenes: &[&'static dyn AnyScene], m: &ArgMatches) -> any
             say!("GPU {when}: {} (medians)", medians.join(", "));
         }
     }
-    if let (Some(path), Some(asset)) = (&flags.mesh, &report.asset) {
-        log::info!("{}", crate::export::mesh::write_mesh(path, asset)?.line());
+    if let (Some(path), Some(asset)) = (&flags.mesh, &mut report.asset) {
+        log::info!(
+            "{}",
+            crate::export::mesh::write_mesh(path, asset, 0)?.line()
+        );
     }
     Ok(())
 }

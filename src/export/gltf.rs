@@ -15,6 +15,10 @@ use std::collections::BTreeMap;
 use super::asset::{Asset, Part};
 use crate::error::{Error, Result};
 
+/// Each level of detail is drawn down to this share of the screen times the one
+/// before's (the full part to 40 %, the first coarser level to 16 %, ...).
+const SCREEN_COVERAGE_STEP: f64 = 0.4;
+
 /// The .glb file's bytes.
 pub fn glb_bytes(asset: &Asset) -> Result<Vec<u8>> {
     asset.check()?;
@@ -27,6 +31,7 @@ pub fn glb_bytes(asset: &Asset) -> Result<Vec<u8>> {
     };
     let mut bin = Bin::default();
     let mut nodes = Vec::new();
+    let mut uses_lod = false;
     // Parts of one material share it (Blender would otherwise make calcite.001, ...).
     let mut materials: Vec<(&super::asset::Material, json::Index<json::Material>)> = Vec::new();
     for part in &asset.parts {
@@ -38,12 +43,52 @@ pub fn glb_bytes(asset: &Asset) -> Result<Vec<u8>> {
                 index
             }
         };
-        let mesh = add_part(&mut root, &mut bin, part, material);
-        nodes.push(root.push(json::Node {
+        let (mesh, lods) = add_part(&mut root, &mut bin, part, material);
+        // MSFT_lod: the coarser levels are nodes outside the scene, named by the part's
+        // node; a reader without the extension shows the full part alone.
+        let lod_nodes: Vec<json::Index<json::Node>> = lods
+            .iter()
+            .enumerate()
+            .map(|(k, &mesh)| {
+                root.push(json::Node {
+                    mesh: Some(mesh),
+                    name: Some(lod_name(&part.name, k + 1)),
+                    ..node()
+                })
+            })
+            .collect();
+        let mut base = json::Node {
             mesh: Some(mesh),
             name: Some(part.name.clone()),
             ..node()
-        }));
+        };
+        if !lod_nodes.is_empty() {
+            let ids: Vec<usize> = lod_nodes.iter().map(|i| i.value()).collect();
+            let mut others = serde_json::Map::new();
+            others.insert("MSFT_lod".to_owned(), serde_json::json!({ "ids": ids }));
+            base.extensions = Some(json::extensions::scene::Node { others });
+            // The share of the screen each level is drawn down to (the base first), as
+            // Babylon.js reads MSFT_lod; the coarsest down to 0, so nothing is culled.
+            let last = lod_nodes.len();
+            let coverage: Vec<f64> = (0..=last)
+                .map(|k| {
+                    if k == last {
+                        0.0
+                    } else {
+                        SCREEN_COVERAGE_STEP.powi(k as i32 + 1)
+                    }
+                })
+                .collect();
+            base.extras = serde_json::value::to_raw_value(
+                &serde_json::json!({ "MSFT_screencoverage": coverage }),
+            )
+            .ok();
+            uses_lod = true;
+        }
+        nodes.push(root.push(base));
+    }
+    if uses_lod {
+        root.extensions_used.push("MSFT_lod".to_owned());
     }
     let scene = root.push(json::Scene {
         extensions: None,
@@ -154,14 +199,16 @@ fn floats<const N: usize>(v: &[[f32; N]]) -> Vec<u8> {
     v.iter().flatten().flat_map(|c| c.to_le_bytes()).collect()
 }
 
+/// The part's mesh, and a mesh for each of its levels of detail sharing its vertex
+/// attributes.
 fn add_part(
     root: &mut json::Root,
     bin: &mut Bin,
     part: &Part,
     material: json::Index<json::Material>,
-) -> json::Index<json::Mesh> {
+) -> (json::Index<json::Mesh>, Vec<json::Index<json::Mesh>>) {
     use json::accessor::{ComponentType as C, Type as T};
-    use json::buffer::Target::{ArrayBuffer, ElementArrayBuffer};
+    use json::buffer::Target::ArrayBuffer;
     use json::mesh::Semantic;
     let m = &part.mesh;
     let n = m.positions.len();
@@ -224,42 +271,71 @@ fn add_part(
         );
         attributes.insert(Valid(Semantic::Tangents), tangent);
     }
-    let (index_data, index_type) = if n <= usize::from(u16::MAX) {
-        let d: Vec<u8> = m
-            .indices
+    let indices = index_accessor(root, bin, &m.indices, n);
+    let mesh = |root: &mut json::Root, name: String, indices| {
+        root.push(json::Mesh {
+            extensions: None,
+            extras: Default::default(),
+            name: Some(name),
+            primitives: vec![json::mesh::Primitive {
+                attributes: attributes.clone(),
+                extensions: None,
+                extras: Default::default(),
+                indices: Some(indices),
+                material: Some(material),
+                mode: Valid(json::mesh::Mode::Triangles),
+                targets: None,
+            }],
+            weights: None,
+        })
+    };
+    let base = mesh(root, part.name.clone(), indices);
+    // Each level of detail: its own indices over the same vertex attributes.
+    let lods = m
+        .lods
+        .iter()
+        .enumerate()
+        .map(|(k, lod)| {
+            let indices = index_accessor(root, bin, lod, n);
+            mesh(root, lod_name(&part.name, k + 1), indices)
+        })
+        .collect();
+    (base, lods)
+}
+
+/// The node and mesh name of a part's level of detail `level` (1: the first coarser).
+pub fn lod_name(part: &str, level: usize) -> String {
+    format!("{part}_lod{level}")
+}
+
+/// Triangle indices into `n` vertices: unsigned short where they fit, else unsigned int.
+fn index_accessor(
+    root: &mut json::Root,
+    bin: &mut Bin,
+    indices: &[u32],
+    n: usize,
+) -> json::Index<json::Accessor> {
+    use json::accessor::{ComponentType as C, Type as T};
+    let (data, component) = if n <= usize::from(u16::MAX) {
+        let d: Vec<u8> = indices
             .iter()
             .flat_map(|&i| (i as u16).to_le_bytes())
             .collect();
         (d, C::U16)
     } else {
-        let d: Vec<u8> = m.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let d: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
         (d, C::U32)
     };
-    let indices = bin.accessor(
+    bin.accessor(
         root,
-        &index_data,
-        m.indices.len(),
-        index_type,
+        &data,
+        indices.len(),
+        component,
         T::Scalar,
         false,
         None,
-        ElementArrayBuffer,
-    );
-    root.push(json::Mesh {
-        extensions: None,
-        extras: Default::default(),
-        name: Some(part.name.clone()),
-        primitives: vec![json::mesh::Primitive {
-            attributes,
-            extensions: None,
-            extras: Default::default(),
-            indices: Some(indices),
-            material: Some(material),
-            mode: Valid(json::mesh::Mode::Triangles),
-            targets: None,
-        }],
-        weights: None,
-    })
+        json::buffer::Target::ElementArrayBuffer,
+    )
 }
 
 fn add_material(

@@ -10,6 +10,7 @@ pub mod gltf;
 pub mod heightmap;
 pub mod mesh;
 pub mod obj;
+pub mod optimise;
 pub mod png;
 pub mod section;
 

@@ -554,3 +554,103 @@ fn parts_and_materials_have_one_name_in_gltf_and_obj_across_scenes() {
     );
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// Vertices transformed per triangle by a 16-entry FIFO cache, simulated here (an
+/// independent measure of meshoptimizer's ordering).
+fn fifo_misses_per_triangle(indices: &[u32]) -> f64 {
+    let mut cache: std::collections::VecDeque<u32> = Default::default();
+    let mut misses = 0usize;
+    for &i in indices {
+        if !cache.contains(&i) {
+            misses += 1;
+            cache.push_back(i);
+            if cache.len() > 16 {
+                cache.pop_front();
+            }
+        }
+    }
+    misses as f64 / (indices.len() / 3).max(1) as f64
+}
+
+/// Issue 46: meshes ordered for the vertex cache, and `--mesh-lods N` levels of detail
+/// as glTF's MSFT_lod over the same vertices, validator-clean.
+#[test]
+fn meshes_are_cache_ordered_and_carry_levels_of_detail() {
+    let dir = scratch("export-lods");
+    let png = s(&dir.join("g.png"));
+    let (glb, stderr, _) = grow_glb(
+        &dir,
+        "g.glb",
+        &["--mesh-lods", "2", "-o", &png, "--size", "32x24"],
+    );
+    assert_eq!(glb.json["extensionsUsed"], serde_json::json!(["MSFT_lod"]));
+    let mut level_totals = [0usize; 2];
+    for part in &glb.parts {
+        let misses = fifo_misses_per_triangle(&part.indices);
+        // A ring-by-ring soup order transforms about 2.4 vertices a triangle.
+        assert!(
+            misses < 1.0,
+            "{}: {misses:.2} vertices a triangle",
+            part.node
+        );
+        assert_eq!(part.lods.len(), 2, "{}", part.node);
+        let names: Vec<&str> = part.lods.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(
+            names,
+            [format!("{}_lod1", part.node), format!("{}_lod2", part.node)]
+        );
+        let mut before = part.indices.len();
+        for (k, (_, lod)) in part.lods.iter().enumerate() {
+            assert!(
+                lod.len() <= before * 6 / 10 && !lod.is_empty(),
+                "{}: level {} has {} of {before} indices",
+                part.node,
+                k + 1,
+                lod.len()
+            );
+            before = lod.len();
+            level_totals[k] += lod.len() / 3;
+            // Within the part's bounds.
+            let (lo, hi) = part.bounds();
+            for &i in lod {
+                let p = &part.positions()[i as usize];
+                for a in 0..3 {
+                    assert!(p[a] >= lo[a] && p[a] <= hi[a]);
+                }
+            }
+        }
+        let node = glb.json["nodes"]
+            .as_array()
+            .expect("nodes")
+            .iter()
+            .find(|n| n["name"] == part.node.as_str())
+            .expect("the part's node");
+        let coverage: Vec<f64> = node["extras"]["MSFT_screencoverage"]
+            .as_array()
+            .expect("screen coverage")
+            .iter()
+            .map(|c| c.as_f64().expect("a share"))
+            .collect();
+        assert_eq!(coverage.len(), 3);
+        assert!(coverage.windows(2).all(|w| w[0] > w[1]) && coverage[2] == 0.0);
+    }
+    let said = format!(
+        "levels of detail of {}, {} triangles",
+        level_totals[0], level_totals[1]
+    );
+    assert!(stderr.contains(&said), "{said} in {stderr}");
+    // Refused before any work: levels in an OBJ, levels without a mesh.
+    for (args, want) in [
+        (
+            vec!["grow", "--mesh", "g.obj", "--mesh-lods", "1"],
+            "OBJ has no levels of detail",
+        ),
+        (vec!["grow", "--mesh-lods", "1"], "--mesh"),
+    ] {
+        let out = sediment(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

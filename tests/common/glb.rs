@@ -14,6 +14,8 @@ pub struct GlbPart {
     pub material: Value,
     pub attributes: BTreeMap<String, Vec<Vec<f32>>>,
     pub indices: Vec<u32>,
+    /// MSFT_lod's coarser levels: each node's name and its indices into `attributes`.
+    pub lods: Vec<(String, Vec<u32>)>,
 }
 
 impl GlbPart {
@@ -88,7 +90,18 @@ impl Glb {
             bin,
             parts: Vec::new(),
         };
-        let nodes = glb.json["nodes"].as_array().expect("nodes").clone();
+        // The scene's nodes: the parts (levels of detail are nodes outside the scene).
+        let scene = glb.json["scene"].as_u64().unwrap_or(0) as usize;
+        let roots: Vec<u64> = glb.json["scenes"][scene]["nodes"]
+            .as_array()
+            .expect("scene nodes")
+            .iter()
+            .map(|n| n.as_u64().expect("node index"))
+            .collect();
+        let nodes: Vec<Value> = roots
+            .iter()
+            .map(|&n| glb.json["nodes"][n as usize].clone())
+            .collect();
         for node in nodes {
             let mesh = &glb.json["meshes"][node["mesh"].as_u64().expect("node mesh") as usize];
             let primitives = mesh["primitives"].as_array().expect("primitives");
@@ -108,11 +121,37 @@ impl Glb {
                 .collect();
             let material =
                 glb.json["materials"][p["material"].as_u64().expect("a material") as usize].clone();
+            // MSFT_lod: each level's node, its mesh's indices (same attributes).
+            let lods = node["extensions"]["MSFT_lod"]["ids"]
+                .as_array()
+                .map(|ids| {
+                    ids.iter()
+                        .map(|id| {
+                            let lod = &glb.json["nodes"][id.as_u64().expect("lod node") as usize];
+                            let mesh = &glb.json["meshes"]
+                                [lod["mesh"].as_u64().expect("lod mesh") as usize];
+                            let q = &mesh["primitives"][0];
+                            assert_eq!(
+                                q["attributes"], p["attributes"],
+                                "a level shares the vertices"
+                            );
+                            assert_eq!(q["material"], p["material"], "and the material");
+                            let indices = glb
+                                .accessor(q["indices"].as_u64().expect("indexed") as usize)
+                                .into_iter()
+                                .map(|v| v[0] as u32)
+                                .collect();
+                            (lod["name"].as_str().expect("lod name").to_owned(), indices)
+                        })
+                        .collect()
+                })
+                .unwrap_or_default();
             glb.parts.push(GlbPart {
                 node: node["name"].as_str().expect("node name").to_owned(),
                 material,
                 attributes,
                 indices,
+                lods,
             });
         }
         glb
