@@ -436,42 +436,68 @@ fn links(text: &str) -> Vec<(usize, String)> {
     out
 }
 
-/// Issue 46 #6: every picture the README shows is in the packaged crate: each matches
-/// an entry of Cargo.toml's `include`, exactly or under a `/**` folder.
+/// Issue 46 #6: every picture and page the README and the book link is in the packaged
+/// crate, as `cargo package --list` lists it, so the links resolve on crates.io's
+/// source view and in an unpacked crate too.
 #[test]
-fn the_readmes_pictures_are_packaged_with_it() {
-    let manifest: toml::Table =
-        toml::from_str(&std::fs::read_to_string(root().join("Cargo.toml")).expect("Cargo.toml"))
-            .expect("Cargo.toml parses");
-    let include: Vec<&str> = manifest["package"]["include"]
-        .as_array()
-        .expect("an include list")
-        .iter()
-        .filter_map(|v| v.as_str())
-        .collect();
-    let readme = std::fs::read_to_string(root().join("README.md")).expect("README");
-    let local: Vec<String> = links(&readme)
-        .into_iter()
-        .map(|(_, target)| target)
-        .filter(|t| !t.contains("://") && !t.starts_with('#'))
-        .filter(|t| {
-            [".png", ".svg", ".gif", ".jpg"]
-                .iter()
-                .any(|e| t.ends_with(e))
-        })
-        .collect();
-    assert!(!local.is_empty(), "the README shows no picture");
-    for target in local {
-        let path = format!("/{}", target.split('#').next().unwrap_or(&target));
-        let packaged = include.iter().any(|entry| match entry.strip_suffix("/**") {
-            Some(folder) => path.starts_with(&format!("{folder}/")),
-            None => *entry == path,
-        });
-        assert!(
-            packaged,
-            "README links {target}, which the package leaves out"
-        );
+fn the_readmes_and_books_links_are_packaged_with_it() {
+    let out = std::process::Command::new(env!("CARGO"))
+        .args(["package", "--list", "--allow-dirty", "--offline"])
+        .current_dir(root())
+        .output()
+        .expect("cargo package --list runs");
+    assert!(
+        out.status.success(),
+        "cargo package --list: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let listed = String::from_utf8_lossy(&out.stdout).into_owned();
+    let packaged: std::collections::BTreeSet<&str> = listed.lines().collect();
+    let mut left_out = Vec::new();
+    let mut pictures = 0;
+    for page in pages() {
+        let text = std::fs::read_to_string(&page).expect("read page");
+        for (_, target) in links(&text) {
+            if target.contains("://") || target.starts_with("mailto:") || target.starts_with('#') {
+                continue;
+            }
+            let file = target.split('#').next().unwrap_or("");
+            let resolved = normalise(&page.parent().expect("page folder").join(file));
+            let Ok(relative) = resolved.strip_prefix(root()) else {
+                left_out.push(format!("{}: {target} (outside the crate)", page.display()));
+                continue;
+            };
+            let relative = relative.to_string_lossy().replace('\\', "/");
+            pictures += usize::from(relative.ends_with(".png"));
+            let found = packaged.contains(relative.as_str())
+                || packaged
+                    .iter()
+                    .any(|p| p.starts_with(&format!("{}/", relative.trim_end_matches('/'))));
+            if !found {
+                left_out.push(format!("{}: {target}", page.display()));
+            }
+        }
     }
+    assert!(pictures > 4, "the README and the book show pictures");
+    assert!(
+        left_out.is_empty(),
+        "linked but not packaged (Cargo.toml's include): {left_out:#?}"
+    );
+}
+
+/// `path` with `.` and `..` folded away (the file need not exist).
+fn normalise(path: &std::path::Path) -> std::path::PathBuf {
+    let mut out = std::path::PathBuf::new();
+    for part in path.components() {
+        match part {
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            std::path::Component::CurDir => {}
+            other => out.push(other),
+        }
+    }
+    out
 }
 
 #[test]
