@@ -15,6 +15,7 @@
 //!   scene, the horizon map on the CPU, the sand simulations on one thread and all;
 //! - `cave` (`scene::cave::frame`): generation and the frame per octree depth 5..9.
 
+pub mod compare;
 #[cfg(feature = "bench-plots")]
 pub mod plot;
 pub mod repeat;
@@ -217,6 +218,11 @@ pub fn run_scenes(
             let mut s = summarise(kind.name(), variant, &frames);
             s.metrics
                 .insert(SERIES_FLOOR.into(), Stats::of(&floor_ms).median);
+            // One floor frame after each measured frame (the last warm-up frame's
+            // floors come first: keep the measured frames').
+            if floor_ms.len() >= frames.len() {
+                s.per_frame_floor_ms = floor_ms[floor_ms.len() - frames.len()..].to_vec();
+            }
             if !faults.is_empty() {
                 s.metrics
                     .insert(PAGE_FAULTS.into(), Stats::of(&faults).median);
@@ -292,24 +298,27 @@ fn summarise(scene: &str, variant: &str, frames: &[Frame]) -> SeriesResult {
         variant: variant.to_owned(),
         passes: names
             .iter()
-            .map(|n| PassResult {
-                name: n.clone(),
-                gpu_ms: Stats::of(
-                    &frames
-                        .iter()
-                        .filter_map(|f| {
-                            f.spans
-                                .iter()
-                                .find(|s| &s.name == n)
-                                .map(|s| s.milliseconds)
-                        })
-                        .collect::<Vec<_>>(),
-                ),
+            .map(|n| {
+                let ms: Vec<f64> = frames
+                    .iter()
+                    .filter_map(|f| {
+                        f.spans
+                            .iter()
+                            .find(|s| &s.name == n)
+                            .map(|s| s.milliseconds)
+                    })
+                    .collect();
+                PassResult {
+                    name: n.clone(),
+                    gpu_ms: Stats::of(&ms),
+                    per_frame_ms: ms,
+                }
             })
             .collect(),
         frame_gpu_ms: Stats::of(&per_frame),
         frame_cpu_ms: Stats::of(&cpu),
         per_frame_gpu_ms: per_frame,
+        per_frame_floor_ms: Vec::new(),
         metrics: BTreeMap::new(),
     }
 }

@@ -55,6 +55,11 @@ fn merge_series(all: &[&SeriesResult]) -> SeriesResult {
                         .map(|p| &p.gpu_ms)
                         .collect::<Vec<_>>(),
                 ),
+                per_frame_ms: all
+                    .iter()
+                    .filter_map(|s| s.passes.iter().find(|p| p.name == *n))
+                    .flat_map(|p| p.per_frame_ms.iter().copied())
+                    .collect(),
             })
             .collect(),
         frame_gpu_ms: merge_stats(&all.iter().map(|s| &s.frame_gpu_ms).collect::<Vec<_>>()),
@@ -63,6 +68,17 @@ fn merge_series(all: &[&SeriesResult]) -> SeriesResult {
             .iter()
             .flat_map(|s| s.per_frame_gpu_ms.iter().copied())
             .collect(),
+        // Pooled only where every run kept its floors (they pair with the frames).
+        per_frame_floor_ms: if all
+            .iter()
+            .all(|s| s.per_frame_floor_ms.len() == s.per_frame_gpu_ms.len())
+        {
+            all.iter()
+                .flat_map(|s| s.per_frame_floor_ms.iter().copied())
+                .collect()
+        } else {
+            Vec::new()
+        },
         metrics: metric_names
             .into_iter()
             .map(|k| {
@@ -226,10 +242,12 @@ mod tests {
             passes: vec![PassResult {
                 name: "pass".into(),
                 gpu_ms: stats.clone(),
+                per_frame_ms: vec![ms; 3],
             }],
             frame_gpu_ms: stats.clone(),
             frame_cpu_ms: stats,
             per_frame_gpu_ms: vec![ms; 3],
+            per_frame_floor_ms: Vec::new(),
             metrics: [("m".to_owned(), metric)].into(),
         }
     }

@@ -21,6 +21,10 @@ pub struct PassResult {
     pub name: String,
     /// Its GPU time over the measured frames.
     pub gpu_ms: Stats,
+    /// Its GPU time frame by frame, for `--compare`'s intervals (empty in reports
+    /// written before it was kept).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub per_frame_ms: Vec<f64>,
 }
 
 /// The shortest time a report may hold above zero, ms (a nanosecond: no timestamp
@@ -43,6 +47,10 @@ pub struct SeriesResult {
     pub frame_cpu_ms: Stats,
     /// The frame's GPU time, frame by frame (for plots).
     pub per_frame_gpu_ms: Vec<f64>,
+    /// The floor frame drawn after each measured frame, ms (`--compare` divides each
+    /// frame by its own; empty for the floor's series and in older reports).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub per_frame_floor_ms: Vec<f64>,
     /// Named numbers that are not frame times (vertices per second, ms at ring 32, ...).
     pub metrics: BTreeMap<String, f64>,
 }
@@ -92,17 +100,20 @@ pub struct RunInfo {
     pub host_cores: usize,
     /// Operating system and kernel release.
     pub os: String,
-    /// Anti-aliasing of the measured frames ("temporal" or "multisample, N samples").
+    /// Anti-aliasing of the measured frames, mode and samples ("temporal, 1 sample a
+    /// frame at 16 jitter positions" or "multisample, 4 samples").
     pub anti_aliasing: String,
     /// Whole runs this report is the median of (1: a single run).
     pub repeat: u32,
     /// The command line that made the report.
     pub command_line: String,
+    /// The name the run was given (`--label`), for comparisons; empty: none.
+    pub label: String,
 }
 
 impl RunInfo {
     /// This host now, with the settings the caller states.
-    pub fn here(anti_aliasing: &str, repeat: u32, command_line: &str) -> Self {
+    pub fn here(anti_aliasing: &str, repeat: u32, command_line: &str, label: &str) -> Self {
         let cpu = std::fs::read_to_string("/proc/cpuinfo")
             .ok()
             .and_then(|text| {
@@ -123,6 +134,7 @@ impl RunInfo {
             anti_aliasing: anti_aliasing.to_owned(),
             repeat,
             command_line: command_line.to_owned(),
+            label: label.to_owned(),
         }
     }
 }
@@ -204,6 +216,14 @@ impl Report {
             for (i, &ms) in s.per_frame_gpu_ms.iter().enumerate() {
                 time(&format!("{name}: frame {i}"), ms)?;
             }
+            for (i, &ms) in s.per_frame_floor_ms.iter().enumerate() {
+                time(&format!("{name}: floor after frame {i}"), ms)?;
+            }
+            for p in &s.passes {
+                for (i, &ms) in p.per_frame_ms.iter().enumerate() {
+                    time(&format!("{name}: {} in frame {i}", p.name), ms)?;
+                }
+            }
             if let Some((key, value)) = s.metrics.iter().find(|(_, v)| !v.is_finite()) {
                 return Err(Error::invalid(
                     "bench report",
@@ -268,8 +288,31 @@ impl Report {
             0 | 1 => String::new(),
             k => format!("; the median of {k} runs' medians"),
         };
+        // What a series measured, from its own counts: grow measures its growth
+        // passes, one a frame, whatever --frames says.
+        let runs = self.runs.len().max(1);
+        let mut counts: Vec<String> = Vec::new();
+        for s in &self.series {
+            let per_run = s.frame_gpu_ms.samples / runs;
+            if per_run != m.frames as usize {
+                let unit = if s.scene == "grow" {
+                    "growth passes"
+                } else {
+                    "frames"
+                };
+                let text = format!("{}: {per_run} {unit}", s.scene);
+                if !counts.contains(&text) {
+                    counts.push(text);
+                }
+            }
+        }
+        let counts = if counts.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", counts.join(", "))
+        };
         let mut out = format!(
-            "device: {} ({}), Vulkan {}; sediment {} ({}); {}x{}, {} frames after {} warm-up, {} threads{repeated}\n\n",
+            "device: {} ({}), Vulkan {}; sediment {} ({}); {}x{}, {} frames per series{counts} after {} warm-up, {} threads{repeated}\n\n",
             m.device,
             m.driver,
             m.vulkan,
@@ -284,8 +327,17 @@ impl Report {
         let r = &m.run;
         if !r.date_utc.is_empty() {
             out.push_str(&format!(
-                "measured {} on {} ({} cores, {}); anti-aliasing: {}\n\n",
-                r.date_utc, r.host_cpu, r.host_cores, r.os, r.anti_aliasing
+                "measured {} on {} ({} cores, {}); anti-aliasing: {}{}\n\n",
+                r.date_utc,
+                r.host_cpu,
+                r.host_cores,
+                r.os,
+                r.anti_aliasing,
+                if r.label.is_empty() {
+                    String::new()
+                } else {
+                    format!("; label: {}", r.label)
+                }
             ));
         }
         if !r.command_line.is_empty() {
@@ -350,7 +402,9 @@ impl Report {
         out
     }
 
-    /// One CSV row per series and pass (the frame as pass "frame"); times in ms.
+    /// One CSV row per series and pass (the frame as pass "frame"), the Markdown
+    /// table's columns (times in ms, the frame's multiple of the floor) and the sample
+    /// count.
     pub fn csv(&self) -> Result<String> {
         use crate::tables::Cell;
         let header = [
@@ -361,10 +415,12 @@ impl Report {
             "gpu_median_ms",
             "gpu_p95_ms",
             "cpu_median_ms",
+            "x_floor",
             "samples",
         ];
         crate::tables::to_string("bench CSV", &header, |table| {
             for s in self.floor.iter().chain(&self.series) {
+                let x_floor = self.times_floor(s);
                 table.row(&[
                     Cell::Text(&s.scene),
                     Cell::Text(&s.variant),
@@ -373,6 +429,7 @@ impl Report {
                     Cell::Num(s.frame_gpu_ms.median),
                     Cell::Num(s.frame_gpu_ms.p95),
                     Cell::Num(s.frame_cpu_ms.median),
+                    x_floor.map_or(Cell::Text(""), Cell::Num),
                     Cell::Int(s.frame_gpu_ms.samples as u64),
                 ])?;
                 for p in &s.passes {
@@ -383,6 +440,7 @@ impl Report {
                         Cell::Num(p.gpu_ms.min),
                         Cell::Num(p.gpu_ms.median),
                         Cell::Num(p.gpu_ms.p95),
+                        Cell::Text(""),
                         Cell::Text(""),
                         Cell::Int(p.gpu_ms.samples as u64),
                     ])?;
@@ -435,69 +493,4 @@ fn check_texts(value: &serde_json::Value, at: &str) -> Result<()> {
         }),
         _ => Ok(()),
     }
-}
-
-/// `b / a` for every (scene, variant, pass) the two reports share, as Markdown: the
-/// medians of GPU time (and of the CPU frame time), then the metrics.
-pub fn compare(a: &Report, b: &Report) -> String {
-    let mut out = format!(
-        "a: {} ({}), {}\nb: {} ({}), {}\n\n| scene | variant | pass | a GPU median ms | b GPU median ms | b / a |\n|---|---|---|---:|---:|---:|\n",
-        a.meta.device,
-        a.meta.git_commit,
-        a.meta.vulkan,
-        b.meta.device,
-        b.meta.git_commit,
-        b.meta.vulkan
-    );
-    let ratio = |x: f64, y: f64| {
-        if x > 0.0 {
-            format!("{:.2}", y / x)
-        } else {
-            "-".to_owned()
-        }
-    };
-    let mut missing = 0;
-    for sa in a.floor.iter().chain(&a.series) {
-        let Some(sb) = b.series_of(&sa.scene, &sa.variant) else {
-            missing += 1;
-            continue;
-        };
-        out.push_str(&format!(
-            "| {} | {} | frame | {:.2} | {:.2} | {} |\n",
-            sa.scene,
-            sa.variant,
-            sa.frame_gpu_ms.median,
-            sb.frame_gpu_ms.median,
-            ratio(sa.frame_gpu_ms.median, sb.frame_gpu_ms.median)
-        ));
-        for pa in &sa.passes {
-            if let Some(pb) = sb.passes.iter().find(|p| p.name == pa.name) {
-                out.push_str(&format!(
-                    "| {} | {} | {} | {:.2} | {:.2} | {} |\n",
-                    sa.scene,
-                    sa.variant,
-                    pa.name,
-                    pa.gpu_ms.median,
-                    pb.gpu_ms.median,
-                    ratio(pa.gpu_ms.median, pb.gpu_ms.median)
-                ));
-            }
-        }
-        for (k, va) in &sa.metrics {
-            if let Some(vb) = sb.metrics.get(k) {
-                out.push_str(&format!(
-                    "| {} | {} | {k} | {} | {} | {} |\n",
-                    sa.scene,
-                    sa.variant,
-                    number(*va),
-                    number(*vb),
-                    ratio(*va, *vb)
-                ));
-            }
-        }
-    }
-    if missing > 0 {
-        out.push_str(&format!("\n{missing} series of a are not in b\n"));
-    }
-    out
 }

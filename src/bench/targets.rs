@@ -39,6 +39,15 @@ pub struct Target {
     pub at_least: Option<f64>,
     /// The value must be at most this.
     pub at_most: Option<f64>,
+    /// The frame size the target was set at ("720x480"); a run at another size is
+    /// refused, not judged (default: any size).
+    #[serde(default)]
+    pub size: Option<String>,
+    /// The anti-aliasing it was set with, as a report's meta says it ("temporal, 1
+    /// sample a frame at 16 jitter positions", "multisample, 4 samples"); a run with other anti-aliasing is refused (default:
+    /// any).
+    #[serde(default)]
+    pub anti_aliasing: Option<String>,
 }
 
 impl Target {
@@ -110,6 +119,10 @@ impl Targets {
                     )));
                 }
             }
+            if let Some(size) = &target.size {
+                size.parse::<crate::Size>()
+                    .map_err(|e| bad(format!("size \"{size}\" is not WIDTHxHEIGHT: {e}")))?;
+            }
             match known.iter().find(|(scene, _)| *scene == target.scene) {
                 None => return Err(bad(format!("no bench scene \"{}\"", target.scene))),
                 Some((scene, variants)) if !variants.contains(&target.variant.as_str()) => {
@@ -123,6 +136,46 @@ impl Targets {
             }
         }
         Ok(t)
+    }
+
+    /// Refuses runs made at another size or with other anti-aliasing than a target was
+    /// set at (`what` names the runs: "this run", "a.json"), naming both: a 240x160
+    /// run judged against 720x480 targets says nothing about them.
+    pub fn refuse_other_settings(
+        &self,
+        (width, height): (u32, u32),
+        anti_aliasing: &str,
+        what: &str,
+    ) -> Result<()> {
+        for t in &self.targets {
+            let size_differs = t.size.as_ref().is_some_and(|size| {
+                size.parse::<crate::Size>()
+                    .is_ok_and(|s| (s.width, s.height) != (width, height))
+            });
+            let aa_differs = t
+                .anti_aliasing
+                .as_ref()
+                .is_some_and(|aa| !anti_aliasing.is_empty() && aa != anti_aliasing);
+            if size_differs || aa_differs {
+                return Err(Error::invalid(
+                    "--check",
+                    format!(
+                        "target \"{}\" was set at {} with {} anti-aliasing; {what} is {width}x{height} \
+                         with {} anti-aliasing: run the bench at the target's settings (the global \
+                         --size, --anti-aliasing and --samples)",
+                        t.name,
+                        t.size.as_deref().unwrap_or("any size"),
+                        t.anti_aliasing.as_deref().unwrap_or("any"),
+                        if anti_aliasing.is_empty() {
+                            "unrecorded"
+                        } else {
+                            anti_aliasing
+                        }
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Judges every target against every run.
@@ -366,6 +419,7 @@ mod tests {
                 frame_gpu_ms: stats(ms),
                 frame_cpu_ms: stats(ms),
                 per_frame_gpu_ms: vec![ms],
+                per_frame_floor_ms: Vec::new(),
                 metrics: Default::default(),
             };
             let mut r: Report = serde_json::from_str(
@@ -438,6 +492,7 @@ mod tests {
             frame_gpu_ms: stats.clone(),
             frame_cpu_ms: stats,
             per_frame_gpu_ms: vec![5.0],
+            per_frame_floor_ms: Vec::new(),
             metrics: [("triangles".to_owned(), 1.0)].into_iter().collect(),
         });
         let v = t.check(&[&run]);

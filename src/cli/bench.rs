@@ -38,16 +38,24 @@ pub struct BenchArgs {
     /// and how they were measured (the book's performance page) (default: not written).
     #[arg(long, value_name = "FILE.md")]
     markdown: Option<PathBuf>,
-    /// A chart as .png or .svg: per scene, each variant's GPU time frame by frame
-    /// (axes, legend); every series' median as a bar with p5-p95 whiskers, the floor
-    /// marked. With --compare: the ratios b / a per series and pass, 1.0 marked
+    /// Charts as .png or .svg, sized for a single journal column (3.5 in at 300 dpi):
+    /// per scene, each variant's GPU time frame by frame (grow: by growth pass); every
+    /// series' median as a multiple of the floor with p5-p95 whiskers; each series'
+    /// passes stacked. With --compare: the ratios with their intervals on a log axis
     /// (default: not written).
     #[arg(long, value_name = "FILE.png|FILE.svg")]
     plot: Option<PathBuf>,
-    /// Compare two JSON reports instead of running: per-pass ratios b / a (default:
+    /// Compare JSON reports instead of running: each against the first, per series and
+    /// pass, the ratio of medians raw and as multiples of each run's own floor, with a
+    /// 95 % bootstrap confidence interval over the frames and a verdict ("no
+    /// detectable difference" when the interval contains 1); 2..=8 reports (default:
     /// run the bench).
-    #[arg(long, num_args = 2, value_names = ["A.json", "B.json"])]
+    #[arg(long, num_args = 2..=8, value_names = ["A.json", "B.json"])]
     compare: Option<Vec<PathBuf>>,
+    /// A name for this run, kept in its report and shown by --compare (default: the
+    /// report's date and host).
+    #[arg(long, value_name = "NAME", conflicts_with = "compare")]
+    label: Option<String>,
     /// Runs the whole set K times, 1..=20, every second run in the reverse order, and
     /// reports each row as the median of the K runs' medians with their spread; the
     /// JSON keeps every run.
@@ -55,13 +63,16 @@ pub struct BenchArgs {
     repeat: u32,
     /// Judges the run(s) against a targets file (the repository's: targets.toml) and
     /// prints which hold; a target holds only when it holds in every run. Exit status
-    /// 0 only when all hold, 1 otherwise (the reports are written either way)
-    /// (default: no check).
+    /// 0 only when all hold, 1 otherwise (the reports are written either way); a run
+    /// at another size or anti-aliasing than a target states is refused before it
+    /// starts, exit 2 (default: no check).
     #[arg(long, value_name = "TARGETS.toml")]
     check: Option<PathBuf>,
-    /// With --check: judge these saved reports (`--json`; a --repeat report counts as
-    /// its runs) instead of running (default: run the bench).
-    #[arg(long, num_args = 1.., value_name = "REPORT.json", requires = "check", conflicts_with = "compare")]
+    /// Saved reports (`--json`) instead of a run: their tables, --csv, --markdown and
+    /// --plot are written from them, and --check judges them (a --repeat report counts
+    /// as its runs; several reports of one device and size are merged as runs)
+    /// (default: run the bench).
+    #[arg(long, num_args = 1.., value_name = "REPORT.json", conflicts_with_all = ["compare", "json"])]
     from: Vec<PathBuf>,
 }
 
@@ -116,15 +127,6 @@ pub fn run(
             Some(failure) => Err(TargetsMissed(failure).into()),
         }
     };
-    if !a.from.is_empty() {
-        let reports = a
-            .from
-            .iter()
-            .map(read)
-            .collect::<anyhow::Result<Vec<_>>>()?;
-        let runs: Vec<Report> = reports.into_iter().flat_map(Report::into_runs).collect();
-        return judge(&bench::repeat::merge(runs)?);
-    }
     if let Some(p) = &a.plot {
         if !cfg!(feature = "bench-plots") {
             bail!(crate::Error::invalid(
@@ -153,12 +155,40 @@ pub fn run(
     .filter_map(|(p, what)| p.map(|p| (p.clone(), what.to_owned())))
     .collect();
     crate::export::check_outputs(&written, &inputs)?;
-    if let Some(pair) = &a.compare {
-        let (ra, rb) = (read(&pair[0])?, read(&pair[1])?);
-        super::report(&bench::report::compare(&ra, &rb))?;
+    if !a.from.is_empty() {
+        for (path, what, ext) in [(&a.csv, "--csv", "csv"), (&a.markdown, "--markdown", "md")] {
+            if let Some(p) = path {
+                check_extension(p, what, &[ext])?;
+            }
+        }
+        let reports = a
+            .from
+            .iter()
+            .map(read)
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        if let Some(targets) = &targets {
+            for (r, path) in reports.iter().zip(&a.from) {
+                targets.refuse_other_settings(
+                    (r.meta.width, r.meta.height),
+                    &r.meta.run.anti_aliasing,
+                    &path.display().to_string(),
+                )?;
+            }
+        }
+        let runs: Vec<Report> = reports.into_iter().flat_map(Report::into_runs).collect();
+        let report = bench::repeat::merge(runs)?;
+        if a.check.is_none() {
+            super::report(&report.markdown())?;
+        }
+        write_outputs(a, None, &report)?;
+        return judge(&report);
+    }
+    if let Some(files) = &a.compare {
+        let reports = files.iter().map(read).collect::<anyhow::Result<Vec<_>>>()?;
+        super::report(&bench::compare::markdown(&reports))?;
         #[cfg(feature = "bench-plots")]
         if let Some(path) = &a.plot {
-            bench::plot::write_compare_chart(path, &ra, &rb)?;
+            bench::plot::write_compare_chart(path, &reports)?;
             super::output::wrote(path);
         }
         return Ok(());
@@ -177,7 +207,10 @@ pub fn run(
     // Frames as the viewer draws them.
     let options = realtime_context_options(cli);
     let anti_aliasing = if options.temporal {
-        "temporal".to_owned()
+        format!(
+            "temporal, 1 sample a frame at {} jitter positions",
+            crate::frame::temporal::SAMPLES
+        )
     } else {
         format!("multisample, {} samples", options.samples.unwrap_or(1))
     };
@@ -201,9 +234,22 @@ pub fn run(
         warmup: a.warmup,
         size: cli.size,
         reversed: false,
-        run: bench::report::RunInfo::here(&anti_aliasing, a.repeat, &command_line),
+        run: bench::report::RunInfo::here(
+            &anti_aliasing,
+            a.repeat,
+            &command_line,
+            a.label.as_deref().unwrap_or(""),
+        ),
     };
     opts.validate_for(scenes)?;
+    // A run the targets would not judge fairly is refused before it starts.
+    if let Some(targets) = &targets {
+        targets.refuse_other_settings(
+            (cli.size.width, cli.size.height),
+            &anti_aliasing,
+            "this run",
+        )?;
+    }
     let ctx = open_context_with(cli, &options)?;
     let start = std::time::Instant::now();
     let mut step = 0usize;
@@ -236,6 +282,17 @@ pub fn run(
     } else {
         super::report(&report.markdown())?;
     }
+    write_outputs(a, json_file, &report)?;
+    log::info!("bench took {:.0} s", start.elapsed().as_secs_f64());
+    judge(&report)
+}
+
+/// The report's files: --json (to `json_file`), --markdown, --csv and --plot.
+fn write_outputs(
+    a: &BenchArgs,
+    json_file: Option<&PathBuf>,
+    report: &crate::bench::report::Report,
+) -> anyhow::Result<()> {
     let reports = [
         (json_file, Some(report.to_json())),
         (a.markdown.as_ref(), Some(report.markdown())),
@@ -252,9 +309,8 @@ pub fn run(
     }
     #[cfg(feature = "bench-plots")]
     if let Some(path) = &a.plot {
-        bench::plot::write_chart(path, &report)?;
+        crate::bench::plot::write_chart(path, report)?;
         super::output::wrote(path);
     }
-    log::info!("bench took {:.0} s", start.elapsed().as_secs_f64());
-    judge(&report)
+    Ok(())
 }

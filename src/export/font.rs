@@ -33,15 +33,24 @@ pub fn text_width(label: &str, size: f32) -> f32 {
     width
 }
 
-/// Draws `label` centred at `cx`, its top (the font's ascent) at `top`, `size` pixels
-/// high, blended by coverage (anti-aliased).
-pub fn text(img: &mut RgbaImage, label: &str, cx: f64, top: f64, size: f32, color: [u8; 3]) {
+/// The height of a line of text at `size` pixels: the font's ascent to its descent.
+pub fn line_height(size: f32) -> f32 {
+    face().map_or(size, |face| {
+        let scaled = face.as_scaled(PxScale::from(size));
+        scaled.ascent() - scaled.descent()
+    })
+}
+
+/// Rasterises `label` at `size` pixels, kerned, each glyph at its own bearing, the pen
+/// starting at `origin` (x, and y of the font's ascent line, so the line spans
+/// `origin.1..origin.1 + line_height(size)`): hands `put(x, y, coverage)` every
+/// covered pixel.
+pub fn coverage(label: &str, size: f32, origin: (f32, f32), put: &mut dyn FnMut(i32, i32, f32)) {
     let Some(face) = face() else { return };
     let scaled = face.as_scaled(PxScale::from(size));
-    let baseline = top as f32 + scaled.ascent();
-    let mut x = cx as f32 - 0.5 * text_width(label, size);
+    let baseline = origin.1 + scaled.ascent();
+    let mut x = origin.0;
     let mut previous = None;
-    let (w, h) = (img.width() as i32, img.height() as i32);
     for c in label.chars() {
         let id = scaled.glyph_id(c);
         if let Some(p) = previous {
@@ -55,21 +64,32 @@ pub fn text(img: &mut RgbaImage, label: &str, cx: f64, top: f64, size: f32, colo
         };
         let bounds = outline.px_bounds();
         outline.draw(|gx, gy, cover| {
-            let (px, py) = (
-                bounds.min.x as i32 + gx as i32,
-                bounds.min.y as i32 + gy as i32,
-            );
-            if px < 0 || py < 0 || px >= w || py >= h || cover <= 0.0 {
-                return;
-            }
-            let p = img.get_pixel_mut(px as u32, py as u32);
-            let cover = cover.min(1.0);
-            for (channel, &ink) in p.0.iter_mut().zip(&color) {
-                let v = f32::from(*channel) + (f32::from(ink) - f32::from(*channel)) * cover;
-                *channel = v.round() as u8;
+            if cover > 0.0 {
+                put(
+                    bounds.min.x as i32 + gx as i32,
+                    bounds.min.y as i32 + gy as i32,
+                    cover.min(1.0),
+                );
             }
         });
     }
+}
+
+/// Draws `label` centred at `cx`, its top (the font's ascent) at `top`, `size` pixels
+/// high, blended by coverage (anti-aliased).
+pub fn text(img: &mut RgbaImage, label: &str, cx: f64, top: f64, size: f32, color: [u8; 3]) {
+    let left = cx as f32 - 0.5 * text_width(label, size);
+    let (w, h) = (img.width() as i32, img.height() as i32);
+    coverage(label, size, (left, top as f32), &mut |px, py, cover| {
+        if px < 0 || py < 0 || px >= w || py >= h {
+            return;
+        }
+        let p = img.get_pixel_mut(px as u32, py as u32);
+        for (channel, &ink) in p.0.iter_mut().zip(&color) {
+            let v = f32::from(*channel) + (f32::from(ink) - f32::from(*channel)) * cover;
+            *channel = v.round() as u8;
+        }
+    });
 }
 
 #[cfg(test)]

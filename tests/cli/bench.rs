@@ -62,12 +62,14 @@ fn a_small_run_writes_its_reports_and_compares_with_itself() {
     common::cli::assert_success(&out, "sediment");
     let rows: Vec<&str> = table
         .lines()
-        .filter(|l| l.starts_with("| ") && !l.starts_with("| scene"))
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| series"))
         .collect();
     assert!(rows.len() >= 3, "{table}");
+    // A report over itself: every ratio 1, none a detectable difference.
     assert!(
-        rows.iter()
-            .all(|r| r.ends_with("| 1.00 |") || r.ends_with("| - |")),
+        rows.iter().all(|r| r.contains("| 1.000")
+            && (r.ends_with("| no detectable difference |")
+                || r.ends_with("| no frames to judge |"))),
         "{table}"
     );
     std::fs::remove_dir_all(&dir).expect("clean up");
@@ -95,7 +97,7 @@ fn bad_input_is_named_and_nothing_is_written() {
             vec!["bench", "--repeat", "0", "--json", json.as_str()],
             "--repeat",
         ),
-        (vec!["bench", "--from", json.as_str()], "--check"),
+        (vec!["bench", "--from", json.as_str()], "Could not read"),
         (
             vec!["bench", "--compare", text.as_str(), text.as_str()],
             "not a sediment bench report",
@@ -218,5 +220,151 @@ fn repeated_runs_are_judged_against_a_targets_file() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no variant \"depth-50\""));
     assert!(!std::path::Path::new(&s("bad.json")).exists());
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// Issue 45: two labelled runs compared with intervals and verdicts, the comparison
+/// charted; reports that say how they were made; the CSV with the Markdown's columns;
+/// charts redrawn from saved reports; targets refused at another size.
+#[test]
+fn runs_compare_with_intervals_under_their_labels_and_targets_refuse_other_sizes() {
+    let dir = scratch("bench-compare");
+    let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    for (name, label) in [("a.json", "before"), ("b.json", "after")] {
+        let out = sediment(&[
+            "bench",
+            "cave",
+            "--variants",
+            "depth-5",
+            "--frames",
+            "6",
+            "--warmup",
+            "1",
+            "--size",
+            "64x48",
+            "--json",
+            &s(name),
+            "--label",
+            label,
+            "--validate",
+        ]);
+        common::cli::assert_success(&out, "sediment bench");
+    }
+    let meta: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(s("a.json")).expect("a.json")).expect("json");
+    let meta = &meta["meta"];
+    for key in [
+        "device",
+        "driver",
+        "vulkan",
+        "sediment_version",
+        "git_commit",
+        "width",
+        "height",
+        "frames",
+        "warmup",
+        "threads",
+    ] {
+        assert!(!meta[key].is_null(), "meta.{key}");
+    }
+    for key in [
+        "date_utc",
+        "host_cpu",
+        "host_cores",
+        "os",
+        "anti_aliasing",
+        "repeat",
+        "command_line",
+    ] {
+        assert!(!meta["run"][key].is_null(), "meta.run.{key}");
+    }
+    assert_eq!(meta["run"]["label"], "before");
+    assert!(
+        meta["run"]["command_line"]
+            .as_str()
+            .is_some_and(|c| c.starts_with("sediment bench cave")),
+        "{meta}"
+    );
+    let out = sediment(&[
+        "bench",
+        "--compare",
+        &s("a.json"),
+        &s("b.json"),
+        &s("a.json"),
+        "--plot",
+        &s("c.svg"),
+    ]);
+    let table = common::cli::assert_success(&out, "sediment bench --compare");
+    assert!(
+        table.contains("**before**")
+            && table.contains("**after**")
+            && table.contains("**before (2)**"),
+        "{table}"
+    );
+    assert!(table.contains("### after over before") && table.contains("ratio [95 % CI]"));
+    let rows: Vec<&str> = table
+        .lines()
+        .filter(|l| l.starts_with("| cave / depth-5 | frame |"))
+        .collect();
+    assert_eq!(rows.len(), 2, "{table}");
+    for r in &rows {
+        // "| 1.023 [0.981, 1.070] | 1.010 [0.950, 1.080] | verdict |"
+        assert_eq!(
+            r.matches('[').count(),
+            2,
+            "an interval for raw and x floor: {r}"
+        );
+        assert!(
+            ["no detectable difference", "faster", "slower"]
+                .iter()
+                .any(|v| r.ends_with(&format!("| {v} |"))),
+            "{r}"
+        );
+    }
+    let svg = std::fs::read_to_string(s("c.svg")).expect("chart");
+    assert!(svg.contains("cave / depth-5: frame") && svg.contains("first: before"));
+    // Charts, CSV and Markdown again from the saved reports, without running.
+    let out = sediment(&[
+        "bench",
+        "--from",
+        &s("a.json"),
+        "--plot",
+        &s("p.png"),
+        "--csv",
+        &s("a.csv"),
+    ]);
+    let markdown = common::cli::assert_success(&out, "sediment bench --from");
+    assert!(
+        markdown.contains("| cave | depth-5 | frame |"),
+        "{markdown}"
+    );
+    let csv = std::fs::read_to_string(s("a.csv")).expect("csv");
+    assert!(
+        csv.starts_with(
+            "scene,variant,pass,gpu_min_ms,gpu_median_ms,gpu_p95_ms,cpu_median_ms,x_floor,samples"
+        ),
+        "{csv}"
+    );
+    assert_eq!(image::open(s("p.png")).expect("chart").width(), 1050);
+    // The repository's targets were set at 720x480: a 240x160 run is refused before
+    // it starts, and a saved 64x48 report is refused by its file name.
+    let targets = concat!(env!("CARGO_MANIFEST_DIR"), "/targets.toml");
+    for (args, names) in [
+        (
+            vec!["bench", "--check", targets, "--size", "240x160"],
+            ["720x480", "this run is 240x160"],
+        ),
+        (
+            vec!["bench", "--check", targets, "--from", &s("a.json")],
+            ["720x480", "a.json is 64x48"],
+        ),
+    ] {
+        let out = sediment(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        for name in names {
+            assert!(err.contains(name), "{name} in {err}");
+        }
+    }
     std::fs::remove_dir_all(&dir).expect("clean up");
 }

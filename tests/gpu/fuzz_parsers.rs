@@ -203,7 +203,7 @@ fn mutated_bench_reports_and_targets_never_panic() {
                 warmup: 1,
                 size: sediment::Size::new(64, 48),
                 reversed: false,
-                run: bench::report::RunInfo::here("temporal", 1, "fuzz"),
+                run: bench::report::RunInfo::here("temporal", 1, "fuzz", ""),
             },
             &mut |_| {},
         )
@@ -217,7 +217,7 @@ fn mutated_bench_reports_and_targets_never_panic() {
         let mutated = mutate(&json, &mut rng);
         let outcome = std::panic::catch_unwind(|| {
             Report::from_json(&mutated).map(|r| {
-                let table = bench::report::compare(&report, &r);
+                let table = bench::compare::markdown(&[report.clone(), r.clone()]);
                 (r, table)
             })
         });
