@@ -65,16 +65,21 @@ pub struct Row {
     pub b_ms: f64,
     /// b / a of the GPU medians.
     pub raw: Ratio,
-    /// b / a of the medians as multiples of each run's own floor (the frame only,
-    /// where both reports have their floor).
+    /// b / a of the medians as multiples of each run's own floor, where both reports
+    /// have their floor.
     pub x_floor: Option<Ratio>,
 }
 
 impl Row {
-    /// The ratio a verdict is read from: the x-floor one where there is one (it
-    /// cancels the machine's drift), else the raw one.
+    /// The ratio a verdict is read from: for a whole frame the x-floor one where
+    /// there is one (it cancels the machine's drift), else the raw one. A pass is
+    /// judged raw: the floor is a whole frame of fill, and a pass of geometry work
+    /// (the ring growth) need not follow it when the machine's speed drifts.
     pub fn judged(&self) -> &Ratio {
-        self.x_floor.as_ref().unwrap_or(&self.raw)
+        match &self.x_floor {
+            Some(x) if self.pass == "frame" => x,
+            _ => &self.raw,
+        }
     }
 
     /// "no detectable difference", "b is faster" or "b is slower".
@@ -190,6 +195,17 @@ fn frames_of<'a>(report: &Report, s: &'a SeriesResult) -> Frames<'a> {
     }
 }
 
+/// A pass's frames `ms` of `s`, paired with the series' floor frames as the frame's
+/// are (where it ran in every frame).
+fn pass_frames<'a>(report: &Report, s: &'a SeriesResult, ms: &'a [f64]) -> Frames<'a> {
+    let whole = frames_of(report, s);
+    Frames {
+        floor: whole.floor.filter(|f| f.len() == ms.len()),
+        floor_median: whole.floor_median,
+        ms,
+    }
+}
+
 /// Every row `a` and `b` share: each series' frame, then each of its passes, in a's
 /// order. Seeded: the same two reports give the same intervals.
 pub fn rows(a: &Report, b: &Report) -> Vec<Row> {
@@ -220,14 +236,7 @@ pub fn rows(a: &Report, b: &Report) -> Vec<Row> {
             if pa.gpu_ms.median <= 0.0 || sa.passes.len() < 2 {
                 continue;
             }
-            fn frames(ms: &[f64]) -> Frames<'_> {
-                Frames {
-                    ms,
-                    floor: None,
-                    floor_median: None,
-                }
-            }
-            let (raw, _) = if pa.per_frame_ms.is_empty() || pb.per_frame_ms.is_empty() {
+            let (raw, x_floor) = if pa.per_frame_ms.is_empty() || pb.per_frame_ms.is_empty() {
                 let e = pb.gpu_ms.median / pa.gpu_ms.median;
                 let fixed = Ratio {
                     estimate: e,
@@ -238,8 +247,8 @@ pub fn rows(a: &Report, b: &Report) -> Vec<Row> {
                 (fixed, None)
             } else {
                 ratios(
-                    &frames(&pa.per_frame_ms),
-                    &frames(&pb.per_frame_ms),
+                    &pass_frames(a, sa, &pa.per_frame_ms),
+                    &pass_frames(b, sb, &pb.per_frame_ms),
                     &mut rng,
                 )
             };
@@ -249,7 +258,7 @@ pub fn rows(a: &Report, b: &Report) -> Vec<Row> {
                 a_ms: pa.gpu_ms.median,
                 b_ms: pb.gpu_ms.median,
                 raw,
-                x_floor: None,
+                x_floor,
             });
         }
     }
@@ -322,8 +331,8 @@ pub fn markdown(reports: &[Report]) -> String {
     out.push_str(&format!(
         "\nRatios are the second run's median over the first's, with a {:.0} % bootstrap \
          confidence interval over the frames ({RESAMPLES} resamples); \"x floor\" divides each \
-         run's frames by its own floor first. The verdict reads the x-floor interval where \
-         there is one: an interval that contains 1 is no detectable difference.\n",
+         run's frames by its own floor first. A frame's verdict reads its x-floor interval, a \
+         pass's its raw one: an interval that contains 1 is no detectable difference.\n",
         CONFIDENCE * 100.0
     ));
     let (base, base_name) = (&reports[0], &names[0]);

@@ -579,7 +579,7 @@ fn draw_compare<DB: DrawingBackend>(
     let mut chart = rows_chart(
         &top,
         "ratio of median GPU times",
-        "over the first run (log; below 1: faster)",
+        "over the first: frames x floor, passes raw",
         (lo, hi),
         rows.len() * (others + 1),
     )?;
@@ -996,7 +996,10 @@ mod tests {
         }
         write_compare_chart(&dir.join("x.svg"), &reports).expect("compare");
         let svg = std::fs::read_to_string(dir.join("x.svg")).expect("read");
-        assert!(svg.contains("grow / xfb-append: frame") && svg.contains("over the first run"));
+        assert!(
+            svg.contains("grow / xfb-append: frame")
+                && svg.contains("over the first: frames x floor")
+        );
         write_compare_chart(&dir.join("x.png"), &reports).expect("png");
         std::fs::remove_dir_all(&dir).expect("clean up");
     }
