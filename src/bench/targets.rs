@@ -160,9 +160,9 @@ impl Targets {
                 return Err(Error::invalid(
                     "--check",
                     format!(
-                        "target \"{}\" was set at {} with {} anti-aliasing; {what} is {width}x{height} \
-                         with {} anti-aliasing: run the bench at the target's settings (the global \
-                         --size, --anti-aliasing and --samples)",
+                        "target \"{}\" was set at {}, anti-aliasing \"{}\"; {what} is \
+                         {width}x{height}, anti-aliasing \"{}\": run the bench at the target's \
+                         settings (the global --size, --anti-aliasing and --samples)",
                         t.name,
                         t.size.as_deref().unwrap_or("any size"),
                         t.anti_aliasing.as_deref().unwrap_or("any"),

@@ -458,19 +458,6 @@ fn heightmaps_keep_their_heights_in_png_json_and_exr() {
 #[test]
 fn parts_and_materials_have_one_name_in_gltf_and_obj_across_scenes() {
     let dir = scratch("export-names");
-    let small_dunes = [
-        "dunes",
-        "--preset",
-        "fig17",
-        "--ripple-size",
-        "64",
-        "--ripple-steps",
-        "20",
-        "--dune-size",
-        "32",
-        "--dune-steps",
-        "40",
-    ];
     let runs: [(&str, Vec<&str>); 5] = [
         ("grow", vec!["grow", "--preset", "fig9g"]),
         ("cave", vec!["cave", "--preset", "fig8", "--depth", "5"]),
@@ -478,7 +465,7 @@ fn parts_and_materials_have_one_name_in_gltf_and_obj_across_scenes() {
             "cave_grown",
             vec!["cave", "--depth", "5", "--speleothems", "grown"],
         ),
-        ("dunes", small_dunes.to_vec()),
+        ("dunes", common::cli::SMALL_DUNES.to_vec()),
         ("layers", vec!["layers", "--rep", "60"]),
     ];
     let identifier = |n: &str| {

@@ -137,21 +137,10 @@ fn every_scene_reports_what_it_made_as_json() {
 
     // dunes: the heights the heightmap's sidecar gives.
     let map = dir.join("h.png");
-    let (dunes, _) = report(&[
-        "dunes",
-        "--preset",
-        "fig17",
-        "--ripple-size",
-        "64",
-        "--ripple-steps",
-        "20",
-        "--dune-size",
-        "32",
-        "--dune-steps",
-        "40",
-        "--heightmap",
-        &s(&map),
-    ]);
+    let map_arg = s(&map);
+    let mut args = common::cli::SMALL_DUNES.to_vec();
+    args.extend(["--heightmap", &map_arg]);
+    let (dunes, _) = report(&args);
     let sidecar: Value =
         serde_json::from_slice(&std::fs::read(dir.join("h.json")).expect("sidecar")).expect("json");
     let field = &dunes["made"]["dune_field"];

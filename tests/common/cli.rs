@@ -83,3 +83,19 @@ pub fn assert_each_refused(command: &str, png: &str, cases: &[(Vec<&str>, &str)]
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }
 }
+
+/// A small fig17 desert (32 dune cells, a 64-texel ripple tile, few steps): the dunes
+/// for tests of what a run writes rather than of the simulation.
+pub const SMALL_DUNES: [&str; 11] = [
+    "dunes",
+    "--preset",
+    "fig17",
+    "--ripple-size",
+    "64",
+    "--ripple-steps",
+    "20",
+    "--dune-size",
+    "32",
+    "--dune-steps",
+    "40",
+];
