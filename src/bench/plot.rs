@@ -3,7 +3,7 @@
 //! least 9 pt when printed so, Okabe & Ito's colour-blind-safe palette with one colour
 //! per variant (the same in every panel), light grids, legends below the data. Text is
 //! the bundled DejaVu Sans: in SVG by name, in PNG rasterised by sediment itself
-//! ([`Kerned`]), each glyph at its own bearing (plotters' bitmap text drops the left
+//! (`Kerned`), each glyph at its own bearing (plotters' bitmap text drops the left
 //! side bearings and reads "1 3.1 3" for "13.13").
 //! - [`write_chart`]: per scene, each variant's GPU frame time over the frames (grow:
 //!   over its growth passes); every series' median as a multiple of its floor with
