@@ -336,9 +336,9 @@ impl Asset {
             if m.colors.as_ref().is_some_and(|c| c.len() != n) {
                 return bad("one colour per vertex");
             }
-            if let Some(s) = &m.surface
-                && (s.normal_uv.len() != n || s.color_uv.len() != n || s.tangents.len() != n)
-            {
+            if m.surface.as_ref().is_some_and(|s| {
+                s.normal_uv.len() != n || s.color_uv.len() != n || s.tangents.len() != n
+            }) {
                 return bad("texture coordinates and a tangent per vertex");
             }
             if m.indices

@@ -150,13 +150,13 @@ impl Supply {
     /// Checks that every factor is finite and in 0.05..=20 and that `Steps` has 1 to
     /// 1000 of them.
     pub fn validate(&self) -> Result<()> {
-        if let Supply::Steps(v) = self
-            && v.len() > 1000
-        {
-            return Err(Error::invalid(
-                "--supply",
-                format!("steps: takes at most 1000 factors, not {}", v.len()),
-            ));
+        if let Supply::Steps(v) = self {
+            if v.len() > 1000 {
+                return Err(Error::invalid(
+                    "--supply",
+                    format!("steps: takes at most 1000 factors, not {}", v.len()),
+                ));
+            }
         }
         let ok = |v: f64| v.is_finite() && (0.05..=20.0).contains(&v);
         let good = match self {

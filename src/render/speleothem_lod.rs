@@ -140,10 +140,11 @@ impl CaptureLod {
                 .iter()
                 .filter_map(|&v| self.index.vertex(v).copied())
                 .collect();
-            if let Some(buffer) = &mut drawn.vertices
-                && !changed.is_empty()
-            {
-                buffer.write((from * stride) as u64, &changed)?;
+            // Nested, not a let-chain: the crate's MSRV (1.85) predates them.
+            if let Some(buffer) = &mut drawn.vertices {
+                if !changed.is_empty() {
+                    buffer.write((from * stride) as u64, &changed)?;
+                }
             }
         }
         // Nearest first: the depth test then rejects what near speleothems hide

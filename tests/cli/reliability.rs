@@ -273,14 +273,12 @@ fn peak_rss_mb(args: &[&str]) -> f64 {
     let status = format!("/proc/{}/status", child.id());
     let mut peak_kb = 0u64;
     loop {
-        if let Ok(text) = std::fs::read_to_string(&status)
-            && let Some(kb) = text
-                .lines()
+        let kb = std::fs::read_to_string(&status).ok().and_then(|text| {
+            text.lines()
                 .find_map(|l| l.strip_prefix("VmHWM:"))
                 .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
-        {
-            peak_kb = peak_kb.max(kb);
-        }
+        });
+        peak_kb = peak_kb.max(kb.unwrap_or(0));
         if let Some(done) = child.try_wait().expect("wait") {
             assert!(done.success(), "sediment {args:?} failed");
             return peak_kb as f64 / 1024.0;
