@@ -7,16 +7,16 @@ use crate::common;
 
 use common::cli::{scratch, sediment};
 
-/// `sediment bench` of the cave at octree depth 5 alone, 2 measured frames after
-/// `warmup` at `size`, with `extra` options and validation on.
-fn depth5_bench(warmup: &str, size: &str, extra: &[&str]) -> std::process::Output {
+/// `sediment bench` of the cave at octree depth 5 alone, `frames` measured frames
+/// after `warmup` at `size`, with `extra` options and validation on.
+fn depth5_bench(frames: &str, warmup: &str, size: &str, extra: &[&str]) -> std::process::Output {
     let mut args = vec![
         "bench",
         "cave",
         "--variants",
         "depth-5",
         "--frames",
-        "2",
+        frames,
         "--warmup",
         warmup,
         "--size",
@@ -32,6 +32,7 @@ fn a_small_run_writes_its_reports_and_compares_with_itself() {
     let dir = scratch("bench");
     let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
     let out = depth5_bench(
+        "2",
         "1",
         "64x48",
         &[
@@ -144,6 +145,7 @@ fn repeated_runs_are_judged_against_a_targets_file() {
     .expect("write");
     let bench = |check: &str, json: &str| {
         depth5_bench(
+            "2",
             "0",
             "32x24",
             &["--repeat", "3", "--json", &s(json), "--check", &s(check)],
@@ -231,23 +233,7 @@ fn runs_compare_with_intervals_under_their_labels_and_targets_refuse_other_sizes
     let dir = scratch("bench-compare");
     let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
     for (name, label) in [("a.json", "before"), ("b.json", "after")] {
-        let out = sediment(&[
-            "bench",
-            "cave",
-            "--variants",
-            "depth-5",
-            "--frames",
-            "6",
-            "--warmup",
-            "1",
-            "--size",
-            "64x48",
-            "--json",
-            &s(name),
-            "--label",
-            label,
-            "--validate",
-        ]);
+        let out = depth5_bench("6", "1", "64x48", &["--json", &s(name), "--label", label]);
         common::cli::assert_success(&out, "sediment bench");
     }
     let meta: serde_json::Value =
