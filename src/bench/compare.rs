@@ -36,6 +36,16 @@ pub struct Ratio {
 }
 
 impl Ratio {
+    /// `estimate` with no interval (no frames to resample).
+    fn fixed(estimate: f64) -> Self {
+        Ratio {
+            estimate,
+            low: estimate,
+            high: estimate,
+            resampled: false,
+        }
+    }
+
     /// Whether the interval excludes 1: the two runs differ beyond their frames'
     /// spread.
     pub fn detectable(&self) -> bool {
@@ -131,14 +141,8 @@ fn ratios(a: &Frames<'_>, b: &Frames<'_>, rng: &mut Rng) -> (Ratio, Option<Ratio
     };
     let raw_estimate = raw_of(ma, mb);
     let floor_estimate = floor_of(ma, fa, mb, fb);
-    let fixed = |estimate: f64| Ratio {
-        estimate,
-        low: estimate,
-        high: estimate,
-        resampled: false,
-    };
     if a.ms.len() < 2 || b.ms.len() < 2 {
-        return (fixed(raw_estimate), floor_estimate.map(fixed));
+        return (Ratio::fixed(raw_estimate), floor_estimate.map(Ratio::fixed));
     }
     let mut raws = Vec::with_capacity(RESAMPLES);
     let mut floors = Vec::with_capacity(RESAMPLES);
@@ -161,7 +165,7 @@ fn ratios(a: &Frames<'_>, b: &Frames<'_>, rng: &mut Rng) -> (Ratio, Option<Ratio
     let interval = |estimate: f64, mut v: Vec<f64>| {
         v.retain(|x| x.is_finite());
         if v.len() < RESAMPLES / 2 {
-            return fixed(estimate);
+            return Ratio::fixed(estimate);
         }
         v.sort_by(f64::total_cmp);
         let tail = (1.0 - CONFIDENCE) / 2.0;
@@ -237,14 +241,7 @@ pub fn rows(a: &Report, b: &Report) -> Vec<Row> {
                 continue;
             }
             let (raw, x_floor) = if pa.per_frame_ms.is_empty() || pb.per_frame_ms.is_empty() {
-                let e = pb.gpu_ms.median / pa.gpu_ms.median;
-                let fixed = Ratio {
-                    estimate: e,
-                    low: e,
-                    high: e,
-                    resampled: false,
-                };
-                (fixed, None)
+                (Ratio::fixed(pb.gpu_ms.median / pa.gpu_ms.median), None)
             } else {
                 ratios(
                     &pass_frames(a, sa, &pa.per_frame_ms),

@@ -345,6 +345,7 @@ pub fn run(g: &Globals, def: &dyn AnyScene, m: &ArgMatches) -> anyhow::Result<()
         timing_frames: m.get_one::<u32>("timing-frames").copied().unwrap_or(0),
         forming_frames: frames,
         outputs,
+        made: json.is_some(),
     };
     let reports_only = request
         .outputs

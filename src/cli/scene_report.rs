@@ -57,7 +57,7 @@ pub fn report(run: &Run<'_>, rendered: &Rendered) -> Value {
         "scene": run.scene,
         "preset": run.preset,
         "size_px": [run.size.width, run.size.height],
-        "made": rendered.made,
+        "made": rendered.made.clone().unwrap_or_else(|| json!({})),
         "mesh": rendered.asset.as_ref().map(mesh),
         "files": run
             .files

@@ -31,6 +31,8 @@ pub struct Request {
     pub forming_frames: Option<u32>,
     /// The scene's own files (`SceneDef::outputs`) and where they go.
     pub outputs: Vec<(OutputDef, Option<PathBuf>)>,
+    /// Say what the model made ([`super::SceneDef::made`], for `--json`).
+    pub made: bool,
 }
 
 /// What a headless run made.
@@ -47,8 +49,8 @@ pub struct Rendered {
     pub wall_ms: f64,
     /// Wall-clock milliseconds of the CPU model (simulation, generation, planning).
     pub model_ms: f64,
-    /// What the model made ([`super::SceneDef::made`]).
-    pub made: serde_json::Value,
+    /// What the model made ([`super::SceneDef::made`]), if asked for.
+    pub made: Option<serde_json::Value>,
 }
 
 /// Draws `scene` from each camera at each time, a picture each, handed to `on_shot`
@@ -104,7 +106,10 @@ pub fn render(
     let start = Instant::now();
     let model: AnyModel = def.model(resolved, progress)?;
     let model_ms = start.elapsed().as_secs_f64() * 1e3;
-    let made = def.made(resolved, &model)?;
+    let made = request
+        .made
+        .then(|| def.made(resolved, &model))
+        .transpose()?;
     let mut written = Vec::new();
     let replaces = request
         .outputs
