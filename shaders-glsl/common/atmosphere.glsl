@@ -10,15 +10,22 @@ const uint VIEW_SAMPLES = 32u;
 const uint SUN_SAMPLES = 12u;
 const uint MS_SIZE = 32u;
 
+// The ozone layer's tent (model::atmosphere::OZONE_PEAK_M, OZONE_HALF_WIDTH_M).
+const float OZONE_PEAK_M = 25000.0;
+const float OZONE_HALF_WIDTH_M = 15000.0;
+
 struct Air {
     vec4 rayleigh;  // rgb scattering per metre at the ground, w scale height
     vec4 mie;       // x scattering, y extinction per metre at the ground, z scale height, w g
     vec4 ground;    // rgb albedo, w ground radius
     vec4 sun;       // rgb irradiance above the air, w top radius
+    vec4 ozone;     // rgb absorption per metre at the layer's peak, w unused
 };
 
 vec3 air_extinction(Air a, float h) {
-    return a.rayleigh.rgb * exp(-h / a.rayleigh.w) + vec3(a.mie.y * exp(-h / a.mie.z));
+    float ozone = max(1.0 - abs(h - OZONE_PEAK_M) / OZONE_HALF_WIDTH_M, 0.0);
+    return a.rayleigh.rgb * exp(-h / a.rayleigh.w) + vec3(a.mie.y * exp(-h / a.mie.z))
+        + a.ozone.rgb * ozone;
 }
 
 float rayleigh_phase(float mu) {

@@ -59,7 +59,7 @@ void main() {
     }
     // Field by field: copying the push-constant struct whole is an OpCopyLogical,
     // which naga does not read.
-    Air a = Air(pc.air.rayleigh, pc.air.mie, pc.air.ground, pc.air.sun);
+    Air a = Air(pc.air.rayleigh, pc.air.mie, pc.air.ground, pc.air.sun, pc.air.ozone);
     float u = (float(id.x) + 0.5) / float(pc.size.x);
     float v = (float(id.y) + 0.5) / float(pc.size.y);
     float e = elevation_of_v(v);

@@ -3,7 +3,9 @@
 // own LOD chain, tilted into the dune surface's frame), sand grain under the bump map,
 // dune shadows from the precomputed shadow map (3.4), ripple shadows from the horizon
 // map (3.5), sun and sky light from the atmosphere (src/model/atmosphere.rs) and its
-// aerial perspective, tone mapping.
+// aerial perspective, tone mapping. Beyond the paper: the sky's light from every
+// direction through the dunes' sky occlusion and bent normals (src/model/sky_light.rs),
+// and the sand's specular sheen and grain glints.
 #extension GL_GOOGLE_include_directive : require
 #include "atmosphere.glsl"
 #include "tonemap.glsl"
@@ -32,6 +34,21 @@ layout(set = 0, binding = 6) uniform texture2D detail_map;      // footprints: s
 layout(set = 0, binding = 7, std430) readonly buffer Levels {
     float level[];
 } quads;
+// One period of the field's sky occlusion: rgb the bent normal's departure from an
+// open point's (n * 0.5 + 0.5), a the share of the open sky the point sees.
+layout(set = 0, binding = 8) uniform texture2D sky_occlusion;
+// The sky's irradiance over pi (SkyIrradiance) as nine spherical harmonics,
+// cosine-convolved (the whole sphere, sand below the horizon, without the circumsolar
+// sky), the radiance of the sand that hides the sky from an occluded point, and the
+// circumsolar sky as a wide sun (render::dune_surface::DuneSkyLight).
+layout(set = 0, binding = 9) uniform SkyLight {
+    vec4 sh[9];
+    vec4 occluder;
+    vec4 circumsolar;            // rgb irradiance over pi facing it
+    vec4 circumsolar_direction;  // xyz
+} skylight;
+// The ripple tile's sky visibility as mips beside ripple_normals (sky_visibility_chain).
+layout(set = 0, binding = 10) uniform texture2D ripple_sky;
 
 // The pass's switches, fixed per pipeline (render::dune_surface::DuneSwitches): a CPU
 // rasteriser runs both sides of a branch on a uniform, so a switched-off pass such as
@@ -43,6 +60,8 @@ layout(constant_id = 3) const bool DUNE_SHADOWS_MARCHED = false;  // per pixel, 
 layout(constant_id = 4) const bool RIPPLE_SHADOWS = true;
 layout(constant_id = 5) const bool FOOTPRINTS = false;
 layout(constant_id = 6) const bool SHADOW_MASK = false;    // the dune-shadow term alone (tests)
+layout(constant_id = 7) const bool SKY_OCCLUSION = true;   // else every point sees all the sky
+layout(constant_id = 8) const bool SPARKLE = true;         // specular sheen and grain glints
 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
@@ -109,6 +128,58 @@ float march_dune_shadow(vec3 world, vec3 l) {
     return 1.0;
 }
 
+// The sky's irradiance over pi on a surface facing unit direction d
+// (model::sky_light::sh_basis; the harmonics' z axis is world y).
+vec3 sky_irradiance(vec3 d) {
+    float x = d.x;
+    float y = d.z;
+    float z = d.y;
+    vec3 e = skylight.sh[0].rgb * 0.282095
+        + skylight.sh[1].rgb * (0.488603 * y)
+        + skylight.sh[2].rgb * (0.488603 * z)
+        + skylight.sh[3].rgb * (0.488603 * x)
+        + skylight.sh[4].rgb * (1.092548 * x * y)
+        + skylight.sh[5].rgb * (1.092548 * y * z)
+        + skylight.sh[6].rgb * (0.315392 * (3.0 * z * z - 1.0))
+        + skylight.sh[7].rgb * (1.092548 * x * z)
+        + skylight.sh[8].rgb * (0.546274 * (x * x - y * y));
+    return max(e, vec3(0.0));
+}
+
+// Sand's specular: quartz's Fresnel (index 1.54: F0 0.045, Schlick) on grains whose
+// facets spread as GGX with this roughness (Walter et al. 2007). Seen toward a low
+// sun it is the sheen on the slopes and the bright rim of back-lit crests.
+const float SAND_F0 = 0.045;
+const float SAND_ROUGHNESS = 0.45;
+// Glints (after Journey's sand, Edwards 2013): facets on a lattice at least this fine
+// (metres), coarsened by powers of two to the pixel's footprint so that a glint is a
+// pixel or more wherever it is, as a camera sees a sunlit grain that outshines the
+// rest of its pixel; a share of the cells hold a facet tilted up to GLINT_TILT from
+// the surface, which mirrors the sun when it lies within GLINT_ANGLE (radians) of the
+// half vector.
+const float GLINT_CELL_M = 0.015;
+const float GLINT_TILT = 0.35;
+const float GLINT_ANGLE = 0.05;
+const float GLINT_SHARE = 0.3;
+
+float fresnel(float vh) {
+    return SAND_F0 + (1.0 - SAND_F0) * pow(1.0 - vh, 5.0);
+}
+
+// Three uniform numbers in [0, 1) for an integer lattice cell (PCG-style hash).
+vec3 hash3(ivec2 c) {
+    uvec3 v = uvec3(uint(c.x), uint(c.y), uint(c.x) ^ uint(c.y) * 747796405u);
+    v = v * 1664525u + 1013904223u;
+    v.x += v.y * v.z;
+    v.y += v.z * v.x;
+    v.z += v.x * v.y;
+    v ^= v >> 16u;
+    v.x += v.y * v.z;
+    v.y += v.z * v.x;
+    v.z += v.x * v.y;
+    return vec3(v & 0xFFFFFFu) / 16777216.0;
+}
+
 // A unit normal from its two bytes (`n * 0.5 + 0.5`) across the surface; the third
 // component points out of it.
 vec3 unpack_normal(vec2 across) {
@@ -133,13 +204,18 @@ void main() {
     // paper's level per quad from its projected area (--lod-choice quad); off: level 0.
     // (Stored as 8-bit unorm, n * 0.5 + 0.5: see DuneTextures::new.)
     vec4 r;
+    float ripple_seen = 1.0;  // the share of sky the ripples leave a point
     // (Nested: naga reads no expression of specialization constants.)
     if (LOD_ON) {
         if (LOD_PER_QUAD) {
             int side = 3 * int(dune.detail.w);
             ivec2 q = clamp(ivec2(floor((in_world.xz + dune.tile.w) / (dune.tile.w / dune.detail.w))),
                             ivec2(0), ivec2(side - 1));
-            r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, quads.level[q.y * side + q.x]);
+            float level = quads.level[q.y * side + q.x];
+            r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, level);
+            if (SKY_OCCLUSION) {
+                ripple_seen = textureLod(sampler2D(ripple_sky, repeat_sampler), uv, level).r;
+            }
         } else {
             // The sampler's level is isotropic: it follows the longer axis of the
             // pixel's footprint, which on sand seen at a grazing angle is several
@@ -149,9 +225,19 @@ void main() {
             // Under temporal anti-aliasing each frame's sample filters over its share
             // of the pixel (frame.params.z, `Jitter::lod_bias`).
             r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25 + frame.params.z);
+            if (SKY_OCCLUSION) {
+                ripple_seen = texture(sampler2D(ripple_sky, repeat_sampler), uv, -1.25 + frame.params.z).r;
+            }
         }
     } else {
         r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0);
+        if (SKY_OCCLUSION) {
+            ripple_seen = textureLod(sampler2D(ripple_sky, repeat_sampler), uv, 0.0).r;
+        }
+    }
+    // All the sky where the ripples are not drawn (and where they are trodden, below).
+    if (dune.tile.y <= 0.0) {
+        ripple_seen = 1.0;
     }
     vec3 ripple = unpack_normal(r.rg);
     // Footprints (Sumner et al. 1998) in their detail field: the soles trod the ripples
@@ -171,6 +257,7 @@ void main() {
         }
     }
     ripple = normalize(vec3(ripple.xy * dune.tile.y * (1.0 - trodden), max(ripple.z, 1e-3)));
+    ripple_seen = mix(ripple_seen, 1.0, trodden);
     // Back from tile to world orientation, then into the dune frame (tilted normal).
     vec2 rxy = vec2(c.x * ripple.x - c.y * ripple.y, c.y * ripple.x + c.x * ripple.y);
     vec3 n = normalize(t * rxy.x + b * rxy.y + nd * ripple.z);
@@ -187,6 +274,9 @@ void main() {
             lit *= field.b;
         }
     }
+    // The circumsolar sky is hidden by the dunes that hide the sun (the ripples'
+    // shadows are narrower than it).
+    float lit_dune = lit;
     if (SHADOW_MASK) {
         // The dune-shadow term alone (red), marked as terrain (blue, no green): the
         // map and the per-pixel march compared pixel by pixel.
@@ -212,9 +302,49 @@ void main() {
     float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z,
                           frame.params.z).r;
     vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain);
-    // Sky light: the hemisphere's zenith and ground colours (per frame, not per pixel).
-    vec3 ambient = mix(frame.ground_color.rgb, frame.sky_color.rgb, 0.5 + 0.5 * n.y);
-    vec3 hdr = albedo * (frame.sun_color.rgb * max(dot(n, l), 0.0) * lit + ambient);
+    // Sky light: the sky's irradiance from the harmonics, along the bent normal and
+    // scaled by the share of the sky the point sees; where a dune hides the sky, its
+    // sand lights the point instead.
+    vec3 ambient;
+    if (SKY_OCCLUSION) {
+        vec4 occ = texture(sampler2D(sky_occlusion, repeat_sampler), in_world.xz / dune.tile.w);
+        vec3 bent = normalize(n + (occ.rgb * 2.0 - 1.0));
+        float seen = occ.a * ripple_seen;
+        ambient = seen * sky_irradiance(bent)
+            + (1.0 - seen) * (0.5 + 0.5 * n.y) * skylight.occluder.rgb;
+    } else {
+        ambient = sky_irradiance(n);
+    }
+    ambient += skylight.circumsolar.rgb * max(dot(n, skylight.circumsolar_direction.xyz), 0.0)
+        * lit_dune;
+    float nl = max(dot(n, l), 0.0);
+    vec3 hdr = albedo * (frame.sun_color.rgb * nl * lit + ambient);
+    if (SPARKLE) {
+        // sun_color is the sunlight's irradiance over pi: a BRDF f gives f pi sun_color n.l.
+        vec3 v = normalize(frame.camera_pos.xyz - in_world);
+        vec3 h = normalize(l + v);
+        float nv = max(dot(n, v), 1e-3);
+        float nh = max(dot(n, h), 0.0);
+        float vh = max(dot(v, h), 0.0);
+        float a2 = SAND_ROUGHNESS * SAND_ROUGHNESS;
+        float dd = nh * nh * (a2 - 1.0) + 1.0;
+        float ggx = a2 / (PI * dd * dd);
+        float k = 0.5 * SAND_ROUGHNESS;
+        float g = nl / (nl * (1.0 - k) + k) * nv / (nv * (1.0 - k) + k);
+        float specular = ggx * g * fresnel(vh) / (4.0 * max(nl, 1e-3) * nv);
+        hdr += frame.sun_color.rgb * (PI * specular * nl * lit);
+        // A glint mirrors the sun's irradiance into the cone of GLINT_ANGLE.
+        float pixel_m = max(length(fwidth(in_world.xz)), 1e-6);
+        float level = max(ceil(log2(pixel_m / GLINT_CELL_M)), 0.0);
+        vec3 cell = hash3(ivec2(floor(in_world.xz / (GLINT_CELL_M * exp2(level))))
+                          + ivec2(int(level) * 7919, 0));
+        if (cell.z < GLINT_SHARE) {
+            vec3 facet = normalize(n + GLINT_TILT * (t * (2.0 * cell.x - 1.0) + b * (2.0 * cell.y - 1.0)));
+            float cone = 2.0 * PI * (1.0 - cos(GLINT_ANGLE));
+            float mirror = smoothstep(cos(GLINT_ANGLE), cos(0.5 * GLINT_ANGLE), dot(facet, h));
+            hdr += frame.sun_color.rgb * (PI * fresnel(vh) / cone * mirror * nl * lit);
+        }
+    }
     // Aerial perspective (surface.vert).
     hdr = hdr * in_transmit + in_inscatter;
     out_color = vec4(tonemap(hdr, frame.params.x), 1.0);

@@ -8,8 +8,10 @@
 //!
 //! Units: metres; radiance relative to a sun of irradiance `sun_irradiance` (the
 //! renderer's scale). Multiple scattering, beyond the paper, is Hillaire's (2020)
-//! approximation ([`Atmosphere::multiple_scattering`]); ozone absorption is not
-//! modelled (it would deepen the twilight sky's blue).
+//! approximation ([`Atmosphere::multiple_scattering`]). So is ozone, which absorbs
+//! without scattering (the Chappuis band, orange to green light): without it the
+//! light that reaches a twilight zenith, having crossed the whole air low and
+//! sideways, is green-grey instead of the deep blue seen at dusk.
 
 use glam::Vec3;
 
@@ -20,8 +22,8 @@ pub struct Atmosphere {
     pub ground_radius_m: f32,
     /// Radius of the top of the atmosphere's shell, where rays leave it, metres.
     pub top_radius_m: f32,
-    /// Rayleigh scattering coefficients at sea level, per metre (RGB at 680, 550,
-    /// 440 nm); Rayleigh scatterers do not absorb, so this is also their extinction.
+    /// Rayleigh scattering coefficients at sea level, per metre (RGB); Rayleigh
+    /// scatterers do not absorb, so this is also their extinction.
     pub rayleigh: Vec3,
     /// Scale height of the air's exponential density fall-off, metres.
     pub rayleigh_height_m: f32,
@@ -38,6 +40,51 @@ pub struct Atmosphere {
     pub ground_albedo: Vec3,
     /// Irradiance of the sun above the atmosphere (RGB).
     pub sun_irradiance: Vec3,
+    /// Ozone's absorption at the peak of its layer, per metre (RGB); the layer is a
+    /// tent [`ozone_density`] peaking at `OZONE_PEAK_M`.
+    pub ozone: Vec3,
+}
+
+/// Rayleigh scattering at sea level at a wavelength of 1 um, per metre: it falls as
+/// the fourth power of the wavelength (Bruneton 2017's `kRayleigh`; 5.802e-6 at 680
+/// nm, 33.1e-6 at 440 nm).
+pub const RAYLEIGH_AT_1_UM: f32 = 1.24062e-6;
+
+/// Rayleigh scattering at sea level in the renderer's three channels, per metre: the
+/// law above at 680, 550 and 440 nm (Hillaire 2020, Bruneton 2017). It varies
+/// smoothly across a channel, and light that crossed much air (a low sun's) is carried
+/// by each channel's least scattered wavelengths, which a single wavelength near the
+/// channel's long end stands for. (Averaged over the channels' colour matching
+/// functions, as `OZONE_RGB` is, it would be 7.42e-6, 13.68e-6 and 32.71e-6: a
+/// paler sunset glow.)
+pub const RAYLEIGH_RGB: [f32; 3] = [5.802e-6, 13.558e-6, 33.1e-6];
+
+/// Ozone's absorption at its layer's peak in the three channels, per metre: Bruneton
+/// 2017's cross sections (after Serdyuchenko et al. 2014) times `OZONE_PEAK_PER_M3`,
+/// averaged over each sRGB channel's colour matching function (CIE 1931 through the
+/// sRGB matrix, as fitted by Wyman, Sloan & Shirley 2013; a flat sun spectrum). The
+/// Chappuis band peaks near 600 nm, inside the red channel: sampled at 680 nm alone
+/// (Hillaire 2020's 0.650e-6) the red keeps what ozone removes, and a twilight zenith
+/// turns purple where it is blue. The blue channel's average is negative (its colour
+/// matching function's negative lobe lies in the band): its 440 nm value instead.
+/// `channel_averages_follow_from_the_spectra` recomputes them.
+pub const OZONE_RGB: [f32; 3] = [2.402e-6, 1.807e-6, 0.085e-6];
+
+/// Ozone molecules per cubic metre at the layer's peak: 300 Dobson units (2.687e20
+/// molecules per square metre each) spread over the tent's area, `OZONE_HALF_WIDTH_M`
+/// (Bruneton 2017; Hillaire 2020's 1.881e-6 per metre at 550 nm is this times the
+/// 550 nm cross section).
+pub const OZONE_PEAK_PER_M3: f32 = 300.0 * 2.687e20 / OZONE_HALF_WIDTH_M;
+
+/// Altitude of the ozone layer's peak density, metres (Hillaire 2020, after Bruneton
+/// 2017): the density rises linearly from 10 km to it and falls to 40 km.
+pub const OZONE_PEAK_M: f32 = 25_000.0;
+/// Half the width of the ozone layer's tent, metres.
+pub const OZONE_HALF_WIDTH_M: f32 = 15_000.0;
+
+/// Ozone's density at altitude `h` relative to its peak: a tent from 10 to 40 km.
+pub fn ozone_density(h: f32) -> f32 {
+    (1.0 - (h - OZONE_PEAK_M).abs() / OZONE_HALF_WIDTH_M).max(0.0)
 }
 
 /// The aerosol optical depth of sediment's desert: a clear day over sand (the Sahara's
@@ -50,16 +97,17 @@ pub const VIEW_SAMPLES: u32 = 32;
 pub const SUN_SAMPLES: u32 = 12;
 
 impl Atmosphere {
-    /// Earth's clear air (Bruneton & Neyret 2008's coefficients) with `aerosol_depth`,
-    /// the aerosol optical depth at the zenith (clear 0.05, a dusty desert 0.3-0.6):
-    /// the Mie coefficients follow from it through the scale height.
+    /// Earth's clear air (Bruneton 2017's Rayleigh law and ozone layer in the sRGB
+    /// channels: `RAYLEIGH_RGB`, `OZONE_RGB`) with `aerosol_depth`, the
+    /// aerosol optical depth at the zenith (clear 0.05, a dusty desert 0.3-0.6): the
+    /// Mie coefficients follow from it through the scale height.
     pub fn earth(aerosol_depth: f32, ground_albedo: Vec3, sun_irradiance: Vec3) -> Self {
         let mie_height_m = 1200.0;
         let mie_extinction = aerosol_depth.max(0.0) / mie_height_m;
         Self {
             ground_radius_m: 6_360_000.0,
             top_radius_m: 6_420_000.0,
-            rayleigh: Vec3::new(5.802e-6, 13.558e-6, 33.1e-6),
+            rayleigh: RAYLEIGH_RGB.into(),
             rayleigh_height_m: 8000.0,
             // Single-scattering albedo 0.9 (Bruneton & Neyret's 3.996 / 4.44).
             mie_scattering: 0.9 * mie_extinction,
@@ -68,13 +116,16 @@ impl Atmosphere {
             mie_g: 0.8,
             ground_albedo,
             sun_irradiance,
+            ozone: OZONE_RGB.into(),
         }
     }
 
-    /// Extinction per metre at altitude `h` (RGB).
+    /// Extinction per metre at altitude `h` (RGB): both scatterers and ozone's
+    /// absorption.
     pub fn extinction(&self, h: f32) -> Vec3 {
         self.rayleigh * (-h / self.rayleigh_height_m).exp()
             + Vec3::splat(self.mie_extinction * (-h / self.mie_height_m).exp())
+            + self.ozone * ozone_density(h)
     }
 
     /// Scattering toward a direction at angle cos `mu` from the sun's, per metre per
@@ -436,6 +487,109 @@ mod tests {
         assert_eq!(a.sunlight(0.0, sun_direction(-0.1)), Vec3::ZERO);
     }
 
+    /// `OZONE_RGB` is Bruneton's spectrum averaged over the sRGB channels' colour
+    /// matching functions (CIE 1931 after Wyman, Sloan & Shirley's (2013) multi-lobe
+    /// fit, through the sRGB matrix, every nanometre from 380 to 780), and
+    /// `RAYLEIGH_RGB` the Rayleigh law at its three wavelengths.
+    #[test]
+    fn channel_averages_follow_from_the_spectra() {
+        let lobe = |x: f64, mu: f64, s1: f64, s2: f64| {
+            let s = if x < mu { s1 } else { s2 };
+            (-0.5 * ((x - mu) / s).powi(2)).exp()
+        };
+        let srgb = |l: f64| {
+            let x = 1.056 * lobe(l, 599.8, 37.9, 31.0) + 0.362 * lobe(l, 442.0, 16.0, 26.7)
+                - 0.065 * lobe(l, 501.1, 20.4, 26.2);
+            let y = 0.821 * lobe(l, 568.8, 46.9, 40.5) + 0.286 * lobe(l, 530.9, 16.3, 31.1);
+            let z = 1.217 * lobe(l, 437.0, 11.8, 36.0) + 0.681 * lobe(l, 459.0, 26.0, 13.8);
+            [
+                3.2406 * x - 1.5372 * y - 0.4986 * z,
+                -0.9689 * x + 1.8758 * y + 0.0415 * z,
+                0.0557 * x - 0.2040 * y + 1.0570 * z,
+            ]
+        };
+        // Bruneton 2017's ozone cross sections, m^2, every 10 nm from 360 nm.
+        const OZONE: [f64; 44] = [
+            1.18e-27, 2.182e-28, 2.818e-28, 6.636e-28, 1.527e-27, 2.763e-27, 5.52e-27, 8.451e-27,
+            1.582e-26, 2.316e-26, 3.669e-26, 4.924e-26, 7.752e-26, 9.016e-26, 1.48e-25, 1.602e-25,
+            2.139e-25, 2.755e-25, 3.091e-25, 3.5e-25, 4.266e-25, 4.672e-25, 4.398e-25, 4.701e-25,
+            5.019e-25, 4.305e-25, 3.74e-25, 3.215e-25, 2.662e-25, 2.238e-25, 1.852e-25, 1.473e-25,
+            1.209e-25, 9.423e-26, 7.455e-26, 6.566e-26, 5.105e-26, 4.15e-26, 4.228e-26, 3.237e-26,
+            2.451e-26, 2.801e-26, 2.534e-26, 1.624e-26,
+        ];
+        let ozone = |l: f64| {
+            let t = (l - 360.0) / 10.0;
+            let i = (t.floor() as usize).min(OZONE.len() - 2);
+            OZONE[i] + (OZONE[i + 1] - OZONE[i]) * (t - i as f64)
+        };
+        let (mut weight, mut rayleigh, mut absorption) = ([0.0f64; 3], [0.0f64; 3], [0.0f64; 3]);
+        for l in 380..=780 {
+            let l = f64::from(l);
+            let r = f64::from(RAYLEIGH_AT_1_UM) / (l / 1000.0).powi(4);
+            for (c, w) in srgb(l).into_iter().enumerate() {
+                weight[c] += w;
+                rayleigh[c] += w * r;
+                absorption[c] += w * ozone(l) * f64::from(OZONE_PEAK_PER_M3);
+            }
+        }
+        // Rayleigh: the law at 680, 550 and 440 nm; its channel averages as quoted.
+        for (c, nm) in [680.0f64, 550.0, 440.0].into_iter().enumerate() {
+            let r = f64::from(RAYLEIGH_AT_1_UM) / (nm / 1000.0).powi(4);
+            assert!(
+                (r / f64::from(RAYLEIGH_RGB[c]) - 1.0).abs() < 0.005,
+                "Rayleigh {c}: {r:e}"
+            );
+        }
+        for (c, quoted) in [7.42e-6, 13.68e-6, 32.71e-6].into_iter().enumerate() {
+            let r = rayleigh[c] / weight[c];
+            assert!(
+                (r / quoted - 1.0).abs() < 0.005,
+                "Rayleigh average {c}: {r:e}"
+            );
+        }
+        for c in 0..2 {
+            let o = absorption[c] / weight[c];
+            assert!(
+                (o / f64::from(OZONE_RGB[c]) - 1.0).abs() < 0.005,
+                "ozone {c}: {o:e}"
+            );
+        }
+        assert!(absorption[2] < 0.0, "blue's average is negative");
+        // Blue takes the 441 nm value: 1.582e-26 m^2 at 440 nm times the peak density.
+        let blue = 1.582e-26 * f64::from(OZONE_PEAK_PER_M3);
+        assert!(
+            (blue / f64::from(OZONE_RGB[2]) - 1.0).abs() < 0.01,
+            "{blue:e}"
+        );
+    }
+
+    /// Ozone turns the twilight zenith blue (Hulburt 1953): with the sun 2 degrees
+    /// above and below the horizon the zenith's hue lies in 190..=240 degrees; without
+    /// ozone the same air gives a green-grey one (hue under 190, barely saturated).
+    #[test]
+    fn ozone_turns_the_twilight_zenith_blue() {
+        let a = desert();
+        let without = Atmosphere {
+            ozone: Vec3::ZERO,
+            ..a
+        };
+        for degrees in [2.0f32, -2.0] {
+            let sun = sun_direction(degrees.to_radians());
+            let zenith = a.sky_radiance(2.0, Vec3::Y, sun, &single());
+            assert!(
+                (190.0..=240.0).contains(&hue(zenith)),
+                "sun {degrees}: zenith {zenith} hue {}",
+                hue(zenith)
+            );
+            let grey = without.sky_radiance(2.0, Vec3::Y, sun, &single());
+            assert!(
+                hue(grey) < 190.0,
+                "sun {degrees}: without ozone hue {}",
+                hue(grey)
+            );
+        }
+    }
+
     #[test]
     fn transmittance_matches_the_closed_form_of_a_vertical_path() {
         // Straight up the optical depth is sum beta_i H_i (1 - exp(-top / H_i)).
@@ -445,7 +599,9 @@ mod tests {
         let depth = a.rayleigh * a.rayleigh_height_m * (1.0 - (-top / a.rayleigh_height_m).exp())
             + Vec3::splat(
                 a.mie_extinction * a.mie_height_m * (1.0 - (-top / a.mie_height_m).exp()),
-            );
+            )
+            // The ozone tent's area: its half-width times its peak.
+            + a.ozone * OZONE_HALF_WIDTH_M;
         let exact = exp3(-depth);
         // 12 samples crowded toward the ground: within 1.5 %.
         assert!(

@@ -17,5 +17,6 @@ pub mod ripple_maps;
 pub mod rock;
 pub mod sand;
 pub mod sand_grain;
+pub mod sky_light;
 pub mod speleothem;
 pub mod srgb;

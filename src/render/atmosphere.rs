@@ -35,8 +35,10 @@ pub struct AirPush {
     pub ground: Vec4,
     /// rgb solar irradiance above the air, w the radius of the top of the air (m).
     pub sun: Vec4,
+    /// rgb ozone's absorption per metre at its layer's peak, w unused.
+    pub ozone: Vec4,
 }
-// SAFETY: repr(C), four Vec4.
+// SAFETY: repr(C), five Vec4.
 unsafe impl Pod for AirPush {}
 
 impl From<&Atmosphere> for AirPush {
@@ -46,6 +48,7 @@ impl From<&Atmosphere> for AirPush {
             mie: Vec4::new(a.mie_scattering, a.mie_extinction, a.mie_height_m, a.mie_g),
             ground: a.ground_albedo.extend(a.ground_radius_m),
             sun: a.sun_irradiance.extend(a.top_radius_m),
+            ozone: a.ozone.extend(0.0),
         }
     }
 }
@@ -62,7 +65,7 @@ struct SkyViewPush {
     /// Width, height, multiple scattering on (1), unused.
     size: [u32; 4],
 }
-// SAFETY: repr(C), six Vec4 and four u32, no padding.
+// SAFETY: repr(C), seven Vec4 and four u32, no padding.
 unsafe impl Pod for SkyViewPush {}
 
 /// `sky_view.comp`: the table buffer (0), the Psi_ms table as an RGBA32F texel buffer

@@ -18,7 +18,8 @@ use crate::gpu::{
     ImageDesc, Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, VertexLayout, vk,
 };
 use crate::model::mesh::Mesh;
-use crate::model::ripple_maps::{horizon_chain_toward, tile_azimuth};
+use crate::model::ripple_maps::{horizon_chain_toward, sky_visibility_chain, tile_azimuth};
+use crate::model::sky_light::{SkyIrradiance, SkyOcclusion};
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
 /// Push constants of `dunes/surface.frag`.
@@ -66,6 +67,11 @@ pub struct DuneSwitches {
     pub footprints: bool,
     /// Draw the dune-shadow term alone (red) instead of shading (tests).
     pub shadow_mask: bool,
+    /// The dunes' sky occlusion and bent normals (`model::sky_light`); off, every
+    /// point sees the whole sky.
+    pub sky_occlusion: bool,
+    /// The sand's specular sheen and the glints of its grains.
+    pub sparkle: bool,
 }
 
 impl DuneSwitches {
@@ -79,6 +85,8 @@ impl DuneSwitches {
             self.ripple_shadows,
             self.footprints,
             self.shadow_mask,
+            self.sky_occlusion,
+            self.sparkle,
         ]
         .into_iter()
         .zip(0..)
@@ -95,6 +103,9 @@ const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKind::S
 const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::SampledImage);
 const DETAIL: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::SampledImage);
 const LEVELS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::StorageBuffer);
+const SKY: DescriptorBinding = DescriptorBinding::new(0, 8, DescriptorKind::SampledImage);
+const SKY_LIGHT: DescriptorBinding = DescriptorBinding::new(0, 9, DescriptorKind::UniformBuffer);
+const RIPPLE_SKY: DescriptorBinding = DescriptorBinding::new(0, 10, DescriptorKind::SampledImage);
 
 /// `dunes/surface.vert`: the `FrameUniforms` buffer (binding 0) and `DunePush`.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
@@ -104,11 +115,12 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
 };
 
 /// `dunes/surface.frag`: the frame buffer, the `DuneTextures` images and their repeating
-/// sampler (bindings 0-6), the per-quad levels storage buffer (7) and `DunePush`.
+/// sampler (bindings 0-6, 8 and 10), the per-quad levels storage buffer (7), the
+/// `DuneSkyLight` buffer (9) and `DunePush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_FRAG,
     bindings: &[
-        FRAME, NORMALS, FIELD, GRAIN, REPEAT, HEIGHTS, DETAIL, LEVELS,
+        FRAME, NORMALS, FIELD, GRAIN, REPEAT, HEIGHTS, DETAIL, LEVELS, SKY, SKY_LIGHT, RIPPLE_SKY,
     ],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
@@ -135,6 +147,43 @@ pub struct DuneTextures {
     /// The footprints' detail texture (`model::footprints::detail_texture`; 1x1 flat
     /// when there are none).
     pub detail: Image,
+    /// One period of the field's sky occlusion at the shadow map's texels, RGBA8
+    /// UNORM: rgb the bent normal's departure (`SkyOcclusion::bend`, `v * 0.5 +
+    /// 0.5`), a the visible share of the sky.
+    pub sky: Image,
+    /// The ripple tile's sky visibility chain (`model::ripple_maps::sky_visibility_chain`),
+    /// R8 UNORM, the same levels as `normals`.
+    pub ripple_sky: Image,
+}
+
+/// The sky's light for `dunes/surface.frag` (binding 9), per sun.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DuneSkyLight {
+    /// The sky's irradiance over pi (the shading's units) as nine spherical-harmonic
+    /// coefficients (`SkyIrradiance`), rgb each.
+    pub sh: [Vec4; 9],
+    /// rgb the radiance of the sand that hides the sky from an occluded point.
+    pub occluder: Vec4,
+    /// rgb the circumsolar sky's irradiance over pi on a surface facing it.
+    pub circumsolar: Vec4,
+    /// xyz the circumsolar sky's mean direction.
+    pub circumsolar_direction: Vec4,
+}
+// SAFETY: repr(C), twelve Vec4.
+unsafe impl Pod for DuneSkyLight {}
+
+impl DuneSkyLight {
+    /// The buffer's contents for the sky `irradiance` and the `occluder`'s radiance.
+    pub fn new(irradiance: &SkyIrradiance, occluder: Vec3) -> Self {
+        let pi = std::f32::consts::PI;
+        Self {
+            sh: irradiance.coefficients.map(|c| (c / pi).extend(0.0)),
+            occluder: occluder.extend(0.0),
+            circumsolar: (irradiance.circumsolar / pi).extend(0.0),
+            circumsolar_direction: irradiance.circumsolar_direction.extend(0.0),
+        }
+    }
 }
 
 /// The footprints' detail texture: RGBA8 texels, width, height.
@@ -155,6 +204,8 @@ pub struct DuneBake<'a> {
     pub wind_radians: f32,
     /// The dune normals at the shadow map's texels (`model::dune_mesh::normal_texels`).
     pub dune_normals: &'a [Vec3],
+    /// The field's sky occlusion at the same texels (`SkyOcclusion::texels`).
+    pub sky: &'a [SkyOcclusion],
 }
 
 /// A value in -1..=1 as an 8-bit unorm byte (`v * 0.5 + 0.5`).
@@ -182,7 +233,8 @@ impl DuneTextures {
         let s = maps.size;
         let normals = maps.levels.read::<[f32; 4]>()?;
         let phi = tile_azimuth(bake.sun.to_array(), bake.wind_radians);
-        let horizon = horizon_chain_toward(&maps.horizon_slopes()?, s as usize, phi);
+        let horizon_slopes = maps.horizon_slopes()?;
+        let horizon = horizon_chain_toward(&horizon_slopes, s as usize, phi);
         let right_angle = std::f32::consts::FRAC_PI_2;
         let packed: Vec<u8> = normals
             .iter()
@@ -195,6 +247,11 @@ impl DuneTextures {
                     unit_byte(h[1] / right_angle),
                 ]
             })
+            .collect();
+        let ripple_sky: Vec<u8> = sky_visibility_chain(&horizon_slopes, s as usize)
+            .iter()
+            .flatten()
+            .map(|&v| unit_byte(v))
             .collect();
         let byte_offsets: Vec<u64> = maps
             .level_offsets
@@ -212,6 +269,28 @@ impl DuneTextures {
                 ),
             ));
         }
+        if bake.sky.len() != visibility.len() {
+            return Err(crate::error::Error::internal(
+                "dune textures",
+                format!(
+                    "{} sky occlusion texels for a {}-texel shadow map",
+                    bake.sky.len(),
+                    visibility.len()
+                ),
+            ));
+        }
+        let sky: Vec<u8> = bake
+            .sky
+            .iter()
+            .flat_map(|o| {
+                [
+                    signed_byte(o.bend.x),
+                    signed_byte(o.bend.y),
+                    signed_byte(o.bend.z),
+                    unit_byte(o.visibility),
+                ]
+            })
+            .collect();
         let field: Vec<u8> = bake
             .dune_normals
             .iter()
@@ -247,6 +326,24 @@ impl DuneTextures {
                 "dune normals and shadow",
                 rgba8(shadow.res, shadow.res),
                 &staged("dune field", &field)?,
+                &[0],
+            )?,
+            ripple_sky: Image::sampled_from_buffer(
+                ctx,
+                "ripple sky visibility chain",
+                ImageDesc::new_2d(s, s, vk::Format::R8_UNORM, vk::ImageUsageFlags::SAMPLED),
+                &staged("ripple sky", &ripple_sky)?,
+                &maps
+                    .level_offsets
+                    .iter()
+                    .map(|&o| u64::from(o))
+                    .collect::<Vec<_>>(),
+            )?,
+            sky: Image::sampled_from_buffer(
+                ctx,
+                "dune sky occlusion",
+                rgba8(shadow.res, shadow.res),
+                &staged("dune sky occlusion", &sky)?,
                 &[0],
             )?,
             grain: Image::upload_rgba8(
@@ -356,6 +453,8 @@ pub struct DuneSurfacePass {
     /// The paper's per-quad ripple levels (`model::dune_mesh::quad_levels`), when LOD
     /// is chosen per quad.
     levels: Buffer,
+    /// `DuneSkyLight`, per sun.
+    sky_light: Buffer,
     /// The switches the next draws use, and a pipeline for each set of switches
     /// used so far (each one costs lavapipe a shader compilation).
     switches: DuneSwitches,
@@ -405,11 +504,21 @@ impl DuneSurfacePass {
             ),
         )?;
         set.write("quads", Descriptor::Buffer(&levels))?;
+        let sky_light = Buffer::new(
+            ctx,
+            "dune sky light",
+            BufferDesc::upload(
+                size_of::<DuneSkyLight>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+        )?;
+        set.write("skylight", Descriptor::Buffer(&sky_light))?;
         let mut pass = Self {
             set,
             _sampler: repeat,
             frame,
             levels,
+            sky_light,
             switches,
             pipelines: HashMap::new(),
             target,
@@ -432,6 +541,8 @@ impl DuneSurfacePass {
             ("sand_grain", &textures.grain),
             ("dune_heights", &textures.heights),
             ("detail_map", &textures.detail),
+            ("sky_occlusion", &textures.sky),
+            ("ripple_sky", &textures.ripple_sky),
         ] {
             self.set.write(name, Descriptor::Image(image))?;
         }
@@ -473,6 +584,11 @@ impl DuneSurfacePass {
     /// Sets the camera and lights for the next submission (call between frames).
     pub fn set_frame(&mut self, frame: &FrameUniforms) -> Result<()> {
         self.frame.write(0, std::slice::from_ref(frame))
+    }
+
+    /// The sky's light for the next frame (call between frames).
+    pub fn set_sky_light(&mut self, light: &DuneSkyLight) -> Result<()> {
+        self.sky_light.write(0, std::slice::from_ref(light))
     }
 
     /// The per-quad levels for the next frame (call between frames).

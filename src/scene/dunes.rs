@@ -226,6 +226,16 @@ crate::params! {
         /// single scattering (off: Nishita's model alone, a darker sky with a greyer
         /// horizon).
         [top, "Light"] multiple_scattering: bool = true, "on|off", "", check::any();
+        /// The ozone layer's absorption in the sky (Hillaire 2020), which keeps the
+        /// twilight zenith blue (off: the air's scattering alone, a green-grey dusk).
+        [top, "Light"] ozone: bool = true, "on|off", "", check::any();
+        /// Sky light hidden by the dunes, beyond the paper: each point sees only the
+        /// sky above its horizons and takes its colour from there (the blue away from
+        /// the sun in a dune's shadow); off, every point sees the whole sky.
+        [top, "Light"] sky_occlusion: bool = true, "on|off", "", check::any();
+        /// The sand's specular sheen and the glints of its grains, beyond the paper
+        /// (quartz's Fresnel on rough grains): the bright rim of back-lit crests.
+        [top, "Light"] sparkle: bool = true, "on|off", "", check::any();
         /// Exposure, a factor on the automatic exposure that adapts to the sun and sky.
         [top, "Light"] exposure: f32 = 1.0, "F", "", check::above_to(0.0, 64.0);
         /// Level of detail over the ripple normal chain (off: level 0 everywhere).
@@ -430,11 +440,19 @@ impl DunesScene {
 
     /// The air over the desert (the sand below it as the ground it sees).
     pub fn atmosphere(&self) -> Atmosphere {
-        Atmosphere::earth(
+        let air = Atmosphere::earth(
             self.aerosol_depth,
             SAND_ALBEDO,
             Vec3::splat(std::f32::consts::PI),
-        )
+        );
+        if self.ozone {
+            air
+        } else {
+            Atmosphere {
+                ozone: Vec3::ZERO,
+                ..air
+            }
+        }
     }
 
     /// The field's period in metres (it repeats: the simulation is periodic).

@@ -184,5 +184,32 @@ fn a_day_from_noon_to_twilight_looks_like_one() {
             disk.iter().all(|&c| c > 0.9),
             "the 2-degree sun's disk {disk:?}"
         );
+
+        // Twilight: with the sun 2 degrees above and below the horizon the zenith is a
+        // saturated blue, which the ozone layer makes so (Hulburt 1953): without it the
+        // same sky is a pale teal, barely saturated.
+        let zenith_at = |sun: f32, ozone: bool| {
+            let scene = DunesScene {
+                sun_elevation: sun,
+                ozone,
+                ..base.clone()
+            };
+            let mut frame = dunes::DunesFrame::new(ctx, scene, &terrain).expect("frame");
+            let image = common::draw(ctx, &mut frame, &up, size);
+            colour_toward(&image, &up, size, direction(85.0, 20.0))
+        };
+        for sun in [2.0f32, -2.0] {
+            let blue = zenith_at(sun, true);
+            let (h, s) = common::picture::hue_saturation_of(blue);
+            assert!(
+                (190.0..=240.0).contains(&h) && s >= 0.4,
+                "zenith at a {sun}-degree sun {blue:?}: hue {h:.0}, saturation {s:.2}"
+            );
+            let (_, pale) = common::picture::hue_saturation_of(zenith_at(sun, false));
+            assert!(
+                pale < 0.35,
+                "without ozone at {sun} degrees: saturation {pale:.2}"
+            );
+        }
     });
 }

@@ -123,11 +123,16 @@ fn lod_against_level_0_stays_within_the_papers_difference() {
     common::with_gpu(|ctx| {
         // The paper's setting: 720x480, the full-size ripple tile and dune grid. Its
         // 3.92/255 is at a contrast it does not print, and the difference grows with
-        // the picture's contrast: held to it with the default 30-degree sun, to twice
-        // it at fig13's 16-degree sun (a level choice gone wrong gives several times
-        // more: always the coarsest level differs by 20/255 and more).
+        // the picture's contrast: held to it (and 5 % more, the ripples' share of the
+        // directional sky light, which the paper's flat ambient did not have) with the
+        // default 30-degree sun, to twice it at fig13's 16-degree sun (a level choice gone wrong gives several times
+        // more: always the coarsest level differs by 20/255 and more). The paper's
+        // shading: without the sand's sheen and glints, whose highlights sharpen with
+        // the unfiltered level 0's normals.
         let fig13 = DunesScene {
             shadows: dunes::Shadows::None,
+            sparkle: false,
+            sky_occlusion: false,
             ..dunes::preset("fig13").expect("preset")
         };
         let terrain = dunes::simulate(&fig13, &mut |_, _| {}).expect("simulate");
@@ -138,7 +143,7 @@ fn lod_against_level_0_stays_within_the_papers_difference() {
                     sun_elevation: DunesScene::default().sun_elevation,
                     ..fig13.clone()
                 },
-                3.92,
+                1.05 * 3.92,
             ),
             (fig13.clone(), 2.0 * 3.92),
         ] {
@@ -640,5 +645,177 @@ fn moving_the_sun_rebinds_the_textures_without_building_a_pipeline() {
             0,
             "the rebound textures draw what new ones do"
         );
+    });
+}
+
+/// `scene` drawn at twice `size` each way and averaged down 2x2 in linear light, as
+/// `sediment dunes` draws its pictures (`--supersample 2`): finer ripple levels than
+/// a frame at `size` picks.
+fn as_pictures_are(
+    ctx: &std::sync::Arc<sediment::gpu::Context>,
+    scene: &DunesScene,
+    terrain: &Terrain,
+    size: Size,
+) -> image::RgbaImage {
+    let big = render_desert(
+        ctx,
+        scene,
+        terrain,
+        Size::new(2 * size.width, 2 * size.height),
+        None,
+    )
+    .image;
+    let linear = |v: u8| (f64::from(v) / 255.0).powf(2.2);
+    image::RgbaImage::from_fn(size.width, size.height, |x, y| {
+        let mut out = [0u8, 0, 0, 255];
+        for (c, o) in out.iter_mut().take(3).enumerate() {
+            let sum: f64 = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                .iter()
+                .map(|(dx, dy)| linear(big.get_pixel(2 * x + dx, 2 * y + dy)[c]))
+                .sum();
+            *o = ((sum / 4.0).powf(1.0 / 2.2) * 255.0).round() as u8;
+        }
+        image::Rgba(out)
+    })
+}
+
+/// Beyond the paper, the sky's light in the shadows (`model::sky_light`): at an 8-degree
+/// sun, inside the shadows fig17's dunes cast (not on the slopes turned from the sun), the sand is lit by the blue sky the dunes leave it
+/// (red over blue at most 1.25, as displayed; without the sky occlusion the warm
+/// circumsolar sky reaches it through the dune and it is redder), and its ripples
+/// still show (the pixels' departure from their 5x5 neighbourhood at least 3 % of the
+/// brightness). Back-lit, the sand's sheen brightens the sunlit slopes and its glints
+/// sparkle; lit from behind the camera the sheen barely shows.
+#[test]
+fn the_sky_lights_the_shadows_and_the_sand_shines_against_the_sun() {
+    common::with_gpu(|ctx| {
+        let terrain = dunes::simulate(&dunes::preset("fig12").expect("preset"), &mut |_, _| {})
+            .expect("simulate");
+        let size = Size::new(720, 480);
+        let low = DunesScene {
+            sun_elevation: 8.0,
+            ..dunes::preset("fig17").expect("preset")
+        };
+        let mask = shadow_mask(ctx, &low, &terrain, size);
+        let (w, h) = (size.width as usize, size.height as usize);
+        // Shadowed pixels of the lower half (the near and middle ground, where ripples
+        // are drawn larger than pixels) whose 11x11 neighbourhood is all shadow.
+        let inside: Vec<usize> = (h / 2..h - 5)
+            .flat_map(|y| (5..w - 5).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                (y - 5..=y + 5).all(|v| (x - 5..=x + 5).all(|u| mask[v * w + u] == Some(false)))
+            })
+            .map(|(x, y)| y * w + x)
+            .collect();
+        // Of those, the ones a dune's shadow took the sun from (the slopes facing away
+        // from the sun are as dark without shadows): a 5x5 neighbourhood at least 4
+        // levels brighter with shadows off.
+        let luma_of = |image: &image::RgbaImage| -> Vec<f64> {
+            image
+                .pixels()
+                .map(|p| {
+                    0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+                })
+                .collect()
+        };
+        let box5 = |luma: &[f64], i: usize| {
+            let (x, y) = (i % w, i / w);
+            (y - 2..=y + 2)
+                .flat_map(|v| (x - 2..=x + 2).map(move |u| v * w + u))
+                .map(|j| luma[j])
+                .sum::<f64>()
+                / 25.0
+        };
+        let unshadowed = luma_of(&as_pictures_are(
+            ctx,
+            &DunesScene {
+                shadows: dunes::Shadows::None,
+                ..low.clone()
+            },
+            &terrain,
+            size,
+        ));
+        let shadowed = luma_of(&as_pictures_are(ctx, &low, &terrain, size));
+        let inside: Vec<usize> = inside
+            .into_iter()
+            .filter(|&i| box5(&unshadowed, i) - box5(&shadowed, i) >= 4.0)
+            .collect();
+        assert!(inside.len() > 10_000, "{} shadowed pixels", inside.len());
+
+        let shade = |scene: &DunesScene| {
+            let image = as_pictures_are(ctx, scene, &terrain, size);
+            let luma = luma_of(&image);
+            let (mut r, mut b, mut detail, mut mean) = (0.0, 0.0, 0.0, 0.0);
+            for &i in &inside {
+                let p = image.as_raw();
+                r += f64::from(p[4 * i]);
+                b += f64::from(p[4 * i + 2]);
+                detail += (luma[i] - box5(&luma, i)).powi(2);
+                mean += luma[i];
+            }
+            let n = inside.len() as f64;
+            (r / b, (detail / n).sqrt() / (mean / n), mean / n)
+        };
+        let (red_over_blue, contrast, brightness) = shade(&low);
+        eprintln!("in dune shadows: R/B {red_over_blue:.3}, relative contrast {contrast:.4}");
+        assert!(red_over_blue <= 1.25, "shadows R/B {red_over_blue:.3}");
+        // (0.004 with the two-colour hemisphere light this replaced; the issue's aim,
+        // 0.03, is not reached yet.)
+        assert!(contrast >= 0.015, "ripples in the shadows: {contrast:.4}");
+        // The dunes that cast the shadows hide part of its sky, and their sand lights
+        // it instead: about as bright, a little warmer.
+        let (open_red_over_blue, _, open_sky) = shade(&DunesScene {
+            sky_occlusion: false,
+            ..low.clone()
+        });
+        eprintln!(
+            "without sky occlusion: R/B {open_red_over_blue:.3}, brightness {open_sky:.1} \
+             (with: {brightness:.1})"
+        );
+        assert!(
+            red_over_blue > open_red_over_blue + 0.01,
+            "sky occlusion: R/B {red_over_blue:.3}, without {open_red_over_blue:.3}"
+        );
+
+        // The sheen and the glints: the sun 12 degrees up ahead of the camera, then
+        // behind it.
+        let lit_ground_gain = |azimuth: f32| {
+            let at = |sparkle: bool| {
+                let scene = DunesScene {
+                    sun_elevation: 12.0,
+                    sun_azimuth: azimuth,
+                    sparkle,
+                    ..dunes::preset("fig17").expect("preset")
+                };
+                as_pictures_are(ctx, &scene, &terrain, size)
+            };
+            let (on, off) = (at(true), at(false));
+            let gains: Vec<f64> = on
+                .pixels()
+                .zip(off.pixels())
+                .skip(w * h / 2)
+                .map(|(a, b)| {
+                    (0..3)
+                        .map(|c| f64::from(a[c]) - f64::from(b[c]))
+                        .sum::<f64>()
+                        / 3.0
+                })
+                .collect();
+            let mean = gains.iter().sum::<f64>() / gains.len() as f64;
+            let sparkles = gains.iter().filter(|&&g| g > 30.0).count() as f64 / gains.len() as f64;
+            (mean, sparkles)
+        };
+        let (against, sparkles) = lit_ground_gain(185.0);
+        let (with, _) = lit_ground_gain(20.0);
+        eprintln!(
+            "sheen against the sun {against:.2}/255 ({sparkles:.4} of the ground sparkles), \
+             with it {with:.2}/255"
+        );
+        assert!(against >= 1.5, "back-lit sheen {against:.2}/255");
+        assert!(
+            sparkles >= 0.001,
+            "glints: {sparkles:.4} of the lower frame"
+        );
+        assert!(with < 0.5 * against, "front-lit sheen {with:.2}/255");
     });
 }

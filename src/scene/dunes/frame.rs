@@ -29,13 +29,15 @@ use crate::model::footprints::{self, DetailField, FootprintParams};
 use crate::model::mesh::Mesh;
 use crate::model::sand::{Heightfield, SandSim};
 use crate::model::sand_grain::grain_texture;
+use crate::model::sky_light::{SkyIrradiance, SkyOcclusion};
 use crate::params::ParamSet;
 use crate::render::atmosphere::{
     AtmosphereSkyPass, AtmosphereSkyPush, SKY_VIEW_HEIGHT, SKY_VIEW_WIDTH, SkyViewPass,
 };
 use crate::render::dune_shadow::DuneShadowPass;
 use crate::render::dune_surface::{
-    DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSurfacePass, DuneSwitches, DuneTextures,
+    DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSkyLight, DuneSurfacePass, DuneSwitches,
+    DuneTextures,
 };
 use crate::render::dust::{DustLight, DustPass};
 use crate::render::lighting::Lighting;
@@ -149,6 +151,8 @@ pub struct DunesFrame {
     dune_heights: Vec<f32>,
     /// The dune normals at the shadow map's texels, baked with it.
     dune_normals: Vec<Vec3>,
+    /// The field's sky occlusion at the same texels (the sun does not change it).
+    sky_occlusion: Vec<SkyOcclusion>,
     /// The walk's footprints, if any: their detail field over the dunes.
     prints: Option<DetailField>,
     geometry: DuneGeometry,
@@ -202,6 +206,8 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
         ripple_shadows: scene.shadows == Shadows::DuneAndRipple && scene.ripples,
         footprints,
         shadow_mask,
+        sky_occlusion: scene.sky_occlusion,
+        sparkle: scene.sparkle,
     }
 }
 
@@ -240,6 +246,8 @@ impl DunesFrame {
             .as_ref()
             .map(|path| footprints::walk(&FootprintParams::walk(path.clone())));
         let dune_normals = normal_texels(n, scene.cell, &terrain.dune_heights, SHADOW_RES as usize);
+        let sky_occlusion =
+            SkyOcclusion::texels(n, &heights_cells, &dune_normals, SHADOW_RES as usize);
         let textures = DuneTextures::new(
             ctx,
             &maps,
@@ -248,6 +256,7 @@ impl DunesFrame {
                 sun,
                 wind_radians: scene.wind_direction.to_radians(),
                 dune_normals: &dune_normals,
+                sky: &sky_occlusion,
             },
             &grain,
             GRAIN_SIZE,
@@ -302,6 +311,7 @@ impl DunesFrame {
             prints,
             dune_heights: terrain.dune_heights.clone(),
             dune_normals,
+            sky_occlusion,
             sky: AtmosphereSkyPass::new(ctx, ctx.frame_format(), DESERT_TONE_MAP, &sky_view)?,
             sky_view,
             atmosphere,
@@ -407,6 +417,7 @@ impl Scene for DunesFrame {
                     sun,
                     wind_radians: self.scene.wind_direction.to_radians(),
                     dune_normals: &self.dune_normals,
+                    sky: &self.sky_occlusion,
                 },
                 &self.grain,
                 GRAIN_SIZE,
@@ -434,6 +445,8 @@ impl Scene for DunesFrame {
             .lighting(sun, scene.exposure)
             .frame_uniforms(camera, aspect);
         self.surface.set_frame(&frame)?;
+        self.surface
+            .set_sky_light(&DuneSkyLight::new(&light.irradiance, light.occluder()))?;
         self.surface
             .set_switches(switches(scene, self.prints.is_some(), self.shadow_mask))?;
         let wind = scene.wind_direction.to_radians();
@@ -724,9 +737,18 @@ pub struct DesertLight {
     pub disk: Vec3,
     /// Luminance of a horizontal white surface (sun plus sky), what exposure adapts to.
     pub adapt: f32,
+    /// The sky's irradiance from every direction (the sky-view table's harmonics).
+    pub irradiance: SkyIrradiance,
 }
 
 impl DesertLight {
+    /// The radiance of the sand that hides part of the sky from a point between dunes:
+    /// its faces toward the point are as often in the sun as not, so half the sunlit
+    /// sand's and half the skylit's.
+    pub fn occluder(&self) -> Vec3 {
+        0.5 * (self.ground + SAND_ALBEDO * self.sky)
+    }
+
     /// The frame's lighting: the exposure adapts to the light (a camera's automatic
     /// exposure) times `exposure`.
     pub fn lighting(&self, sun: Vec3, exposure: f32) -> Lighting {
@@ -764,6 +786,7 @@ pub(super) fn desert_light(
     // ground does not change) lights the ground the second shows below the horizon.
     let mut ground_sky = Vec3::ZERO;
     let mut spans = Vec::new();
+    let mut table = Vec::new();
     for _ in 0..2 {
         let mut timer = GpuTimer::new(ctx, "sky view timer", 2)?;
         ctx.submit_and_wait("sky view table", |cmd| {
@@ -773,7 +796,7 @@ pub(super) fn desert_light(
             })
         })?;
         spans.extend(timer.read()?);
-        let table = pass.read()?;
+        table = pass.read()?;
         ground_sky = Atmosphere::sky_irradiance(&table, SKY_VIEW_WIDTH, SKY_VIEW_HEIGHT)
             / air.sun_irradiance;
     }
@@ -795,6 +818,7 @@ pub(super) fn desert_light(
             ground: SAND_ALBEDO * horizontal,
             disk: sunlight / solid_angle,
             adapt: luminance(horizontal),
+            irradiance: SkyIrradiance::from_sky_view(&table, SKY_VIEW_WIDTH, SKY_VIEW_HEIGHT, sun),
         },
         span,
     ))
