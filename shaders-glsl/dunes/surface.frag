@@ -4,8 +4,8 @@
 // dune shadows from the precomputed shadow map (3.4), ripple shadows from the horizon
 // map (3.5), sun and sky light from the atmosphere (src/model/atmosphere.rs) and its
 // aerial perspective, tone mapping. Beyond the paper: the sky's light from every
-// direction through the dunes' sky occlusion and bent normals (src/model/sky_light.rs),
-// and the sand's specular sheen and grain glints.
+// direction, hidden by the dunes (src/model/sky_light.rs), and the sand's specular
+// sheen and grain glints.
 #extension GL_GOOGLE_include_directive : require
 #include "atmosphere.glsl"
 #include "tonemap.glsl"
@@ -23,7 +23,8 @@ layout(set = 0, binding = 0) uniform Frame {
 // Our LOD chain as mips: rg the ripple normal's x, y; b the horizon toward the sun as
 // an elevation angle over a right angle, a its spread under a mip texel (DuneTextures).
 layout(set = 0, binding = 1) uniform texture2D ripple_normals;
-// One period of the dune field: rg the dune normal's x, z; b the dune shadow map (1 lit).
+// One period of the dune field: rg the dune normal's x, z; b the dune shadow map (1 lit);
+// a the share of the sky the dunes leave (sky_visibility).
 layout(set = 0, binding = 2) uniform texture2D dune_field;
 layout(set = 0, binding = 3) uniform texture2D sand_grain;
 layout(set = 0, binding = 4) uniform sampler repeat_sampler;
@@ -34,21 +35,16 @@ layout(set = 0, binding = 6) uniform texture2D detail_map;      // footprints: s
 layout(set = 0, binding = 7, std430) readonly buffer Levels {
     float level[];
 } quads;
-// One period of the field's sky occlusion: rgb the bent normal's departure from an
-// open point's (n * 0.5 + 0.5), a the share of the open sky the point sees.
-layout(set = 0, binding = 8) uniform texture2D sky_occlusion;
 // The sky's irradiance over pi (SkyIrradiance) as nine spherical harmonics,
 // cosine-convolved (the whole sphere, sand below the horizon, without the circumsolar
 // sky), the radiance of the sand that hides the sky from an occluded point, and the
 // circumsolar sky as a wide sun (render::dune_surface::DuneSkyLight).
-layout(set = 0, binding = 9) uniform SkyLight {
+layout(set = 0, binding = 8) uniform SkyLight {
     vec4 sh[9];
     vec4 occluder;
     vec4 circumsolar;            // rgb irradiance over pi facing it
     vec4 circumsolar_direction;  // xyz
 } skylight;
-// The ripple tile's sky visibility as mips beside ripple_normals (sky_visibility_chain).
-layout(set = 0, binding = 10) uniform texture2D ripple_sky;
 
 // The pass's switches, fixed per pipeline (render::dune_surface::DuneSwitches): a CPU
 // rasteriser runs both sides of a branch on a uniform, so a switched-off pass such as
@@ -204,18 +200,13 @@ void main() {
     // paper's level per quad from its projected area (--lod-choice quad); off: level 0.
     // (Stored as 8-bit unorm, n * 0.5 + 0.5: see DuneTextures::new.)
     vec4 r;
-    float ripple_seen = 1.0;  // the share of sky the ripples leave a point
     // (Nested: naga reads no expression of specialization constants.)
     if (LOD_ON) {
         if (LOD_PER_QUAD) {
             int side = 3 * int(dune.detail.w);
             ivec2 q = clamp(ivec2(floor((in_world.xz + dune.tile.w) / (dune.tile.w / dune.detail.w))),
                             ivec2(0), ivec2(side - 1));
-            float level = quads.level[q.y * side + q.x];
-            r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, level);
-            if (SKY_OCCLUSION) {
-                ripple_seen = textureLod(sampler2D(ripple_sky, repeat_sampler), uv, level).r;
-            }
+            r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, quads.level[q.y * side + q.x]);
         } else {
             // The sampler's level is isotropic: it follows the longer axis of the
             // pixel's footprint, which on sand seen at a grazing angle is several
@@ -225,19 +216,9 @@ void main() {
             // Under temporal anti-aliasing each frame's sample filters over its share
             // of the pixel (frame.params.z, `Jitter::lod_bias`).
             r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25 + frame.params.z);
-            if (SKY_OCCLUSION) {
-                ripple_seen = texture(sampler2D(ripple_sky, repeat_sampler), uv, -1.25 + frame.params.z).r;
-            }
         }
     } else {
         r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0);
-        if (SKY_OCCLUSION) {
-            ripple_seen = textureLod(sampler2D(ripple_sky, repeat_sampler), uv, 0.0).r;
-        }
-    }
-    // All the sky where the ripples are not drawn (and where they are trodden, below).
-    if (dune.tile.y <= 0.0) {
-        ripple_seen = 1.0;
     }
     vec3 ripple = unpack_normal(r.rg);
     // Footprints (Sumner et al. 1998) in their detail field: the soles trod the ripples
@@ -257,7 +238,6 @@ void main() {
         }
     }
     ripple = normalize(vec3(ripple.xy * dune.tile.y * (1.0 - trodden), max(ripple.z, 1e-3)));
-    ripple_seen = mix(ripple_seen, 1.0, trodden);
     // Back from tile to world orientation, then into the dune frame (tilted normal).
     vec2 rxy = vec2(c.x * ripple.x - c.y * ripple.y, c.y * ripple.x + c.x * ripple.y);
     vec3 n = normalize(t * rxy.x + b * rxy.y + nd * ripple.z);
@@ -302,24 +282,22 @@ void main() {
     float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z,
                           frame.params.z).r;
     vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain);
-    // Sky light: the sky's irradiance from the harmonics, along the bent normal and
-    // scaled by the share of the sky the point sees; where a dune hides the sky, its
-    // sand lights the point instead.
-    vec3 ambient;
+    // Sky light: the sky's irradiance from the harmonics, scaled by the share of the
+    // sky the point sees; where a dune hides the sky, its sand lights the point
+    // instead.
+    vec3 ambient = sky_irradiance(n);
     if (SKY_OCCLUSION) {
-        vec4 occ = texture(sampler2D(sky_occlusion, repeat_sampler), in_world.xz / dune.tile.w);
-        vec3 bent = normalize(n + (occ.rgb * 2.0 - 1.0));
-        float seen = occ.a * ripple_seen;
-        ambient = seen * sky_irradiance(bent)
-            + (1.0 - seen) * (0.5 + 0.5 * n.y) * skylight.occluder.rgb;
-    } else {
-        ambient = sky_irradiance(n);
+        ambient = field.a * ambient + (1.0 - field.a) * (0.5 + 0.5 * n.y) * skylight.occluder.rgb;
     }
     ambient += skylight.circumsolar.rgb * max(dot(n, skylight.circumsolar_direction.xyz), 0.0)
         * lit_dune;
     float nl = max(dot(n, l), 0.0);
     vec3 hdr = albedo * (frame.sun_color.rgb * nl * lit + ambient);
-    if (SPARKLE) {
+    // Only where the sun reaches: the dune shadows, coherent over many pixels, skip it.
+    // (The glints' footprint is found outside the branch: derivatives need every
+    // pixel of a quad.)
+    float pixel_m = max(length(fwidth(in_world.xz)), 1e-6);
+    if (SPARKLE && nl * lit > 0.0) {
         // sun_color is the sunlight's irradiance over pi: a BRDF f gives f pi sun_color n.l.
         vec3 v = normalize(frame.camera_pos.xyz - in_world);
         vec3 h = normalize(l + v);
@@ -328,22 +306,18 @@ void main() {
         float vh = max(dot(v, h), 0.0);
         float a2 = SAND_ROUGHNESS * SAND_ROUGHNESS;
         float dd = nh * nh * (a2 - 1.0) + 1.0;
-        float ggx = a2 / (PI * dd * dd);
         float k = 0.5 * SAND_ROUGHNESS;
-        float g = nl / (nl * (1.0 - k) + k) * nv / (nv * (1.0 - k) + k);
-        float specular = ggx * g * fresnel(vh) / (4.0 * max(nl, 1e-3) * nv);
-        hdr += frame.sun_color.rgb * (PI * specular * nl * lit);
+        // GGX D times Smith-Schlick G over 4 n.l n.v, times n.l: the n.l cancels.
+        float specular = a2 / (PI * dd * dd) * fresnel(vh) / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k) * 4.0);
         // A glint mirrors the sun's irradiance into the cone of GLINT_ANGLE.
-        float pixel_m = max(length(fwidth(in_world.xz)), 1e-6);
         float level = max(ceil(log2(pixel_m / GLINT_CELL_M)), 0.0);
         vec3 cell = hash3(ivec2(floor(in_world.xz / (GLINT_CELL_M * exp2(level))))
                           + ivec2(int(level) * 7919, 0));
-        if (cell.z < GLINT_SHARE) {
-            vec3 facet = normalize(n + GLINT_TILT * (t * (2.0 * cell.x - 1.0) + b * (2.0 * cell.y - 1.0)));
-            float cone = 2.0 * PI * (1.0 - cos(GLINT_ANGLE));
-            float mirror = smoothstep(cos(GLINT_ANGLE), cos(0.5 * GLINT_ANGLE), dot(facet, h));
-            hdr += frame.sun_color.rgb * (PI * fresnel(vh) / cone * mirror * nl * lit);
-        }
+        vec3 facet = normalize(n + GLINT_TILT * (t * (2.0 * cell.x - 1.0) + b * (2.0 * cell.y - 1.0)));
+        float mirror = step(cell.z, GLINT_SHARE)
+            * smoothstep(cos(GLINT_ANGLE), cos(0.5 * GLINT_ANGLE), dot(facet, h));
+        const float CONE = 2.0 * PI * (1.0 - cos(GLINT_ANGLE));
+        hdr += frame.sun_color.rgb * (PI * lit * (specular * nl + fresnel(vh) / CONE * mirror * nl));
     }
     // Aerial perspective (surface.vert).
     hdr = hdr * in_transmit + in_inscatter;

@@ -274,59 +274,9 @@ pub fn horizon_chain_toward(horizon: &[[f32; 4]], size: usize, phi: f32) -> Vec<
     })
 }
 
-/// The share of the open sky each texel of a `size` x `size` tile sees over its
-/// ripples, cosine-weighted for a surface facing up, and its mip chain (each texel the
-/// mean of those it covers): the mean over the horizon map's 8 directions of cos^2 of
-/// the horizon's elevation, 1 / (1 + s^2) for a horizon slope s (the integral of 2 sin e
-/// cos e above it). The troughs between ripples see less sky than their crests: in a
-/// dune's shadow, where the sky is all the light, this is what keeps the ripples.
-/// `horizon` is `horizon_map`'s two planes.
-pub fn sky_visibility_chain(horizon: &[[f32; 4]], size: usize) -> Vec<Vec<f32>> {
-    let n = size * size;
-    let level0: Vec<f32> = (0..n)
-        .map(|i| {
-            let (a, b) = (horizon[i], horizon[n + i]);
-            [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
-                .iter()
-                .map(|s| 1.0 / (1.0 + s.max(0.0) * s.max(0.0)))
-                .sum::<f32>()
-                / 8.0
-        })
-        .collect();
-    mip_chain(level0, size, |t| t.iter().sum::<f32>() / 4.0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn ripple_troughs_see_less_sky_than_their_crests() {
-        let field = sine_ridges(16, 8.0);
-        let hz = horizon_map_linear(&field, 1.0);
-        let chain = sky_visibility_chain(&hz, 16);
-        assert_eq!(chain.len(), 5);
-        // Crest at x = 2 (sin peaks), trough at x = 6.
-        let (crest, trough) = (chain[0][2], chain[0][6]);
-        assert!(
-            (crest - 1.0).abs() < 1e-6,
-            "a crest sees all its sky: {crest}"
-        );
-        assert!(
-            trough < 0.9,
-            "a trough is walled in across the ridges: {trough}"
-        );
-        // Flat sand sees it all; the top of the chain is the mean.
-        let flat = Heightfield {
-            width: 8,
-            height: 8,
-            data: vec![0.5; 64],
-        };
-        let open = sky_visibility_chain(&horizon_map_linear(&flat, 1.0), 8);
-        assert!(open[0].iter().all(|v| (v - 1.0).abs() < 1e-6));
-        let mean = chain[0].iter().sum::<f32>() / chain[0].len() as f32;
-        assert!((chain[4][0] - mean).abs() < 1e-5);
-    }
 
     #[test]
     fn the_sun_along_the_wind_is_azimuth_zero_and_across_it_a_quarter_turn() {

@@ -4,15 +4,13 @@
 //! - **Sky occlusion**: the horizon toward [`AZIMUTHS`] directions over the periodic
 //!   heightfield (the horizon-map idea of Max 1988, which the ripples already use for
 //!   their shadows, here in every direction at the dunes' scale) gives each texel the
-//!   share of its open sky it still sees, cosine-weighted ([`SkyOcclusion::visibility`]),
-//!   and the bent normal of Landis (2002): the mean direction of that visible sky. A
-//!   point in a dune's shadow has the dune toward the sun, so its visible sky leans
-//!   away from the warm circumsolar glow toward the blue ([`SkyOcclusion::bend`]).
+//!   share of its open sky it still sees, cosine-weighted ([`sky_visibility`]).
 //! - **Sky irradiance**: the sky-view table (every direction of the sky and the sand
 //!   below the horizon, in the sun's frame) projected on nine spherical harmonics and
 //!   convolved with the cosine lobe (Ramamoorthi & Hanrahan 2001): the irradiance a
-//!   surface facing any direction receives, for the shading to read along the bent
-//!   normal ([`SkyIrradiance`]).
+//!   surface facing any direction receives ([`SkyIrradiance`]). The circumsolar sky is
+//!   kept apart, to be hidden with the sun: a point in a dune's shadow has the dune
+//!   toward the sun, and what it loses is the warm glow round it.
 //!
 //! Units: heights and distances in dune cells; angles in radians; irradiance in the
 //! sky-view table's radiance units times steradians.
@@ -27,19 +25,6 @@ pub const AZIMUTHS: usize = 16;
 
 /// Elevation steps over which each azimuth's visible sky is integrated.
 const ELEVATIONS: usize = 12;
-
-/// How much of its sky a point of the dune field sees, and where that sky lies.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SkyOcclusion {
-    /// The cosine-weighted share of the sky above the horizontal that the point sees,
-    /// over the share an open point with the same normal sees: 1 in the open, 0
-    /// walled in.
-    pub visibility: f32,
-    /// The bent normal's departure from an open point's (world, unit-free): added to
-    /// the shading normal, it turns it toward the sky the point still sees. Zero in
-    /// the open.
-    pub bend: Vec3,
-}
 
 /// The field's horizon elevations (radians, at least 0: below the horizontal the
 /// sand of the distant field is the sky's floor anyway) toward [`AZIMUTHS`] azimuths,
@@ -64,12 +49,12 @@ pub fn horizons(grid: &DuneGrid<'_>, x: f32, z: f32, reach: f32) -> [f32; AZIMUT
     out
 }
 
-/// The visible sky's cosine-weighted integrals for a surface of unit normal `n` under
+/// The visible sky's cosine-weighted integral for a surface of unit normal `n` under
 /// the horizons `h` (radians): the integral of `max(n . d, 0)` over the visible
-/// directions d and the integral of `d max(n . d, 0)`.
-fn visible_sky(n: Vec3, h: &[f32; AZIMUTHS]) -> (f32, Vec3) {
+/// directions d.
+fn visible_sky(n: Vec3, h: &[f32; AZIMUTHS]) -> f32 {
     let da = std::f32::consts::TAU / AZIMUTHS as f32;
-    let (mut weight, mut mean) = (0.0, Vec3::ZERO);
+    let mut weight = 0.0;
     for (k, &low) in h.iter().enumerate() {
         let a = da * k as f32;
         let low = low.clamp(0.0, std::f32::consts::FRAC_PI_2);
@@ -78,57 +63,47 @@ fn visible_sky(n: Vec3, h: &[f32; AZIMUTHS]) -> (f32, Vec3) {
             let e = low + (j as f32 + 0.5) * de;
             let d = Vec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
             // Solid angle: cos(e) de da.
-            let w = n.dot(d).max(0.0) * e.cos() * de * da;
-            weight += w;
-            mean += d * w;
+            weight += n.dot(d).max(0.0) * e.cos() * de * da;
         }
     }
-    (weight, mean)
+    weight
 }
 
-impl SkyOcclusion {
-    /// The occlusion of a surface of unit normal `n` under the horizons `h`.
-    pub fn of(n: Vec3, h: &[f32; AZIMUTHS]) -> Self {
-        let (seen, bent) = visible_sky(n, h);
-        let (open, open_bent) = visible_sky(n, &[0.0; AZIMUTHS]);
-        if open <= 0.0 {
-            return Self {
-                visibility: 1.0,
-                bend: Vec3::ZERO,
-            };
-        }
-        let bend = if seen > 1e-6 {
-            bent.normalize_or_zero() - open_bent.normalize_or_zero()
-        } else {
-            Vec3::ZERO
-        };
-        Self {
-            visibility: (seen / open).clamp(0.0, 1.0),
-            bend,
-        }
+/// The cosine-weighted share of the sky above the horizontal that a surface of unit
+/// normal `n` under the horizons `h` sees, over the share an open surface with the same
+/// normal sees: 1 in the open, 0 walled in.
+pub fn sky_visibility(n: Vec3, h: &[f32; AZIMUTHS]) -> f32 {
+    let open = visible_sky(n, &[0.0; AZIMUTHS]);
+    if open <= 0.0 {
+        return 1.0;
     }
+    (visible_sky(n, h) / open).clamp(0.0, 1.0)
+}
 
-    /// The occlusion at `res` x `res` texels over one period of the field (`n` x `n`
-    /// heights in cell units, row-major), texel (l, k) at grid point ((l + 0.5) n /
-    /// res, (k + 0.5) n / res) as `dune_mesh::normal_texels` samples its `normals`;
-    /// horizons marched out to half the period.
-    pub fn texels(n: usize, heights_cells: &[f32], normals: &[Vec3], res: usize) -> Vec<Self> {
-        use rayon::prelude::*;
-        let grid = DuneGrid {
-            n,
-            heights: heights_cells,
-        };
-        let scale = n as f32 / res as f32;
-        (0..res * res)
-            .into_par_iter()
-            .map(|t| {
-                let (l, k) = (t % res, t / res);
-                let (x, z) = ((l as f32 + 0.5) * scale, (k as f32 + 0.5) * scale);
-                let h = horizons(&grid, x, z, 0.5 * n as f32);
-                Self::of(normals[t], &h)
-            })
-            .collect()
-    }
+/// The sky visibility at `res` x `res` texels over one period of the field (`n` x `n`
+/// heights in cell units, row-major), texel (l, k) at grid point ((l + 0.5) n / res,
+/// (k + 0.5) n / res) as `dune_mesh::normal_texels` samples its `normals`; horizons
+/// marched out to half the period.
+pub fn visibility_texels(
+    n: usize,
+    heights_cells: &[f32],
+    normals: &[Vec3],
+    res: usize,
+) -> Vec<f32> {
+    use rayon::prelude::*;
+    let grid = DuneGrid {
+        n,
+        heights: heights_cells,
+    };
+    let scale = n as f32 / res as f32;
+    (0..res * res)
+        .into_par_iter()
+        .map(|t| {
+            let (l, k) = (t % res, t / res);
+            let (x, z) = ((l as f32 + 0.5) * scale, (k as f32 + 0.5) * scale);
+            sky_visibility(normals[t], &horizons(&grid, x, z, 0.5 * n as f32))
+        })
+        .collect()
 }
 
 /// The sky's irradiance in two parts. The circumsolar sky (within about
@@ -152,8 +127,11 @@ pub struct SkyIrradiance {
 
 /// The circumsolar sky's angular radius, degrees: the aureole of the aerosols'
 /// forward scattering (Henyey-Greenstein g = 0.8 falls to a tenth of its peak 15
-/// degrees out); its edge fades over the last third.
-pub const CIRCUMSOLAR_DEGREES: f32 = 25.0;
+/// degrees out); its edge fades over the last third. Hidden whole in a dune's shadow,
+/// where in truth only its part below the dune's horizon is: wider, the shadows lose
+/// sky they see (and their ripples' light from it); narrower, the harmonics spread
+/// more of its glow into them (warmer, and over-lit).
+pub const CIRCUMSOLAR_DEGREES: f32 = 20.0;
 
 /// The share of direction `d`'s radiance counted as circumsolar for a sun toward `sun`.
 fn circumsolar_share(d: Vec3, sun: Vec3) -> f32 {
@@ -228,7 +206,7 @@ impl SkyIrradiance {
         }
         let circumsolar_direction = circumsolar_mean.try_normalize().unwrap_or(sun);
         // Its irradiance on a surface facing it: each direction's cosine to the mean
-        // is within a few percent of 1 (the cone is 25 degrees wide).
+        // is within a few percent of 1 (the cone is 20 degrees in radius).
         let circumsolar = circumsolar_flux * (CIRCUMSOLAR_DEGREES.to_radians() / 2.0).cos();
         for (k, coefficient) in c.iter_mut().enumerate() {
             let band = match k {
@@ -276,14 +254,12 @@ mod tests {
         let n = 16;
         let heights = flat(n);
         let normals = vec![Vec3::Y; 4 * 4];
-        for o in SkyOcclusion::texels(n, &heights, &normals, 4) {
-            assert!((o.visibility - 1.0).abs() < 1e-5, "{o:?}");
-            assert!(o.bend.length() < 1e-5, "{o:?}");
+        for v in visibility_texels(n, &heights, &normals, 4) {
+            assert!((v - 1.0).abs() < 1e-5, "{v}");
         }
         // A tilted normal in the open: nothing blocks it either.
         let tilted = Vec3::new(0.5, 1.0, 0.0).normalize();
-        let o = SkyOcclusion::of(tilted, &[0.0; AZIMUTHS]);
-        assert_eq!(o.visibility, 1.0);
+        assert_eq!(sky_visibility(tilted, &[0.0; AZIMUTHS]), 1.0);
     }
 
     /// At the bottom of a trench whose walls rise with slope s across it, the horizon
@@ -311,27 +287,21 @@ mod tests {
 
     /// Under a horizon at elevation h all round (the bottom of a round pit) a
     /// horizontal surface sees the cap of the sky above h: cosine-weighted, a share
-    /// cos^2 h of the open sky's (the integral of 2 sin e cos e from h to pi/2), and
-    /// the visible sky's mean direction is straight up.
+    /// cos^2 h of the open sky's (the integral of 2 sin e cos e from h to pi/2).
     #[test]
     fn a_pit_leaves_the_cap_of_sky_above_its_walls() {
         for degrees in [10.0f32, 30.0, 50.0] {
             let h = degrees.to_radians();
-            let o = SkyOcclusion::of(Vec3::Y, &[h; AZIMUTHS]);
+            let v = sky_visibility(Vec3::Y, &[h; AZIMUTHS]);
             let expected = h.cos().powi(2);
-            assert!(
-                (o.visibility - expected).abs() < 0.01,
-                "{degrees}: {} vs {expected}",
-                o.visibility
-            );
-            assert!(o.bend.length() < 1e-4, "{:?}", o.bend);
+            assert!((v - expected).abs() < 0.01, "{degrees}: {v} vs {expected}");
         }
     }
 
-    /// A wall on one side (a dune toward the sun) turns the bent normal away from it
-    /// and takes the sky behind it away.
+    /// A wall on one side hides the sky behind it, more from a surface turned toward
+    /// it than from one turned away.
     #[test]
-    fn a_wall_on_one_side_bends_the_sky_away_from_it() {
+    fn a_wall_on_one_side_hides_the_sky_behind_it() {
         let mut h = [0.0; AZIMUTHS];
         // Walls toward +x (azimuths within 45 degrees of it) rising 40 degrees.
         for (k, e) in h.iter_mut().enumerate() {
@@ -340,10 +310,11 @@ mod tests {
                 *e = 40f32.to_radians();
             }
         }
-        let o = SkyOcclusion::of(Vec3::Y, &h);
-        assert!(o.visibility < 0.9 && o.visibility > 0.6, "{o:?}");
-        assert!(o.bend.x < -0.05, "bent away from the wall: {o:?}");
-        assert!(o.bend.z.abs() < 1e-4, "{o:?}");
+        let up = sky_visibility(Vec3::Y, &h);
+        assert!(up < 0.9 && up > 0.6, "{up}");
+        let toward = sky_visibility(Vec3::new(0.4, 1.0, 0.0).normalize(), &h);
+        let away = sky_visibility(Vec3::new(-0.4, 1.0, 0.0).normalize(), &h);
+        assert!(toward < up && up < away, "{toward} {up} {away}");
     }
 
     /// A sphere of constant radiance L (sky and sand alike) gives pi L on a surface

@@ -18,8 +18,8 @@ use crate::gpu::{
     ImageDesc, Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, VertexLayout, vk,
 };
 use crate::model::mesh::Mesh;
-use crate::model::ripple_maps::{horizon_chain_toward, sky_visibility_chain, tile_azimuth};
-use crate::model::sky_light::{SkyIrradiance, SkyOcclusion};
+use crate::model::ripple_maps::{horizon_chain_toward, tile_azimuth};
+use crate::model::sky_light::SkyIrradiance;
 use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compiled};
 
 /// Push constants of `dunes/surface.frag`.
@@ -67,8 +67,8 @@ pub struct DuneSwitches {
     pub footprints: bool,
     /// Draw the dune-shadow term alone (red) instead of shading (tests).
     pub shadow_mask: bool,
-    /// The dunes' sky occlusion and bent normals (`model::sky_light`); off, every
-    /// point sees the whole sky.
+    /// The dunes' sky occlusion (`model::sky_light`); off, every point sees the whole
+    /// sky.
     pub sky_occlusion: bool,
     /// The sand's specular sheen and the glints of its grains.
     pub sparkle: bool,
@@ -103,9 +103,7 @@ const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 4, DescriptorKind::S
 const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::SampledImage);
 const DETAIL: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::SampledImage);
 const LEVELS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::StorageBuffer);
-const SKY: DescriptorBinding = DescriptorBinding::new(0, 8, DescriptorKind::SampledImage);
-const SKY_LIGHT: DescriptorBinding = DescriptorBinding::new(0, 9, DescriptorKind::UniformBuffer);
-const RIPPLE_SKY: DescriptorBinding = DescriptorBinding::new(0, 10, DescriptorKind::SampledImage);
+const SKY_LIGHT: DescriptorBinding = DescriptorBinding::new(0, 8, DescriptorKind::UniformBuffer);
 
 /// `dunes/surface.vert`: the `FrameUniforms` buffer (binding 0) and `DunePush`.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
@@ -115,12 +113,12 @@ pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
 };
 
 /// `dunes/surface.frag`: the frame buffer, the `DuneTextures` images and their repeating
-/// sampler (bindings 0-6, 8 and 10), the per-quad levels storage buffer (7), the
-/// `DuneSkyLight` buffer (9) and `DunePush`.
+/// sampler (bindings 0-6), the per-quad levels storage buffer (7), the `DuneSkyLight`
+/// buffer (8) and `DunePush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_FRAG,
     bindings: &[
-        FRAME, NORMALS, FIELD, GRAIN, REPEAT, HEIGHTS, DETAIL, LEVELS, SKY, SKY_LIGHT, RIPPLE_SKY,
+        FRAME, NORMALS, FIELD, GRAIN, REPEAT, HEIGHTS, DETAIL, LEVELS, SKY_LIGHT,
     ],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
@@ -147,16 +145,9 @@ pub struct DuneTextures {
     /// The footprints' detail texture (`model::footprints::detail_texture`; 1x1 flat
     /// when there are none).
     pub detail: Image,
-    /// One period of the field's sky occlusion at the shadow map's texels, RGBA8
-    /// UNORM: rgb the bent normal's departure (`SkyOcclusion::bend`, `v * 0.5 +
-    /// 0.5`), a the visible share of the sky.
-    pub sky: Image,
-    /// The ripple tile's sky visibility chain (`model::ripple_maps::sky_visibility_chain`),
-    /// R8 UNORM, the same levels as `normals`.
-    pub ripple_sky: Image,
 }
 
-/// The sky's light for `dunes/surface.frag` (binding 9), per sun.
+/// The sky's light for `dunes/surface.frag` (binding 8), per sun.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct DuneSkyLight {
@@ -204,8 +195,9 @@ pub struct DuneBake<'a> {
     pub wind_radians: f32,
     /// The dune normals at the shadow map's texels (`model::dune_mesh::normal_texels`).
     pub dune_normals: &'a [Vec3],
-    /// The field's sky occlusion at the same texels (`SkyOcclusion::texels`).
-    pub sky: &'a [SkyOcclusion],
+    /// The field's sky visibility at the same texels
+    /// (`model::sky_light::visibility_texels`).
+    pub sky: &'a [f32],
 }
 
 /// A value in -1..=1 as an 8-bit unorm byte (`v * 0.5 + 0.5`).
@@ -248,11 +240,6 @@ impl DuneTextures {
                 ]
             })
             .collect();
-        let ripple_sky: Vec<u8> = sky_visibility_chain(&horizon_slopes, s as usize)
-            .iter()
-            .flatten()
-            .map(|&v| unit_byte(v))
-            .collect();
         let byte_offsets: Vec<u64> = maps
             .level_offsets
             .iter()
@@ -279,23 +266,19 @@ impl DuneTextures {
                 ),
             ));
         }
-        let sky: Vec<u8> = bake
-            .sky
-            .iter()
-            .flat_map(|o| {
-                [
-                    signed_byte(o.bend.x),
-                    signed_byte(o.bend.y),
-                    signed_byte(o.bend.z),
-                    unit_byte(o.visibility),
-                ]
-            })
-            .collect();
         let field: Vec<u8> = bake
             .dune_normals
             .iter()
             .zip(&visibility)
-            .flat_map(|(n, &v)| [signed_byte(n.x), signed_byte(n.z), unit_byte(v), 255])
+            .zip(bake.sky)
+            .flat_map(|((n, &v), &sky)| {
+                [
+                    signed_byte(n.x),
+                    signed_byte(n.z),
+                    unit_byte(v),
+                    unit_byte(sky),
+                ]
+            })
             .collect();
         let rgba8 = |w, h| {
             ImageDesc::new_2d(
@@ -326,24 +309,6 @@ impl DuneTextures {
                 "dune normals and shadow",
                 rgba8(shadow.res, shadow.res),
                 &staged("dune field", &field)?,
-                &[0],
-            )?,
-            ripple_sky: Image::sampled_from_buffer(
-                ctx,
-                "ripple sky visibility chain",
-                ImageDesc::new_2d(s, s, vk::Format::R8_UNORM, vk::ImageUsageFlags::SAMPLED),
-                &staged("ripple sky", &ripple_sky)?,
-                &maps
-                    .level_offsets
-                    .iter()
-                    .map(|&o| u64::from(o))
-                    .collect::<Vec<_>>(),
-            )?,
-            sky: Image::sampled_from_buffer(
-                ctx,
-                "dune sky occlusion",
-                rgba8(shadow.res, shadow.res),
-                &staged("dune sky occlusion", &sky)?,
                 &[0],
             )?,
             grain: Image::upload_rgba8(
@@ -541,8 +506,6 @@ impl DuneSurfacePass {
             ("sand_grain", &textures.grain),
             ("dune_heights", &textures.heights),
             ("detail_map", &textures.detail),
-            ("sky_occlusion", &textures.sky),
-            ("ripple_sky", &textures.ripple_sky),
         ] {
             self.set.write(name, Descriptor::Image(image))?;
         }

@@ -759,9 +759,8 @@ fn the_sky_lights_the_shadows_and_the_sand_shines_against_the_sun() {
         let (red_over_blue, contrast, brightness) = shade(&low);
         eprintln!("in dune shadows: R/B {red_over_blue:.3}, relative contrast {contrast:.4}");
         assert!(red_over_blue <= 1.25, "shadows R/B {red_over_blue:.3}");
-        // (0.004 with the two-colour hemisphere light this replaced; the aim,
-        // 0.03, is not reached yet.)
-        assert!(contrast >= 0.015, "ripples in the shadows: {contrast:.4}");
+        // (0.004 with the two-colour hemisphere light this replaced.)
+        assert!(contrast >= 0.03, "ripples in the shadows: {contrast:.4}");
         // The dunes that cast the shadows hide part of its sky, and their sand lights
         // it instead: about as bright, a little warmer.
         let (open_red_over_blue, _, open_sky) = shade(&DunesScene {

@@ -29,7 +29,7 @@ use crate::model::footprints::{self, DetailField, FootprintParams};
 use crate::model::mesh::Mesh;
 use crate::model::sand::{Heightfield, SandSim};
 use crate::model::sand_grain::grain_texture;
-use crate::model::sky_light::{SkyIrradiance, SkyOcclusion};
+use crate::model::sky_light::{SkyIrradiance, visibility_texels};
 use crate::params::ParamSet;
 use crate::render::atmosphere::{
     AtmosphereSkyPass, AtmosphereSkyPush, SKY_VIEW_HEIGHT, SKY_VIEW_WIDTH, SkyViewPass,
@@ -151,8 +151,8 @@ pub struct DunesFrame {
     dune_heights: Vec<f32>,
     /// The dune normals at the shadow map's texels, baked with it.
     dune_normals: Vec<Vec3>,
-    /// The field's sky occlusion at the same texels (the sun does not change it).
-    sky_occlusion: Vec<SkyOcclusion>,
+    /// The field's sky visibility at the same texels (the sun does not change it).
+    sky_occlusion: Vec<f32>,
     /// The walk's footprints, if any: their detail field over the dunes.
     prints: Option<DetailField>,
     geometry: DuneGeometry,
@@ -247,7 +247,7 @@ impl DunesFrame {
             .map(|path| footprints::walk(&FootprintParams::walk(path.clone())));
         let dune_normals = normal_texels(n, scene.cell, &terrain.dune_heights, SHADOW_RES as usize);
         let sky_occlusion =
-            SkyOcclusion::texels(n, &heights_cells, &dune_normals, SHADOW_RES as usize);
+            visibility_texels(n, &heights_cells, &dune_normals, SHADOW_RES as usize);
         let textures = DuneTextures::new(
             ctx,
             &maps,
