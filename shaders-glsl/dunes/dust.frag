@@ -21,7 +21,7 @@ layout(set = 0, binding = 2) uniform sampler repeat_sampler;
 
 layout(location = 0) in vec2 in_disc;
 layout(location = 1) in vec3 in_world;
-layout(location = 2) flat in vec3 in_color;
+layout(location = 2) flat in vec4 in_color;  // a the blob's opacity
 layout(location = 0) out vec4 out_color;
 
 const float EDGE = 0.018315639;  // exp(-4): the Gaussian at the disc's edge
@@ -37,5 +37,5 @@ void main() {
     float ground = light.tone.w
         * textureLod(sampler2D(dune_heights, repeat_sampler), (cell + 0.5) / n, 0.0).r;
     float soft = smoothstep(0.0, light.albedo.w, in_world.y - ground);
-    out_color = vec4(in_color, light.sky.w * density * soft);
+    out_color = vec4(in_color.rgb, light.sky.w * in_color.a * density * soft);
 }

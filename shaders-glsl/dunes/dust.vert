@@ -25,12 +25,12 @@ layout(set = 0, binding = 0) uniform Light {
 } light;
 
 layout(set = 0, binding = 3, std430) readonly buffer Blobs {
-    vec4 blob[];   // xyz centre, w radius
+    vec4 blob[];   // two a blob: xyz centre, w radius; x its opacity (render::dust::packed)
 } blobs;
 
 layout(location = 0) out vec2 out_disc;
 layout(location = 1) out vec3 out_world;
-layout(location = 2) flat out vec3 out_color;
+layout(location = 2) flat out vec4 out_color;  // a the blob's opacity
 
 const float PI = 3.14159265358979323846;
 
@@ -40,7 +40,8 @@ float henyey_greenstein(float mu, float g) {
 }
 
 void main() {
-    vec4 blob = blobs.blob[gl_InstanceIndex];
+    vec4 blob = blobs.blob[2 * gl_InstanceIndex];
+    float opacity = blobs.blob[2 * gl_InstanceIndex + 1].x;
     vec3 c = blob.xyz;
     float r = blob.w;
     vec2 corner = vec2(float(gl_VertexIndex & 1) * 2.0 - 1.0, float(gl_VertexIndex >> 1) * 2.0 - 1.0);
@@ -49,7 +50,7 @@ void main() {
     float mu = dot(view, normalize(light.sun_dir.xyz));
     vec3 radiance = light.albedo.rgb
         * (light.sun.rgb * henyey_greenstein(mu, light.sun.w) + light.sky.rgb);
-    out_color = tonemap(radiance, light.tone.x);
+    out_color = vec4(tonemap(radiance, light.tone.x), opacity);
     out_disc = corner;
     out_world = p;
     // A blob of no radius collapses to a point: nothing drawn.

@@ -156,7 +156,7 @@ const float SAND_ROUGHNESS = 0.45;
 const float GLINT_CELL_M = 0.015;
 const float GLINT_TILT = 0.35;
 const float GLINT_ANGLE = 0.05;
-const float GLINT_SHARE = 0.3;
+const float GLINT_SHARE = 0.2;
 
 float fresnel(float vh) {
     return SAND_F0 + (1.0 - SAND_F0) * pow(1.0 - vh, 5.0);

@@ -6,6 +6,13 @@
 //! height there, as the paper says. Deterministic per seed and time step; a
 //! [`DustCloud`] advances step by step (the viewer's animation), [`dust_at`] jumps to
 //! one step.
+//!
+//! Beyond the paper, [`Plumes`]: the wind lifts sand where it blows fastest, over the
+//! crests (its speed-up grows with the height above the field's mean, and the flux it
+//! carries with the cube of its speed, Bagnold 1941), so blobs leave sources drawn
+//! there, one after another, each carried by eq. (7), rising and spreading as it ages
+//! and thinning as it spreads, until it is released again at its source: a plume
+//! streaming downwind off each crest instead of puffs all over the field.
 
 use glam::Vec3;
 
@@ -28,6 +35,39 @@ pub struct DustParams {
     pub size_per_height: f32,
     /// Height over which a blob fades out where it meets the sand (soft particles).
     pub fade: f32,
+    /// Plumes off the crests, or (`None`) the paper's blobs released all over the field.
+    pub plumes: Option<Plumes>,
+}
+
+/// Plumes of dust off the crests (beyond the paper; see the module's header).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plumes {
+    /// Blobs per plume, released one after another from its source.
+    pub blobs_per_plume: usize,
+    /// Time steps a blob lives before it is released again at its source.
+    pub lifetime: u32,
+    /// Rise per time step, metres.
+    pub rise: f32,
+    /// Growth of a blob's radius per time step, as a share of its radius at release.
+    pub growth: f32,
+}
+
+impl Default for Plumes {
+    fn default() -> Self {
+        Self {
+            blobs_per_plume: 30,
+            lifetime: 60,
+            rise: 0.12,
+            growth: 0.05,
+        }
+    }
+}
+
+impl Plumes {
+    /// A blob's radius `age` steps after release, over its radius at release.
+    pub fn spread(&self, age: u32) -> f32 {
+        1.0 + self.growth * age as f32
+    }
 }
 
 impl Default for DustParams {
@@ -39,6 +79,7 @@ impl Default for DustParams {
             jitter: 0.35,
             size_per_height: 3.0,
             fade: 1.5,
+            plumes: None,
         }
     }
 }
@@ -48,8 +89,23 @@ impl Default for DustParams {
 pub struct DustBlob {
     /// Centre in world metres, y up, x and z inside `[0, period)`.
     pub position: Vec3,
-    /// Radius, metres: `size_per_height` times the ripple height where it was released.
+    /// Radius, metres: `size_per_height` times the ripple height where it was released
+    /// (in a plume, grown with its age: `Plumes::spread`).
     pub radius: f32,
+    /// Its peak opacity over the scene's: 1, or in a plume its grains spread over a
+    /// larger blob, `1 / spread^2`.
+    pub opacity: f32,
+}
+
+/// Where a plume's blob comes from and how old it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Emission {
+    source: Vec3,
+    /// The radius at release.
+    radius: f32,
+    age: u32,
+    /// Releases so far: each gives the blob a fresh random walk.
+    released: u64,
 }
 
 /// Where the dust blows: the ripple tile as the shading lays it over the dune field
@@ -88,13 +144,80 @@ pub struct DustCloud {
     period: f32,
     blobs: Vec<DustBlob>,
     walks: Vec<Rng>,
+    /// With plumes: each blob's source and age.
+    emissions: Vec<Emission>,
+    seed: u64,
     steps: u32,
 }
 
+/// `count` plume sources over the field, drawn where the wind lifts the most sand:
+/// candidates uniform over the field, kept with probability the cube of their height
+/// above the field's mean over the highest's (the wind's speed-up grows with it, the
+/// flux with the cube of the speed).
+fn crest_sources(ground: &DustGround<'_>, count: usize, rng: &mut Rng) -> Vec<(f32, f32)> {
+    const SURVEY: usize = 64;
+    let heights: Vec<f32> = (0..SURVEY * SURVEY)
+        .map(|k| {
+            let (i, j) = ((k % SURVEY) as f32, (k / SURVEY) as f32);
+            let step = ground.period / SURVEY as f32;
+            (ground.dune_height)(i * step, j * step)
+        })
+        .collect();
+    let mean = heights.iter().sum::<f32>() / heights.len() as f32;
+    let top = heights.iter().copied().fold(mean, f32::max);
+    let span = (top - mean).max(1e-6);
+    (0..count)
+        .map(|_| {
+            // At most 256 tries: a flat field keeps its last candidate.
+            let mut point = (0.0, 0.0);
+            for _ in 0..256 {
+                point = (
+                    ground.period * rng.next_f32(),
+                    ground.period * rng.next_f32(),
+                );
+                let excess = (((ground.dune_height)(point.0, point.1) - mean) / span).max(0.0);
+                if rng.next_f32() < excess * excess * excess {
+                    break;
+                }
+            }
+            point
+        })
+        .collect()
+}
+
 impl DustCloud {
-    /// `params.count` blobs released at random points of the field.
+    /// `params.count` blobs released at random points of the field, or, with plumes,
+    /// from sources on the crests at ages spread over their lifetime.
     pub fn release(params: &DustParams, ground: &DustGround<'_>, seed: u64) -> Self {
         let mut rng = Rng::new(mix64(seed ^ 0xD057));
+        if let Some(plumes) = &params.plumes {
+            let per = plumes.blobs_per_plume.max(1);
+            let sources = crest_sources(ground, params.count.div_ceil(per), &mut rng);
+            let emissions: Vec<Emission> = (0..params.count)
+                .map(|i| {
+                    let (x, z) = sources[i / per];
+                    let h = ground.ripple_height(x, z).max(0.0) as f32;
+                    Emission {
+                        source: Vec3::new(x, (ground.dune_height)(x, z) + params.lift, z),
+                        radius: params.size_per_height * h,
+                        // Evenly over the lifetime: a steady stream from the start.
+                        age: ((i % per) as u64 * u64::from(plumes.lifetime) / per as u64) as u32,
+                        released: 0,
+                    }
+                })
+                .collect();
+            let mut cloud = Self {
+                params: params.clone(),
+                period: ground.period,
+                blobs: Vec::new(),
+                walks: Vec::new(),
+                emissions,
+                seed,
+                steps: 0,
+            };
+            cloud.place_plumes(ground.dune_height);
+            return cloud;
+        }
         let mut blobs = Vec::with_capacity(params.count);
         let mut walks = Vec::with_capacity(params.count);
         for i in 0..params.count {
@@ -104,6 +227,7 @@ impl DustCloud {
             blobs.push(DustBlob {
                 position: Vec3::new(x, (ground.dune_height)(x, z) + params.lift, z),
                 radius: params.size_per_height * h,
+                opacity: 1.0,
             });
             walks.push(Rng::new(mix64(seed ^ mix64(i as u64))));
         }
@@ -112,12 +236,64 @@ impl DustCloud {
             period: ground.period,
             blobs,
             walks,
+            emissions: Vec::new(),
+            seed,
             steps: 0,
         }
     }
 
+    /// Each plume blob where eq. (7) has carried it from its source over its age, with
+    /// its own walk for this release: rising `rise` a step and spread by its age.
+    fn place_plumes(&mut self, dune_height: &dyn Fn(f32, f32) -> f32) {
+        let Some(plumes) = &self.params.plumes else {
+            return;
+        };
+        let p = &self.params;
+        self.blobs = self
+            .emissions
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let mut walk = Rng::new(mix64(
+                    self.seed ^ mix64(i as u64) ^ mix64(e.released.wrapping_add(0x9E37)),
+                ));
+                let (mut x, mut y, mut z) = (e.source.x, e.source.y, e.source.z);
+                for step in 1..=e.age {
+                    let (ax, ay, az) = (
+                        walk.range_f32(-1.0, 1.0) * p.jitter,
+                        walk.range_f32(-1.0, 1.0) * p.jitter,
+                        walk.range_f32(-1.0, 1.0) * p.jitter,
+                    );
+                    x = (x + p.drift + ax).rem_euclid(self.period);
+                    z = (z + ay).rem_euclid(self.period);
+                    // Hugging the sand as eq. (7) does, or rising off the crest, which
+                    // ever is higher: over the lee the plume keeps its height.
+                    y = (dune_height(x, z) + p.lift + az)
+                        .max(e.source.y + plumes.rise * step as f32);
+                }
+                let spread = plumes.spread(e.age);
+                DustBlob {
+                    position: Vec3::new(x, y, z),
+                    radius: e.radius * spread,
+                    opacity: 1.0 / (spread * spread),
+                }
+            })
+            .collect();
+    }
+
     /// Eq. (7), `steps` more time steps.
     pub fn advance(&mut self, steps: u32, dune_height: &dyn Fn(f32, f32) -> f32) {
+        if let Some(plumes) = &self.params.plumes {
+            let lifetime = plumes.lifetime.max(1);
+            for e in &mut self.emissions {
+                let age = u64::from(e.age) + u64::from(steps);
+                e.released += age / u64::from(lifetime);
+                e.age = (age % u64::from(lifetime)) as u32;
+            }
+            self.place_plumes(dune_height);
+            self.steps += steps;
+            return;
+        }
         let p = &self.params;
         for (blob, walk) in self.blobs.iter_mut().zip(&mut self.walks) {
             let Vec3 {
@@ -137,6 +313,7 @@ impl DustCloud {
                 y = dune_height(x, z) + p.lift + az;
             }
             blob.position = Vec3::new(x, y, z);
+            blob.opacity = 1.0;
         }
         self.steps += steps;
     }
@@ -237,5 +414,64 @@ mod tests {
         // Released over the whole field, not only over one ripple tile.
         let far = blobs.iter().filter(|b| b.position.x > 500.0).count();
         assert!((400..=500).contains(&far), "{far} of 900 in the far half");
+    }
+
+    /// Plumes leave the crests: sources higher than the field's mean, blobs downwind
+    /// of their source by their age's drift, higher, wider and thinner as they age,
+    /// released again at the source after their lifetime, deterministic.
+    #[test]
+    fn plumes_stream_downwind_off_the_crests() {
+        let period = 256.0f32;
+        // Ridges across the wind: crests at x = 64 and 192.
+        let ridges = |x: f32, _: f32| 10.0 * (std::f32::consts::TAU * x / 128.0).cos() + 10.0;
+        let r = ripples();
+        let g = DustGround {
+            ripples: &r,
+            tile: 16.0,
+            wind_radians: 0.0,
+            period,
+            dune_height: &ridges,
+        };
+        let plumes = Plumes::default();
+        let params = DustParams {
+            count: 300,
+            plumes: Some(plumes.clone()),
+            ..DustParams::default()
+        };
+        let mut cloud = DustCloud::release(&params, &g, 7);
+        // The sources: the blobs released last (age 0) stand on the crests' upper
+        // part, where the wind is fastest.
+        let young: Vec<&Emission> = cloud.emissions.iter().filter(|e| e.age == 0).collect();
+        assert_eq!(young.len(), 10, "one blob of each plume just released");
+        for e in &young {
+            let h = ridges(e.source.x, e.source.z);
+            assert!(h > 12.0, "a source {h:.1} m high, the field's mean is 10");
+        }
+        // Downwind by the drift over their age, rising and spreading.
+        for (b, e) in cloud.blobs().iter().zip(&cloud.emissions) {
+            let dx = (b.position.x - e.source.x).rem_euclid(period);
+            let expected = params.drift * e.age as f32;
+            assert!(
+                (dx - expected).abs() <= params.jitter * e.age as f32 + 1e-3,
+                "age {}: {dx} downwind, drift {expected}",
+                e.age
+            );
+            assert!(b.position.y >= e.source.y + plumes.rise * e.age as f32 - 1e-3);
+            let spread = plumes.spread(e.age);
+            assert!((b.radius - e.radius * spread).abs() < 1e-4);
+            assert!((b.opacity - 1.0 / (spread * spread)).abs() < 1e-6);
+        }
+        // A lifetime later the same sources and ages, other walks: a steady stream.
+        let before = cloud.clone();
+        cloud.advance(plumes.lifetime, &ridges);
+        for (a, b) in before.emissions.iter().zip(&cloud.emissions) {
+            assert_eq!(
+                (a.source, a.age, a.released + 1),
+                (b.source, b.age, b.released)
+            );
+        }
+        let mut again = DustCloud::release(&params, &g, 7);
+        again.advance(plumes.lifetime, &ridges);
+        assert_eq!(again.blobs(), cloud.blobs());
     }
 }

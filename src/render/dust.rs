@@ -56,6 +56,20 @@ const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 1, DescriptorKind::
 const REPEAT: DescriptorBinding = DescriptorBinding::new(0, 2, DescriptorKind::Sampler);
 const BLOBS: DescriptorBinding = DescriptorBinding::new(0, 3, DescriptorKind::StorageBuffer);
 
+/// The blobs as `dust.vert` reads them: two vec4 each, xyz the centre and w the radius,
+/// then x the opacity.
+fn packed(blobs: &[DustBlob]) -> Vec<Vec4> {
+    blobs
+        .iter()
+        .flat_map(|b| {
+            [
+                b.position.extend(b.radius),
+                Vec4::new(b.opacity, 0.0, 0.0, 0.0),
+            ]
+        })
+        .collect()
+}
+
 /// `dunes/dust.vert`: the light (binding 0), the blobs (3) and `DustPush`.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUST_VERT,
@@ -74,7 +88,7 @@ pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
 /// The blobs (a storage buffer, rewritten as they drift), the light, the dune
 /// heights and the blended billboard pipeline.
 pub struct DustPass {
-    /// One vec4 a blob (at least one, unused without dust).
+    /// Two vec4 a blob (`packed`; at least one blob, unused without dust).
     blobs: Buffer,
     count: u32,
     light: Buffer,
@@ -112,11 +126,11 @@ impl DustPass {
         desc.cull_mode = vk::CullModeFlags::NONE;
         desc.alpha_blend = true;
         desc.depth_write = false;
-        let points: Vec<Vec4> = blobs.iter().map(|b| b.position.extend(b.radius)).collect();
+        let points = packed(blobs);
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         // One blob's worth at least: every binding is written, nothing drawn without.
         let stored = if points.is_empty() {
-            vec![Vec4::ZERO]
+            vec![Vec4::ZERO; 2]
         } else {
             points.clone()
         };
@@ -180,12 +194,8 @@ impl DustPass {
     /// Moves the blobs (as many as at creation). Call between frames, not while one
     /// that draws them is in flight.
     pub fn set_blobs(&mut self, blobs: &[DustBlob]) -> Result<()> {
-        let points: Vec<Vec4> = blobs
-            .iter()
-            .take(self.count as usize)
-            .map(|b| b.position.extend(b.radius))
-            .collect();
-        self.blobs.write(0, &points)
+        self.blobs
+            .write(0, &packed(&blobs[..blobs.len().min(self.count as usize)]))
     }
 
     /// The light for the next frame.

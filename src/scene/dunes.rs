@@ -13,7 +13,7 @@ use crate::camera::{Camera, Jitter};
 
 use crate::error::{Error, Result};
 use crate::model::atmosphere::Atmosphere;
-use crate::model::dust::DustParams;
+use crate::model::dust::{DustParams, Plumes};
 use crate::model::footprints::{Walk, fig18_walk};
 use crate::model::sand::{Saltation, SandParams};
 use crate::params::{Point3, check};
@@ -261,6 +261,10 @@ crate::params! {
         [top, "Dust and footprints"] dust: bool = false, "on|off", "", check::any();
         /// Dust blobs released.
         [top, "Dust and footprints"] dust_count: usize = 900, "N", "", check::within(1..=100_000);
+        /// Dust in plumes, beyond the paper: lifted where the wind blows fastest, off
+        /// the crests, streaming downwind, rising and thinning as it spreads (off: the
+        /// paper's blobs released all over the field).
+        [top, "Dust and footprints"] dust_plumes: bool = true, "on|off", "", check::any();
         /// Height over which a dust blob fades out where it meets the sand (soft
         /// particles).
         [top, "Dust and footprints"] dust_fade: f32 = 1.5, "M", "m", check::above(0.0);
@@ -425,6 +429,7 @@ impl DunesScene {
         self.dust.then(|| DustParams {
             count: self.dust_count,
             fade: self.dust_fade,
+            plumes: self.dust_plumes.then(Plumes::default),
             ..DustParams::default()
         })
     }

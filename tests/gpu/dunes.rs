@@ -472,7 +472,8 @@ fn dust_is_soft_where_it_meets_the_sand_and_blows_over_time() {
         // Flat sand without ripples, so the dust's own edges are what changes from
         // pixel to pixel; every blob 3 m in radius (ripple height 1 everywhere) floats
         // 1.5 m up, so the sand cuts the lower half of each billboard. Seen toward a
-        // low sun the grains scatter forward and glow over the sand.
+        // low sun the grains scatter forward and glow over the sand. The paper's
+        // blobs, not plumes (which rise off the crests, away from the sand).
         let n = 32;
         let flat = Heightfield {
             width: n,
@@ -494,6 +495,7 @@ fn dust_is_soft_where_it_meets_the_sand_and_blows_over_time() {
             ripples: false,
             shadows: dunes::Shadows::None,
             dust: true,
+            dust_plumes: false,
             dust_count: 150,
             sun_elevation: 10.0,
             sun_azimuth: 270.0,
