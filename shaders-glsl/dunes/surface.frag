@@ -62,7 +62,7 @@ layout(constant_id = 8) const bool SPARKLE = true;         // specular sheen and
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
     vec4 wind;     // xy cos/sin of the wind direction
-    vec4 shadows;  // z ripple-shadow softness (radians)
+    vec4 shadows;  // xy slopes over which the ripples fade on slip faces, z ripple-shadow softness (radians)
     vec4 albedo;   // rgb sand albedo
     vec4 air_extinction;  // rgb per metre at the ground, w aerosol g
     vec4 air_scattering;  // rgb Rayleigh per metre, w aerosol
@@ -191,6 +191,10 @@ void main() {
     // The dune's tangent frame: T along world +x in the surface, B toward world +z.
     vec3 t = normalize(vec3(1.0, 0.0, 0.0) - nd * nd.x);
     vec3 b = cross(t, nd);
+    // Slip faces: where the sand lies near its angle of repose it avalanches, and an
+    // avalanche leaves no ripples behind (their bump and their shadows fade out).
+    float slope = length(nd.xz) / max(nd.y, 1e-3);
+    float rippled = 1.0 - smoothstep(dune.shadows.x, dune.shadows.y, slope);
 
     // Ripple tile coordinates: the tile's +x (the simulation's wind) along the wind.
     vec2 c = dune.wind.xy;
@@ -237,7 +241,7 @@ void main() {
             print_lit = d.w;
         }
     }
-    ripple = normalize(vec3(ripple.xy * dune.tile.y * (1.0 - trodden), max(ripple.z, 1e-3)));
+    ripple = normalize(vec3(ripple.xy * dune.tile.y * (1.0 - trodden) * rippled, max(ripple.z, 1e-3)));
     // Back from tile to world orientation, then into the dune frame (tilted normal).
     vec2 rxy = vec2(c.x * ripple.x - c.y * ripple.y, c.y * ripple.x + c.x * ripple.y);
     vec3 n = normalize(t * rxy.x + b * rxy.y + nd * ripple.z);
@@ -275,7 +279,7 @@ void main() {
         float elevation = atan(lt.z, max(length(lt.xy), 1e-4));
         float horizon = r.b * (0.5 * PI);
         float soft = dune.shadows.z + r.a * (0.5 * PI) + 2.0 * fwidth(horizon);
-        lit *= smoothstep(horizon - soft, horizon + soft, elevation);
+        lit *= mix(1.0, smoothstep(horizon - soft, horizon + soft, elevation), rippled);
     }
 
     lit *= print_lit;

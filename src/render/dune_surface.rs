@@ -30,7 +30,8 @@ pub struct DunePush {
     pub tile: Vec4,
     /// xy cos/sin of the wind direction (zw unused).
     pub wind: Vec4,
-    /// z ripple-shadow softness (radians; xyw unused).
+    /// x, y the slopes (tangents) over which the ripples fade out on slip faces, z
+    /// ripple-shadow softness (radians; w unused).
     pub shadows: Vec4,
     /// rgb sand albedo.
     pub albedo: Vec4,

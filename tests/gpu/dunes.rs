@@ -820,3 +820,102 @@ fn the_sky_lights_the_shadows_and_the_sand_shines_against_the_sun() {
         assert!(with < 0.5 * against, "front-lit sheen {with:.2}/255");
     });
 }
+
+/// Avalanches erase ripples: on a field of sawtooth dunes (a 8-degree stoss rising
+/// with the wind, a 34-degree slip face falling beyond the brink), lit from upwind 45
+/// degrees up (both faces lit, the stoss slopes brighter), the ripples change the slip faces' pixels
+/// by less than a fifth of what they change on the stoss slopes (relative to each
+/// face's brightness), while without the fade (`--repose` near 90 degrees moves it
+/// past any slope here) they change both.
+#[test]
+fn ripples_fade_out_on_the_slip_faces() {
+    common::with_gpu(|ctx| {
+        let base = small("fig13");
+        let simulated = dunes::simulate(&base, &mut |_, _| {}).expect("simulate");
+        let n = base.dune_size;
+        let cell = base.cell;
+        // Per period: 26 cells of stoss, 6 of slip face.
+        let (stoss, lee) = (26usize, 6usize);
+        let rise = stoss as f32 * cell * 8f32.to_radians().tan();
+        let profile = |i: usize| {
+            let i = i % (stoss + lee);
+            if i <= stoss {
+                rise * i as f32 / stoss as f32
+            } else {
+                rise * (1.0 - (i - stoss) as f32 / lee as f32)
+            }
+        };
+        assert!((rise / (lee as f32 * cell)).atan().to_degrees() > 30.0);
+        let terrain = Terrain {
+            dune_heights: (0..n * n).map(|k| profile(k % n)).collect(),
+            ..simulated
+        };
+        let size = Size::new(480, 320);
+        // Looking across the wind from above, the sun 45 degrees up upwind (-x).
+        let field = base.field_size();
+        let camera = sediment::camera::Camera {
+            eye: glam::Vec3::new(0.5 * field, 0.6 * field, -0.1 * field),
+            target: glam::Vec3::new(0.5 * field, 0.0, 0.5 * field),
+            up: glam::Vec3::Y,
+            fov_y_degrees: 45.0,
+            near: 0.5,
+            far: 4000.0,
+            jitter: sediment::camera::Jitter::NONE,
+        };
+        let scene = DunesScene {
+            sun_elevation: 45.0,
+            sun_azimuth: 180.0,
+            shadows: dunes::Shadows::None,
+            sparkle: false,
+            ..base
+        };
+        let luma = |s: &DunesScene| -> Vec<f64> {
+            render_desert(ctx, s, &terrain, size, Some(&camera))
+                .image
+                .pixels()
+                .map(|p| {
+                    0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+                })
+                .collect()
+        };
+        let flat = luma(&DunesScene {
+            ripples: false,
+            ..scene.clone()
+        });
+        // The faces by their brightness without ripples: the stoss slopes face the
+        // sun, the slip faces are lit at a grazing angle.
+        let mut sorted: Vec<f64> = flat.iter().copied().filter(|&l| l > 1.0).collect();
+        sorted.sort_by(f64::total_cmp);
+        let (dim, bright) = (sorted[sorted.len() / 20], sorted[sorted.len() * 3 / 4]);
+        let modulation = |rippled: &[f64], slip: bool| {
+            let (mut change, mut level, mut count) = (0.0, 0.0, 0.0);
+            for (r, f) in rippled.iter().zip(&flat) {
+                let on_slip = (f - dim).abs() < 3.0;
+                let on_stoss = (f - bright).abs() < 3.0;
+                if (slip && on_slip) || (!slip && on_stoss) {
+                    change += (r - f).abs();
+                    level += f;
+                    count += 1.0;
+                }
+            }
+            assert!(count > 500.0, "{count} pixels of the face");
+            change / level
+        };
+        let faded = luma(&scene);
+        let (slip, stoss) = (modulation(&faded, true), modulation(&faded, false));
+        let kept = luma(&DunesScene {
+            repose: dunes::Degrees(Some(89.0)),
+            ..scene.clone()
+        });
+        let (slip_kept, stoss_kept) = (modulation(&kept, true), modulation(&kept, false));
+        eprintln!(
+            "ripple modulation: slip faces {slip:.4}, stoss {stoss:.4}; without the fade \
+             {slip_kept:.4}, {stoss_kept:.4}"
+        );
+        assert!(slip < 0.2 * stoss, "slip faces {slip:.4}, stoss {stoss:.4}");
+        assert!(
+            slip_kept > 0.5 * stoss_kept,
+            "without the fade: {slip_kept:.4}, {stoss_kept:.4}"
+        );
+    });
+}

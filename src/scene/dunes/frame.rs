@@ -192,6 +192,15 @@ pub(super) const GRAIN_TILE_M: f32 = 0.35;
 /// around the horizon, radians (about 2.3 degrees; the mips' spread widens it).
 const RIPPLE_SHADOW_SOFTNESS: f32 = 0.04;
 
+/// The slopes (tangents) over which the ripples fade out, from none to all: the sand's
+/// angle of repose less 12 and less 4 degrees (33, dry sand's, with `--repose off`).
+/// Near it the slip faces avalanche, and an avalanche leaves no ripples behind.
+fn slip_faces(scene: &DunesScene) -> glam::Vec2 {
+    let repose = scene.repose.0.unwrap_or(33.0) as f32;
+    let tan = |degrees: f32| degrees.clamp(0.0, 89.0).to_radians().tan();
+    glam::Vec2::new(tan(repose - 12.0), tan(repose - 4.0))
+}
+
 /// The desert's tone mapping, for every pass that draws it.
 const DESERT_TONE_MAP: ToneMap = ToneMap::Aces;
 
@@ -462,7 +471,7 @@ impl Scene for DunesFrame {
                 scene.field_size(),
             ),
             wind: glam::Vec4::new(wind.cos(), wind.sin(), 0.0, 0.0),
-            shadows: glam::Vec4::new(0.0, 0.0, RIPPLE_SHADOW_SOFTNESS, 0.0),
+            shadows: slip_faces(scene).extend(RIPPLE_SHADOW_SOFTNESS).extend(0.0),
             albedo: SAND_ALBEDO.extend(1.0),
             air_extinction: self
                 .atmosphere
