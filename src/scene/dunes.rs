@@ -212,6 +212,11 @@ crate::params! {
         /// Ripple bump strength (1: the simulated slopes as they are; the paper prints
         /// no contrast).
         [top, "Shading"] ripple_strength: f32 = 0.65, "F", "", check::within(0.0..=4.0);
+        /// Draw the ripple tile mirrored along the wind, beyond the paper: Nishimori and
+        /// Ouchi's law at the paper's values gives ripples whose steep faces face
+        /// upwind and which creep upwind, the mirror image of real ripples; on, they
+        /// have real ripples' gentle stoss upwind and steep lee downwind.
+        [top, "Shading"] ripples_mirrored: bool = false, "on|off", "", check::any();
         /// Ripple orientation relative to the dune field's wind (+x).
         [top, "Shading"] wind_direction: f32 = 0.0, "DEG", "degrees", check::any();
         /// Sun elevation above the horizon (below 0 the sun has set and the sky's

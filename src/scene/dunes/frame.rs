@@ -50,7 +50,13 @@ pub struct Terrain {
     /// One period of dune heights in metres, lowest at 0: `dune_size` squared, row by
     /// row.
     pub dune_heights: Vec<f32>,
-    /// The simulated ripple tile, `ripple_size` texels a side, in model units.
+    /// The ripple tile as drawn, `ripple_size` texels a side, in model units: the
+    /// simulated field, mirrored along the wind with `ripples_mirrored`. Nishimori &
+    /// Ouchi's law at the paper's values makes ripples whose steep faces face upwind
+    /// and which creep upwind (`model::sand` test
+    /// `the_published_ripple_law_mirrors_real_ripples`); mirrored, they have real
+    /// ripples' gentle stoss slope upwind and steep lee downwind, and move downwind as
+    /// the sand forms.
     pub ripples: Heightfield,
     /// The simulated dune field as the simulation left it, in model units.
     pub dune_field: Heightfield,
@@ -108,7 +114,8 @@ pub fn simulate_frames(
     last.ok_or_else(|| Error::internal("simulation", "produced no terrain"))
 }
 
-/// World-unit dune heights (lowest at 0) from the simulated fields.
+/// World-unit dune heights (lowest at 0) from the simulated fields, and the ripple
+/// tile as drawn (`Terrain::ripples`).
 fn terrain_of(scene: &DunesScene, ripples: Heightfield, dune_field: Heightfield) -> Terrain {
     let scale = scene.dune_params().vertical_scale as f32 * scene.cell;
     let min = dune_field.data.iter().copied().fold(f64::MAX, f64::min);
@@ -119,8 +126,23 @@ fn terrain_of(scene: &DunesScene, ripples: Heightfield, dune_field: Heightfield)
         .collect();
     Terrain {
         dune_heights,
-        ripples,
+        ripples: if scene.ripples_mirrored {
+            mirrored_along_the_wind(&ripples)
+        } else {
+            ripples
+        },
         dune_field,
+    }
+}
+
+/// `field` mirrored along x (the wind): column x becomes column `width - 1 - x`.
+fn mirrored_along_the_wind(field: &Heightfield) -> Heightfield {
+    let w = field.width;
+    Heightfield {
+        data: (0..field.data.len())
+            .map(|i| field.data[i - i % w + (w - 1 - i % w)])
+            .collect(),
+        ..field.clone()
     }
 }
 
@@ -1072,6 +1094,36 @@ pub fn ripple_tile_path(path: &std::path::Path) -> std::path::PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mirrored_ripples_are_the_simulated_tile_reversed_along_the_wind() {
+        let scene = DunesScene {
+            ripple_size: 16,
+            ripple_steps: 3,
+            dune_size: 8,
+            dune_steps: 0,
+            ..DunesScene::default()
+        };
+        let plain = simulate(&scene, &mut |_, _| {}).expect("simulate");
+        let mirrored = simulate(
+            &DunesScene {
+                ripples_mirrored: true,
+                ..scene
+            },
+            &mut |_, _| {},
+        )
+        .expect("simulate");
+        for (a, b) in plain
+            .ripples
+            .data
+            .chunks(16)
+            .zip(mirrored.ripples.data.chunks(16))
+        {
+            let reversed: Vec<f64> = a.iter().rev().copied().collect();
+            assert_eq!(b, &reversed[..]);
+        }
+        assert_eq!(plain.dune_heights, mirrored.dune_heights);
+    }
 
     #[test]
     fn triangles_over_the_detail_field_come_first_and_none_is_lost() {
