@@ -71,6 +71,27 @@ impl Default for Plumes {
     }
 }
 
+impl DustParams {
+    /// One step of eq. (7) from (x, z), drawing the jitter from `walk`: the new
+    /// position, hugging the sand at `lift` above it, wrapped into `period`.
+    fn step(
+        &self,
+        walk: &mut Rng,
+        (x, z): (f32, f32),
+        period: f32,
+        dune_height: &dyn Fn(f32, f32) -> f32,
+    ) -> Vec3 {
+        let (ax, ay, az) = (
+            walk.range_f32(-1.0, 1.0) * self.jitter,
+            walk.range_f32(-1.0, 1.0) * self.jitter,
+            walk.range_f32(-1.0, 1.0) * self.jitter,
+        );
+        let x = (x + self.drift + ax).rem_euclid(period);
+        let z = (z + ay).rem_euclid(period);
+        Vec3::new(x, dune_height(x, z) + self.lift + az, z)
+    }
+}
+
 impl Plumes {
     /// A blob's radius `age` steps after release, over its radius at release.
     pub fn spread(&self, age: u32) -> f32 {
@@ -265,23 +286,16 @@ impl DustCloud {
                 let mut walk = Rng::new(mix64(
                     self.seed ^ mix64(i as u64) ^ mix64(e.released.wrapping_add(0x9E37)),
                 ));
-                let (mut x, mut y, mut z) = (e.source.x, e.source.y, e.source.z);
+                let mut at = e.source;
                 for step in 1..=e.age {
-                    let (ax, ay, az) = (
-                        walk.range_f32(-1.0, 1.0) * p.jitter,
-                        walk.range_f32(-1.0, 1.0) * p.jitter,
-                        walk.range_f32(-1.0, 1.0) * p.jitter,
-                    );
-                    x = (x + p.drift + ax).rem_euclid(self.period);
-                    z = (z + ay).rem_euclid(self.period);
+                    at = p.step(&mut walk, (at.x, at.z), self.period, dune_height);
                     // Hugging the sand as eq. (7) does, or rising off the crest, which
                     // ever is higher: over the lee the plume keeps its height.
-                    y = (dune_height(x, z) + p.lift + az)
-                        .max(e.source.y + plumes.rise * step as f32);
+                    at.y = at.y.max(e.source.y + plumes.rise * step as f32);
                 }
                 let spread = plumes.spread(e.age);
                 DustBlob {
-                    position: Vec3::new(x, y, z),
+                    position: at,
                     radius: e.radius * spread,
                     opacity: 1.0 / (spread * spread),
                 }
@@ -304,24 +318,10 @@ impl DustCloud {
         }
         let p = &self.params;
         for (blob, walk) in self.blobs.iter_mut().zip(&mut self.walks) {
-            let Vec3 {
-                mut x,
-                mut y,
-                mut z,
-                ..
-            } = blob.position;
             for _ in 0..steps {
-                let (ax, ay, az) = (
-                    walk.range_f32(-1.0, 1.0) * p.jitter,
-                    walk.range_f32(-1.0, 1.0) * p.jitter,
-                    walk.range_f32(-1.0, 1.0) * p.jitter,
-                );
-                x = (x + p.drift + ax).rem_euclid(self.period);
-                z = (z + ay).rem_euclid(self.period);
-                y = dune_height(x, z) + p.lift + az;
+                let at = blob.position;
+                blob.position = p.step(walk, (at.x, at.z), self.period, dune_height);
             }
-            blob.position = Vec3::new(x, y, z);
-            blob.opacity = 1.0;
         }
         self.steps += steps;
     }
