@@ -647,6 +647,27 @@ fn moving_the_sun_rebinds_the_textures_without_building_a_pipeline() {
             0,
             "the rebound textures draw what new ones do"
         );
+        // The sky occlusion (y) and the sheen and glints (g) switch off live, as their
+        // options do.
+        for key in ['y', 'g'] {
+            assert!(
+                frame
+                    .interactive()
+                    .expect("the dunes take keys")
+                    .key(ctx, Key::Char(key))
+                    .expect("key"),
+                "{key} is a dunes key"
+            );
+        }
+        let (plain, _) = runner.render(&mut frame, &camera, at).expect("render");
+        let off = DunesScene {
+            sky_occlusion: false,
+            sparkle: false,
+            ..turned
+        };
+        let fresh = render_desert(ctx, &off, &terrain, size, Some(&camera)).image;
+        assert_eq!(common::difference(&plain, &fresh).1.max, 0);
+        assert!(common::difference(&plain, &moved).1.mean > 0.0);
     });
 }
 

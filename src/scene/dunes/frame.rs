@@ -418,6 +418,7 @@ impl DunesFrame {
     pub const CONTROLS: &'static [&'static str] = &[
         "left/right sun azimuth  up/down sun elevation  l lod  k culling",
         "o shadows none/dune/dune+ripple  j ripples  u dust",
+        "y sky occlusion  g sheen and glints",
     ];
 }
 
@@ -645,6 +646,8 @@ impl Interactive for DunesFrame {
             Key::Char('l') => s.lod = !s.lod,
             Key::Char('k') => s.cull = !s.cull,
             Key::Char('j') => s.ripples = !s.ripples,
+            Key::Char('y') => s.sky_occlusion = !s.sky_occlusion,
+            Key::Char('g') => s.sparkle = !s.sparkle,
             Key::Char('o') => {
                 s.shadows = match s.shadows {
                     Shadows::None => Shadows::Dune,
