@@ -226,18 +226,12 @@ impl SkyIrradiance {
     /// The irradiance on a surface facing unit direction `n`, the circumsolar sky's
     /// included.
     pub fn irradiance(&self, n: Vec3) -> Vec3 {
-        self.irradiance_without_circumsolar(n)
-            + self.circumsolar * n.dot(self.circumsolar_direction).max(0.0)
-    }
-
-    /// The irradiance on a surface facing unit direction `n` from all but the
-    /// circumsolar sky.
-    pub fn irradiance_without_circumsolar(&self, n: Vec3) -> Vec3 {
         sh_basis(n)
             .into_iter()
             .zip(self.coefficients)
             .map(|(y, c)| c * y)
-            .sum()
+            .sum::<Vec3>()
+            + self.circumsolar * n.dot(self.circumsolar_direction).max(0.0)
     }
 }
 

@@ -671,9 +671,17 @@ fn moving_the_sun_rebinds_the_textures_without_building_a_pipeline() {
     });
 }
 
-/// `scene` drawn at twice `size` each way and averaged down 2x2 in linear light, as
-/// `sediment dunes` draws its pictures (`--supersample 2`): finer ripple levels than
-/// a frame at `size` picks.
+/// Each pixel's luminance as displayed (Rec. 709 weights on the 8-bit values).
+fn luma_of(image: &image::RgbaImage) -> Vec<f64> {
+    image
+        .pixels()
+        .map(|p| 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]))
+        .collect()
+}
+
+/// `scene` drawn at twice `size` each way and averaged down 2x2 in linear light by the
+/// pictures' own `frame::supersample::downsample`, as `sediment dunes` draws its
+/// pictures (`--supersample 2`): finer ripple levels than a frame at `size` picks.
 fn as_pictures_are(
     ctx: &std::sync::Arc<sediment::gpu::Context>,
     scene: &DunesScene,
@@ -688,18 +696,7 @@ fn as_pictures_are(
         None,
     )
     .image;
-    let linear = |v: u8| (f64::from(v) / 255.0).powf(2.2);
-    image::RgbaImage::from_fn(size.width, size.height, |x, y| {
-        let mut out = [0u8, 0, 0, 255];
-        for (c, o) in out.iter_mut().take(3).enumerate() {
-            let sum: f64 = [(0, 0), (1, 0), (0, 1), (1, 1)]
-                .iter()
-                .map(|(dx, dy)| linear(big.get_pixel(2 * x + dx, 2 * y + dy)[c]))
-                .sum();
-            *o = ((sum / 4.0).powf(1.0 / 2.2) * 255.0).round() as u8;
-        }
-        image::Rgba(out)
-    })
+    sediment::frame::supersample::downsample(big, 2)
 }
 
 /// Beyond the paper, the sky's light in the shadows (`model::sky_light`): at an 8-degree
@@ -733,14 +730,6 @@ fn the_sky_lights_the_shadows_and_the_sand_shines_against_the_sun() {
         // Of those, the ones a dune's shadow took the sun from (the slopes facing away
         // from the sun are as dark without shadows): a 5x5 neighbourhood at least 4
         // levels brighter with shadows off.
-        let luma_of = |image: &image::RgbaImage| -> Vec<f64> {
-            image
-                .pixels()
-                .map(|p| {
-                    0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
-                })
-                .collect()
-        };
         let box5 = |luma: &[f64], i: usize| {
             let (x, y) = (i % w, i / w);
             (y - 2..=y + 2)
@@ -890,15 +879,8 @@ fn ripples_fade_out_on_the_slip_faces() {
             sparkle: false,
             ..base
         };
-        let luma = |s: &DunesScene| -> Vec<f64> {
-            render_desert(ctx, s, &terrain, size, Some(&camera))
-                .image
-                .pixels()
-                .map(|p| {
-                    0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
-                })
-                .collect()
-        };
+        let luma =
+            |s: &DunesScene| luma_of(&render_desert(ctx, s, &terrain, size, Some(&camera)).image);
         let flat = luma(&DunesScene {
             ripples: false,
             ..scene.clone()
