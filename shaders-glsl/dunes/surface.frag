@@ -37,11 +37,13 @@ layout(set = 0, binding = 7, std430) readonly buffer Levels {
 } quads;
 // The sky's irradiance over pi (SkyIrradiance) as nine spherical harmonics,
 // cosine-convolved (the whole sphere, sand below the horizon, without the circumsolar
-// sky), the radiance of the sand that hides the sky from an occluded point, and the
-// circumsolar sky as a wide sun (render::dune_surface::DuneSkyLight).
+// sky), the radiance of the sand that hides the sky from an occluded point (from a
+// sunlit point and from one in a dune's shadow), and the circumsolar sky as a wide sun
+// (render::dune_surface::DuneSkyLight).
 layout(set = 0, binding = 8) uniform SkyLight {
     vec4 sh[9];
     vec4 occluder;
+    vec4 occluder_shaded;
     vec4 circumsolar;            // rgb irradiance over pi facing it
     vec4 circumsolar_direction;  // xyz
 } skylight;
@@ -288,10 +290,11 @@ void main() {
     vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain);
     // Sky light: the sky's irradiance from the harmonics, scaled by the share of the
     // sky the point sees; where a dune hides the sky, its sand lights the point
-    // instead.
+    // instead: in a dune's shadow the sand toward the sun is that dune's shaded lee.
     vec3 ambient = sky_irradiance(n);
     if (SKY_OCCLUSION) {
-        ambient = field.a * ambient + (1.0 - field.a) * (0.5 + 0.5 * n.y) * skylight.occluder.rgb;
+        vec3 occluder = mix(skylight.occluder_shaded.rgb, skylight.occluder.rgb, lit);
+        ambient = field.a * ambient + (1.0 - field.a) * (0.5 + 0.5 * n.y) * occluder;
     }
     ambient += skylight.circumsolar.rgb * max(dot(n, skylight.circumsolar_direction.xyz), 0.0)
         * lit_dune;

@@ -6,6 +6,7 @@ pub mod cave;
 pub mod chamber;
 pub mod dune_mesh;
 pub mod dune_shadow;
+pub mod dune_wind;
 pub mod dust;
 pub mod footprints;
 pub mod layers;

@@ -155,23 +155,28 @@ pub struct DuneSkyLight {
     /// The sky's irradiance over pi (the shading's units) as nine spherical-harmonic
     /// coefficients (`SkyIrradiance`), rgb each.
     pub sh: [Vec4; 9],
-    /// rgb the radiance of the sand that hides the sky from an occluded point.
+    /// rgb the radiance of the sand that hides the sky from an occluded point in the
+    /// sun.
     pub occluder: Vec4,
+    /// rgb the same for a point in a dune's shadow.
+    pub occluder_shaded: Vec4,
     /// rgb the circumsolar sky's irradiance over pi on a surface facing it.
     pub circumsolar: Vec4,
     /// xyz the circumsolar sky's mean direction.
     pub circumsolar_direction: Vec4,
 }
-// SAFETY: repr(C), twelve Vec4.
+// SAFETY: repr(C), thirteen Vec4.
 unsafe impl Pod for DuneSkyLight {}
 
 impl DuneSkyLight {
-    /// The buffer's contents for the sky `irradiance` and the `occluder`'s radiance.
-    pub fn new(irradiance: &SkyIrradiance, occluder: Vec3) -> Self {
+    /// The buffer's contents for the sky `irradiance` and the occluders' radiance
+    /// (`[from a sunlit point, from a shaded one]`).
+    pub fn new(irradiance: &SkyIrradiance, occluder: [Vec3; 2]) -> Self {
         let pi = std::f32::consts::PI;
         Self {
             sh: irradiance.coefficients.map(|c| (c / pi).extend(0.0)),
-            occluder: occluder.extend(0.0),
+            occluder: occluder[0].extend(0.0),
+            occluder_shaded: occluder[1].extend(0.0),
             circumsolar: (irradiance.circumsolar / pi).extend(0.0),
             circumsolar_direction: irradiance.circumsolar_direction.extend(0.0),
         }

@@ -13,6 +13,7 @@ use crate::camera::{Camera, Jitter};
 
 use crate::error::{Error, Result};
 use crate::model::atmosphere::Atmosphere;
+use crate::model::dune_wind::{WindDuneParams, Winds};
 use crate::model::dust::{DustParams, Plumes};
 use crate::model::footprints::{Walk, fig18_walk};
 use crate::model::sand::{Saltation, SandParams};
@@ -105,6 +106,40 @@ impl std::fmt::Display for LodChoice {
     }
 }
 
+/// Which model forms the dunes (`--dune-law`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DuneLaw {
+    /// The paper's: Nishimori & Ouchi's dune law (eqs. 5–6) with the wind along +x
+    /// (`model::sand`).
+    Paper,
+    /// Werner's slab model under a regime of winds from any direction
+    /// (`model::dune_wind`): barchans, transverse, linear and star dunes.
+    Wind,
+}
+
+impl std::str::FromStr for DuneLaw {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "paper" => Ok(Self::Paper),
+            "wind" => Ok(Self::Wind),
+            other => Err(Error::invalid(
+                "--dune-law",
+                format!("\"{other}\" is not paper or wind"),
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for DuneLaw {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Paper => "paper",
+            Self::Wind => "wind",
+        })
+    }
+}
+
 /// An angle in degrees, or off (`--repose`, `--shadow-zone`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Degrees(pub Option<f64>);
@@ -161,12 +196,34 @@ crate::params! {
         [top, "Simulation"] ripple_size: usize = 256, "N", "texels", check::power_of_two(16..=1024);
         /// Ripple simulation steps.
         [top, "Simulation"] ripple_steps: u32 = 1200, "N", "", check::within(0..=100_000);
-        /// Dune grid side in vertices (the paper's 64).
-        [top, "Simulation"] dune_size: usize = 64, "N", "vertices", check::within(8..=512);
-        /// Dune simulation steps.
+        /// Dune grid side in vertices (the paper's 64; 128 cells of 2 m give the wind's
+        /// dunes room for several in one period).
+        [top, "Simulation"] dune_size: usize = 128, "N", "vertices", check::within(8..=512);
+        /// Dune simulation steps (with the wind law, iterations: every cell picked once
+        /// on average).
         [top, "Simulation"] dune_steps: u32 = 1500, "N", "", check::within(0..=100_000);
-        /// Initial sand thickness of the dune field, in the simulation's units of sand.
+        /// Which model forms the dunes: wind (Werner's slab model under the winds of
+        /// --winds, on --sand-supply) or paper (Nishimori & Ouchi's law, wind along +x;
+        /// the paper's own field is --dune-size 64 --cell 4).
+        [top, "Simulation"] dune_law: DuneLaw = DuneLaw::Wind, "wind|paper", "", check::any();
+        /// Initial sand thickness of the paper law's dune field, in its units of sand.
         [top, "Simulation"] dune_sand: f64 = 8.0, "H", "", check::above(0.0);
+        /// Wind law: the winds, "DEG[:SHARE];..." — where each blows toward, in degrees
+        /// from +x toward +z, and its share of the time (default 1). One wind makes
+        /// barchans or transverse ridges, two far apart linear dunes, three or more
+        /// star dunes.
+        [top, "Wind dunes"] winds: Winds = Winds(vec![crate::model::dune_wind::Wind { toward_degrees: 0.0, share: 1.0 }]), "DEG[:SHARE];...", "degrees", check::any();
+        /// Wind law: iterations in one cycle of the winds (each blows for its share of
+        /// the cycle in turn).
+        [top, "Wind dunes"] wind_period: u32 = 20, "N", "iterations", check::within(1..=100_000);
+        /// Wind law: mean depth of loose sand over the bedrock (little: barchans on bare
+        /// rock; much: ridges covering it).
+        [top, "Wind dunes"] sand_supply: f64 = 2.5, "M", "m", check::within(0.0..=1000.0);
+        /// Wind law: length of a slab's hop downwind, in cells (Werner's L).
+        [top, "Wind dunes"] dune_hop: f64 = 5.0, "CELLS", "cells", check::within(0.5..=64.0);
+        /// Wind law: thickness of a slab of sand, in cell widths (thinner: smoother
+        /// dunes, slower to form).
+        [top, "Wind dunes"] dune_slab: f64 = 0.1, "F", "cell widths", check::within(0.01..=1.0);
         /// Ripple saltation length L0 (the paper's 7.3).
         [top, "Ripple law"] ripple_l0: f64 = 7.3, "CELLS", "texels", check::at_least(0.0);
         /// Ripple saltation amount q (the paper's 0.6).
@@ -199,8 +256,8 @@ crate::params! {
         /// slopes across the wind), at most 1 with the dune D; 0 leaves scattered
         /// mounds.
         [top, "Dune law"] dune_lateral: f64 = 0.3, "F", "", check::within(0.0..=1.0);
-        /// World metres per dune cell.
-        [top, "Scale"] cell: f32 = 4.0, "M", "m", check::within(0.01..=1000.0);
+        /// World metres per dune cell (the paper's 4).
+        [top, "Scale"] cell: f32 = 2.0, "M", "m", check::within(0.01..=1000.0);
         /// World metres covered by one ripple tile (16: 64 ripple texels per 4 m dune
         /// cell, as in the paper).
         [top, "Scale"] ripple_tile: f32 = 16.0, "M", "m", check::within(0.01..=10_000.0);
@@ -290,7 +347,15 @@ crate::params! {
     validate = DunesScene::check_across;
 }
 
-crate::text_param!(Shadows, DuneShadowMethod, Degrees, LodChoice, Walk);
+crate::text_param!(
+    Shadows,
+    DuneShadowMethod,
+    Degrees,
+    LodChoice,
+    Walk,
+    DuneLaw,
+    Winds
+);
 
 impl Degrees {
     /// Off, or strictly between `lo` and `hi` degrees.
@@ -318,6 +383,16 @@ pub const PRESETS: &[(&str, &str)] = &[
         "fig18",
         "dune and ripple shadows with sand dust and footprints",
     ),
+    (
+        "barchans",
+        "crescent dunes on bare rock: one wind, little sand",
+    ),
+    ("transverse", "ridges across the wind: one wind, much sand"),
+    (
+        "linear",
+        "ridges along the mean wind: two winds 140 degrees apart",
+    ),
+    ("star", "peaks with arms: winds from three directions"),
 ];
 
 /// The scene of one of [`PRESETS`] (`--preset`); an unknown name is refused, listing them.
@@ -366,8 +441,55 @@ pub fn preset(name: &str) -> Result<DunesScene> {
             footprints: Walk(Some(fig18_walk(base.field_size()))),
             ..base
         },
+        // The dune types of the wind law (Werner 1995; Paris et al. 2019), fig17's light
+        // and a camera high enough to see their plan.
+        "barchans" => DunesScene {
+            sand_supply: 0.8,
+            dune_hop: 3.0,
+            ..dune_type(&base)
+        },
+        "transverse" => DunesScene {
+            sand_supply: 5.0,
+            ..dune_type(&base)
+        },
+        "linear" => DunesScene {
+            winds: Winds(vec![wind(70.0), wind(-70.0)]),
+            wind_period: 4,
+            sand_supply: 3.0,
+            dune_hop: 3.0,
+            ..dune_type(&base)
+        },
+        "star" => DunesScene {
+            winds: Winds(vec![wind(0.0), wind(120.0), wind(240.0)]),
+            sand_supply: 4.0,
+            ..dune_type(&base)
+        },
         other => return Err(Error::unknown_preset(other, PRESETS)),
     })
+}
+
+/// A wind blowing toward `degrees` for one share of the time.
+fn wind(degrees: f64) -> crate::model::dune_wind::Wind {
+    crate::model::dune_wind::Wind {
+        toward_degrees: degrees,
+        share: 1.0,
+    }
+}
+
+/// The dune-type presets' common scene: fig17's (the wind law's dunes with their
+/// shadows and the ripples') and an aerial camera 90 m up, the sun to its left, over the field's corner,
+/// looking across it downwind.
+fn dune_type(base: &DunesScene) -> DunesScene {
+    let s = base.field_size();
+    DunesScene {
+        shadows: Shadows::DuneAndRipple,
+        // Across the camera's view, so the slip faces and the windward slopes differ.
+        sun_elevation: 14.0,
+        sun_azimuth: 310.0,
+        eye: Some(Point3([-0.1 * s, 90.0, -0.05 * s])),
+        target: Some(Point3([0.6 * s, 0.0, 0.55 * s])),
+        ..base.clone()
+    }
 }
 
 impl DunesScene {
@@ -382,6 +504,17 @@ impl DunesScene {
     /// The checks across parameters: D and the transport across the wind together at
     /// most 1, and the footprints' walk.
     fn check_across(&self) -> Result<()> {
+        if self.dune_law == DuneLaw::Wind {
+            for (name, d) in [("shadow_zone", self.shadow_zone), ("repose", self.repose)] {
+                if d.0.is_none() {
+                    return Err(Error::invalid(
+                        name,
+                        "cannot be off with --dune-law wind (Werner's model needs it)",
+                    ));
+                }
+            }
+            self.wind_dune_params().validate()?;
+        }
         if self.dune_diffusion + self.dune_lateral > 1.0 {
             return Err(Error::invalid(
                 "dune_lateral",
@@ -427,6 +560,26 @@ impl DunesScene {
             repose_degrees: self.repose.0,
             ..SandParams::paper_dunes()
         }
+    }
+
+    /// The wind law's parameters (the shadow zone and repose shared with the paper's
+    /// law; `check_across` refuses them off with this law).
+    pub fn wind_dune_params(&self) -> WindDuneParams {
+        let base = WindDuneParams::default();
+        WindDuneParams {
+            hop: self.dune_hop,
+            slab: self.dune_slab,
+            shadow_degrees: self.shadow_zone.0.unwrap_or(base.shadow_degrees),
+            repose_degrees: self.repose.0.unwrap_or(base.repose_degrees),
+            winds: self.winds.0.clone(),
+            period: self.wind_period,
+            ..base
+        }
+    }
+
+    /// The wind law's sand supply in slabs per cell.
+    pub fn supply_slabs(&self) -> f64 {
+        self.sand_supply / (self.dune_slab * f64::from(self.cell))
     }
 
     /// The dust's parameters, when there is dust.

@@ -270,6 +270,8 @@ fn dunes_and_layers_export_textured_and_named() {
         "40",
         "--dune-size",
         "32",
+        "--cell",
+        "4",
         "--dune-steps",
         "100",
     ];

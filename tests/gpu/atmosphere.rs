@@ -90,12 +90,15 @@ fn direction(elevation_degrees: f32, azimuth_degrees: f32) -> Vec3 {
 #[test]
 fn a_day_from_noon_to_twilight_looks_like_one() {
     common::with_gpu(|ctx| {
-        // A small flat-ish field: the sky and the sand's colour are what is tested.
+        // A small flat-ish field (the paper law's initial sand, unformed, on the paper's
+        // 4 m cells): the sky and the sand's colour are what is tested.
         let base = DunesScene {
             ripple_size: 16,
             ripple_steps: 0,
             dune_size: 16,
             dune_steps: 0,
+            dune_law: dunes::DuneLaw::Paper,
+            cell: 4.0,
             sun_azimuth: 200.0,
             ..DunesScene::default()
         };

@@ -388,6 +388,25 @@ impl DunesBench {
             "dune_sim_cell_steps_per_s_1_thread".to_owned(),
             one.install(|| sim(SandParams::paper_dunes(), 64, 500))?,
         );
+        // The wind law (sequential): picks per second over the preset's 300 first
+        // iterations, the median of three runs.
+        let mut rates = Vec::new();
+        for _ in 0..3 {
+            let mut dunes = crate::model::dune_wind::WindDunes::new(
+                base.dune_size,
+                base.supply_slabs(),
+                base.wind_dune_params(),
+                7,
+            )?;
+            let t = Instant::now();
+            dunes.run(300, &mut |_| {});
+            let picks = (base.dune_size * base.dune_size) as f64 * 300.0;
+            rates.push(picks / t.elapsed().as_secs_f64().max(1e-9));
+        }
+        m.insert(
+            "wind_dune_sim_picks_per_s".to_owned(),
+            crate::stats::Stats::of(&rates).median,
+        );
         Ok(m)
     }
 }
