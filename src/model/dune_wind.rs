@@ -188,7 +188,13 @@ pub struct WindDunes {
     tallest: u32,
     rng: Rng,
     iterations: u64,
+    /// The columns after each of the last [`AVERAGED`] iterations, and their sum.
+    history: std::collections::VecDeque<Vec<u32>>,
+    sum: Vec<u64>,
 }
+
+/// Iterations the drawn surface averages over.
+pub const AVERAGED: usize = 16;
 
 impl WindDunes {
     /// `n` x `n` cells of sand `mean_slabs` deep on average, the columns drawn at random
@@ -220,6 +226,8 @@ impl WindDunes {
             tallest,
             rng: Rng::new(mix64(seed ^ 0x57_1D_D0_E5)),
             iterations: 0,
+            history: std::collections::VecDeque::with_capacity(AVERAGED),
+            sum: vec![0; n * n],
         })
     }
 
@@ -251,23 +259,26 @@ impl WindDunes {
         }
     }
 
-    /// The surface as drawn, in cell widths: the slab columns under one pass of the
-    /// 3x3 binomial filter (1-2-1 each way). Whole slabs would stand as terraces on a
-    /// gentle slope and as a fine roughness everywhere; the filter rounds a crest by
-    /// no more than one cell.
+    /// The surface as drawn, in cell widths: the slab columns averaged over the last
+    /// [`AVERAGED`] iterations (fewer if fewer have run). Whole slabs would stand as
+    /// terraces on a gentle slope, and the picks leave a fine roughness of a slab or
+    /// two everywhere; that roughness comes and goes from one iteration to the next,
+    /// while the dunes move a fraction of a cell, so the mean keeps their crests and
+    /// slip faces where a spatial filter would round them.
     pub fn surface(&self) -> Heightfield {
-        let raw = self.heights();
-        let n = self.n as isize;
-        let blur = |f: &Heightfield, dx: isize, dy: isize| Heightfield {
-            data: (0..n * n)
-                .map(|i| {
-                    let (x, y) = (i % n, i / n);
-                    0.25 * f.at(x - dx, y - dy) + 0.5 * f.at(x, y) + 0.25 * f.at(x + dx, y + dy)
-                })
+        if self.history.is_empty() {
+            return self.heights();
+        }
+        let k = self.history.len() as f64;
+        Heightfield {
+            width: self.n,
+            height: self.n,
+            data: self
+                .sum
+                .iter()
+                .map(|&s| s as f64 / k * self.params.slab)
                 .collect(),
-            ..f.clone()
-        };
-        blur(&blur(&raw, 1, 0), 0, 1)
+        }
     }
 
     /// Runs `iterations` iterations; `progress(done)` after each.
@@ -292,6 +303,31 @@ impl WindDunes {
             self.pick(i, &step, spread);
         }
         self.iterations += 1;
+        self.remember();
+    }
+
+    /// Adds this iteration's columns to the running mean, dropping the oldest beyond
+    /// [`AVERAGED`].
+    fn remember(&mut self) {
+        let recycled = if self.history.len() == AVERAGED {
+            self.history.pop_front()
+        } else {
+            None
+        };
+        let snapshot = match recycled {
+            Some(mut oldest) => {
+                for (s, o) in self.sum.iter_mut().zip(&oldest) {
+                    *s -= u64::from(*o);
+                }
+                oldest.copy_from_slice(&self.slabs);
+                oldest
+            }
+            None => self.slabs.clone(),
+        };
+        for (s, c) in self.sum.iter_mut().zip(&snapshot) {
+            *s += u64::from(*c);
+        }
+        self.history.push_back(snapshot);
     }
 
     fn xy(&self, i: usize) -> (isize, isize) {

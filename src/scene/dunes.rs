@@ -208,7 +208,7 @@ crate::params! {
         [top, "Simulation"] dune_law: DuneLaw = DuneLaw::Wind, "wind|paper", "", check::any();
         /// Initial sand thickness of the paper law's dune field, in its units of sand.
         [top, "Simulation"] dune_sand: f64 = 8.0, "H", "", check::above(0.0);
-        /// Wind law: the winds, "DEG[:SHARE];..." — where each blows toward, in degrees
+        /// Wind law: the winds, each DEG or DEG:SHARE, separated by ";" — where each blows toward, in degrees
         /// from +x toward +z, and its share of the time (default 1). One wind makes
         /// barchans or transverse ridges, two far apart linear dunes, three or more
         /// star dunes.

@@ -206,3 +206,14 @@ fn the_crests_follow_the_wind_regime() {
     assert!(linear < 0.35, "linear {linear:.2}");
     assert!((0.35..0.65).contains(&star), "star {star:.2}");
 }
+
+#[test]
+fn transverse_crests_turn_with_the_wind() {
+    // The same sand under a wind along +y: the ridges turn across it. (Between the
+    // axes they do not follow: under a wind toward 20 degrees they stay across the
+    // x axis, where a straight crest across the wind would not close on the periodic
+    // field; see the book's limits.)
+    let across_y = along_x_share(&field(96, 25.0, &[90.0], 5.0, 20, 800));
+    eprintln!("gradient energy along x under a wind along +y: {across_y:.2}");
+    assert!(across_y < 0.35, "{across_y:.2}");
+}
