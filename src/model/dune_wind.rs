@@ -395,44 +395,20 @@ impl WindDunes {
         self.roll_from(j);
     }
 
-    /// Whether `high` stands too steep over `low` `d` cells away.
-    fn too_steep(&self, high: u32, low: u32, d: f64) -> bool {
-        f64::from(high) - f64::from(low) > self.repose_per_cell * d
-    }
-
-    /// The neighbour of `i` with the steepest slope down from it beyond the repose.
-    fn steepest_below(&self, i: usize) -> Option<usize> {
+    /// The neighbour of `i` with the steepest slope beyond the repose, down from `i`
+    /// (`down`) or up to it.
+    fn steepest(&self, i: usize, down: bool) -> Option<usize> {
+        let sign = if down { 1.0 } else { -1.0 };
         let (x, y) = self.xy(i);
-        let h = self.slabs[i];
+        let h = f64::from(self.slabs[i]);
         let mut best = None;
-        let mut best_slope = 0.0;
+        let mut best_slope = self.repose_per_cell;
         for &(ox, oy, d) in &NEIGHBOURS {
             let j = self.index(x + ox, y + oy);
-            if self.too_steep(h, self.slabs[j], d) {
-                let slope = (f64::from(h) - f64::from(self.slabs[j])) / d;
-                if slope > best_slope {
-                    best_slope = slope;
-                    best = Some(j);
-                }
-            }
-        }
-        best
-    }
-
-    /// The neighbour of `i` with the steepest slope up from it beyond the repose.
-    fn steepest_above(&self, i: usize) -> Option<usize> {
-        let (x, y) = self.xy(i);
-        let h = self.slabs[i];
-        let mut best = None;
-        let mut best_slope = 0.0;
-        for &(ox, oy, d) in &NEIGHBOURS {
-            let j = self.index(x + ox, y + oy);
-            if self.too_steep(self.slabs[j], h, d) {
-                let slope = (f64::from(self.slabs[j]) - f64::from(h)) / d;
-                if slope > best_slope {
-                    best_slope = slope;
-                    best = Some(j);
-                }
+            let slope = sign * (h - f64::from(self.slabs[j])) / d;
+            if slope > best_slope {
+                best_slope = slope;
+                best = Some(j);
             }
         }
         best
@@ -440,7 +416,7 @@ impl WindDunes {
 
     /// A slab added at `i` rolls down the steepest over-steep slope until it rests.
     fn roll_from(&mut self, mut i: usize) {
-        while let Some(j) = self.steepest_below(i) {
+        while let Some(j) = self.steepest(i, true) {
             self.slabs[i] -= 1;
             self.slabs[j] += 1;
             i = j;
@@ -451,7 +427,7 @@ impl WindDunes {
     /// A slab taken from `i` is refilled from the steepest over-steep neighbour above,
     /// which is then refilled in turn, up the slope, until every slope rests.
     fn slide_into(&mut self, mut i: usize) {
-        while let Some(j) = self.steepest_above(i) {
+        while let Some(j) = self.steepest(i, false) {
             self.slabs[j] -= 1;
             self.slabs[i] += 1;
             i = j;
