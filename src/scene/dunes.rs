@@ -514,6 +514,15 @@ impl DunesScene {
                 }
             }
             self.wind_dune_params().validate()?;
+            if self.supply_slabs() >= 1.0e6 {
+                return Err(Error::invalid(
+                    "sand_supply",
+                    format!(
+                        "is {:.0} slabs of --dune-slab x --cell deep; at most a million",
+                        self.supply_slabs()
+                    ),
+                ));
+            }
         }
         if self.dune_diffusion + self.dune_lateral > 1.0 {
             return Err(Error::invalid(

@@ -105,7 +105,7 @@ fn the_forming_dunes_animate() {
 
 #[test]
 fn bad_input_is_named_and_nothing_is_written() {
-    let dir = scratch("bad");
+    let dir = scratch("dunes-bad");
     let png = dir.join("x.png").to_string_lossy().into_owned();
     assert_each_refused(
         "dunes",
@@ -139,6 +139,22 @@ fn bad_input_is_named_and_nothing_is_written() {
             (vec!["--dune-diffusion", "0.9"], "--dune-lateral"),
             (vec!["--heightmap", "h.tif"], "--heightmap"),
             (vec!["--gif", "a.gif", "--gif-frames", "1"], "--gif-frames"),
+            (vec!["--dune-law", "sand"], "--dune-law"),
+            (vec!["--winds", "0:0"], "--winds"),
+            (vec!["--winds", "east"], "--winds"),
+            // Werner's model needs its shadow zone.
+            (vec!["--shadow-zone", "off"], "--shadow-zone"),
+            (
+                vec![
+                    "--sand-supply",
+                    "1000",
+                    "--dune-slab",
+                    "0.01",
+                    "--cell",
+                    "0.01",
+                ],
+                "--sand-supply",
+            ),
         ],
     );
     assert!(

@@ -76,7 +76,7 @@ fn fig9f_writes_png_gif_and_a_valid_glb() {
 
 #[test]
 fn bad_input_is_named_and_nothing_is_written() {
-    let dir = scratch("bad");
+    let dir = scratch("grow-bad");
     let png = dir.join("x.png").to_string_lossy().into_owned();
     let typo = dir.join("typo.toml");
     std::fs::write(&typo, "[growth]\nco2 = \"low\"\nsegmnets = 12\n").expect("write scene");
