@@ -231,11 +231,6 @@ impl WindDunes {
         })
     }
 
-    /// Iterations run so far.
-    pub fn iterations(&self) -> u64 {
-        self.iterations
-    }
-
     /// Slabs per cell, row-major (`y * n + x`).
     pub fn slabs(&self) -> &[u32] {
         &self.slabs

@@ -208,11 +208,11 @@ crate::params! {
         [top, "Simulation"] dune_law: DuneLaw = DuneLaw::Wind, "wind|paper", "", check::any();
         /// Initial sand thickness of the paper law's dune field, in its units of sand.
         [top, "Simulation"] dune_sand: f64 = 8.0, "H", "", check::above(0.0);
-        /// Wind law: the winds, each DEG or DEG:SHARE, separated by ";" — where each blows toward, in degrees
-        /// from +x toward +z, and its share of the time (default 1). One wind makes
-        /// barchans or transverse ridges, two far apart linear dunes, three or more
-        /// star dunes.
-        [top, "Wind dunes"] winds: Winds = Winds(vec![crate::model::dune_wind::Wind { toward_degrees: 0.0, share: 1.0 }]), "DEG[:SHARE];...", "degrees", check::any();
+        /// Wind law: the winds, each DEG or DEG:SHARE, separated by ";" — where each
+        /// blows toward, in degrees from +x toward +z, and its share of the time
+        /// (default 1). One wind makes barchans or transverse ridges, two far apart
+        /// linear dunes, three or more star dunes.
+        [top, "Wind dunes"] winds: Winds = Winds(vec![wind(0.0)]), "DEG[:SHARE];...", "degrees", check::any();
         /// Wind law: iterations in one cycle of the winds (each blows for its share of
         /// the cycle in turn).
         [top, "Wind dunes"] wind_period: u32 = 20, "N", "iterations", check::within(1..=100_000);
@@ -477,8 +477,8 @@ fn wind(degrees: f64) -> crate::model::dune_wind::Wind {
 }
 
 /// The dune-type presets' common scene: fig17's (the wind law's dunes with their
-/// shadows and the ripples') and an aerial camera 90 m up, the sun to its left, over the field's corner,
-/// looking across it downwind.
+/// shadows and the ripples') and an aerial camera 90 m up over the field's corner,
+/// looking across it downwind, the sun to its left.
 fn dune_type(base: &DunesScene) -> DunesScene {
     let s = base.field_size();
     DunesScene {
