@@ -9,6 +9,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "atmosphere.glsl"
 #include "tonemap.glsl"
+#include "world.glsl"
 
 layout(set = 0, binding = 0) uniform Frame {
     mat4 view_proj;
@@ -60,6 +61,7 @@ layout(constant_id = 5) const bool FOOTPRINTS = false;
 layout(constant_id = 6) const bool SHADOW_MASK = false;    // the dune-shadow term alone (tests)
 layout(constant_id = 7) const bool SKY_OCCLUSION = true;   // else every point sees all the sky
 layout(constant_id = 8) const bool SPARKLE = true;         // specular sheen and grain glints
+layout(constant_id = 9) const bool FAR = false;            // the far rings: one ripple copy
 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
@@ -75,6 +77,7 @@ layout(push_constant) uniform Dune {
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec3 in_transmit;
 layout(location = 2) in vec3 in_inscatter;
+layout(location = 3) in vec2 in_warped;   // the dune copies' warped point (world.glsl)
 layout(location = 0) out vec4 out_color;
 
 const float NEVER = 3.0e38;
@@ -126,6 +129,46 @@ float march_dune_shadow(vec3 world, vec3 l) {
     return 1.0;
 }
 
+// The point of the periodic field that world point `p` shows (DesertWorld::height):
+// on the middle period `p` itself; beyond it the highest of the copies, each lowered
+// by how much lighter it is than the heaviest.
+vec2 field_point(vec2 p, vec2 warped) {
+    float share = lattice_share(p);
+    if (share <= 0.0) {
+        return p;
+    }
+    ivec2 corner[3];
+    float weight[3];
+    simplex_corners(p / world.params.w, corner, weight);
+    vec2 q[4];
+    float w[4];
+    q[0] = p;
+    w[0] = 1.0 - share;
+    float corner_max = max(max(weight[0], weight[1]), weight[2]);
+    for (int k = 0; k < 3; ++k) {
+        q[k + 1] = warped + hash3(corner[k]).xy * world.params.x;
+        w[k + 1] = share * weight[k] / corner_max;
+    }
+    float heaviest = max(max(w[0], w[1]), max(w[2], w[3]));
+    float n = float(textureSize(sampler2D(dune_heights, repeat_sampler), 0).x);
+    float cell = world.params.x / n;
+    vec2 best = p;
+    float highest = -3.0e38;
+    for (int k = 0; k < 4; ++k) {
+        if (w[k] <= 0.0) {
+            continue;
+        }
+        float sink = 1.0 - w[k] / heaviest;
+        float h = textureLod(sampler2D(dune_heights, repeat_sampler), (q[k] / cell + 0.5) / n, 0.0).r * cell
+            - sink * sink * world.params.z;
+        if (h > highest) {
+            highest = h;
+            best = q[k];
+        }
+    }
+    return best;
+}
+
 // The sky's irradiance over pi on a surface facing unit direction d
 // (model::sky_light::sh_basis; the harmonics' z axis is world y).
 vec3 sky_irradiance(vec3 d) {
@@ -164,20 +207,6 @@ float fresnel(float vh) {
     return SAND_F0 + (1.0 - SAND_F0) * pow(1.0 - vh, 5.0);
 }
 
-// Three uniform numbers in [0, 1) for an integer lattice cell (PCG-style hash).
-vec3 hash3(ivec2 c) {
-    uvec3 v = uvec3(uint(c.x), uint(c.y), uint(c.x) ^ uint(c.y) * 747796405u);
-    v = v * 1664525u + 1013904223u;
-    v.x += v.y * v.z;
-    v.y += v.z * v.x;
-    v.z += v.x * v.y;
-    v ^= v >> 16u;
-    v.x += v.y * v.z;
-    v.y += v.z * v.x;
-    v.z += v.x * v.y;
-    return vec3(v & 0xFFFFFFu) / 16777216.0;
-}
-
 // A unit normal from its two bytes (`n * 0.5 + 0.5`) across the surface; the third
 // component points out of it.
 vec3 unpack_normal(vec2 across) {
@@ -185,10 +214,20 @@ vec3 unpack_normal(vec2 across) {
     return vec3(v, sqrt(max(1.0 - dot(v, v), 0.0)));
 }
 
+// One fetch of the ripple chain at `level` (the sampler clamps it to the chain's
+// four), or at level 0 with LOD off.
+vec4 ripple_sample(vec2 uv, float level) {
+    return textureLod(sampler2D(ripple_normals, repeat_sampler), uv, LOD_ON ? level : 0.0);
+}
+
 void main() {
     // The dune's own normal and shadow from one period of the field (not the drawn
     // triangles': far away they are a simplified mesh).
-    vec4 field = texture(sampler2D(dune_field, repeat_sampler), in_world.xz / dune.tile.w);
+    // Beyond the middle period, the copy that shows here (world.glsl); the mip level
+    // from the world's own footprint, which does not jump where the copy changes.
+    vec2 at = field_point(in_world.xz, in_warped);
+    vec4 field = textureGrad(sampler2D(dune_field, repeat_sampler), at / dune.tile.w,
+                             dFdx(in_world.xz) / dune.tile.w, dFdy(in_world.xz) / dune.tile.w);
     vec3 nd = normalize(unpack_normal(field.rg).xzy);
     // The dune's tangent frame: T along world +x in the surface, B toward world +z.
     vec3 t = normalize(vec3(1.0, 0.0, 0.0) - nd * nd.x);
@@ -205,26 +244,73 @@ void main() {
     // LOD: the sampler's derivative-based level selection over our own chain, or the
     // paper's level per quad from its projected area (--lod-choice quad); off: level 0.
     // (Stored as 8-bit unorm, n * 0.5 + 0.5: see DuneTextures::new.)
-    vec4 r;
+    float quad_level = 0.0;
     // (Nested: naga reads no expression of specialization constants.)
     if (LOD_ON) {
         if (LOD_PER_QUAD) {
             int side = 3 * int(dune.detail.w);
-            ivec2 q = clamp(ivec2(floor((in_world.xz + dune.tile.w) / (dune.tile.w / dune.detail.w))),
-                            ivec2(0), ivec2(side - 1));
-            r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, quads.level[q.y * side + q.x]);
+            ivec2 q = ivec2(floor((in_world.xz + dune.tile.w) / (dune.tile.w / dune.detail.w)));
+            // Beyond the 3 x 3 periods, the far rings: the coarsest level.
+            bool inside = all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(side)));
+            quad_level = inside ? quads.level[q.y * side + q.x] : 3.0;
+        }
+    }
+    // The sampler's level, worked out here once for every copy below (their offsets
+    // jump between pixels, and the level must not), less 1.25: the sampler's level
+    // is isotropic, it follows the longer axis of the pixel's footprint, which on
+    // sand seen at a grazing angle is several times the shorter one, and blurs the
+    // ripples across it. 1.25 levels finer brings the frame nearest the
+    // 4x4-supersampled one. Anisotropic filtering would be the real fix; on lavapipe
+    // it is too slow to use. Under temporal anti-aliasing each frame's sample filters
+    // over its share of the pixel (frame.params.z, `Jitter::lod_bias`).
+    vec2 texels = vec2(textureSize(sampler2D(ripple_normals, repeat_sampler), 0));
+    float footprint = max(length(dFdx(uv) * texels), length(dFdy(uv) * texels));
+    float level = log2(max(footprint, 1e-8)) - 1.25 + frame.params.z;
+    if (LOD_PER_QUAD) {
+        level = quad_level;
+    }
+    vec4 r;
+    if (world.params.y > 0.0) {
+        // The ripple tile's copies (DesertWorld::ripple_copies): each corner of the
+        // lattice around the point moves the tile by its own offset; the sharpened
+        // weights leave one copy alone over most of a cell, and the blocks of pixels
+        // there skip the others' fetches. The far rings take the heaviest copy alone.
+        ivec2 corner[3];
+        float weight[3];
+        simplex_corners(in_warped / world.ripples.x, corner, weight);
+        float total = 0.0;
+        int heaviest = 0;
+        for (int k = 0; k < 3; ++k) {
+            weight[k] = pow(weight[k], world.ripples.y);
+            total += weight[k];
+            if (weight[k] > weight[heaviest]) {
+                heaviest = k;
+            }
+        }
+        if (FAR) {
+            r = ripple_sample(uv + hash3(corner[heaviest] + ivec2(world.ripples.zw)).xy, level);
         } else {
-            // The sampler's level is isotropic: it follows the longer axis of the
-            // pixel's footprint, which on sand seen at a grazing angle is several
-            // times the shorter one, and blurs the ripples across it. 1.25 levels
-            // finer brings the frame nearest the 4x4-supersampled one. Anisotropic
-            // filtering would be the real fix; on lavapipe it is too slow to use.
-            // Under temporal anti-aliasing each frame's sample filters over its share
-            // of the pixel (frame.params.z, `Jitter::lod_bias`).
-            r = texture(sampler2D(ripple_normals, repeat_sampler), uv, -1.25 + frame.params.z);
+            // Blended as Heitz & Neyret (2018) blend tiles: the slopes over the root
+            // of the summed squared weights, so that where two uncorrelated copies
+            // mix their ripples keep their contrast instead of averaging out.
+            r = vec4(0.0);
+            float used = 0.0;
+            float squared = 0.0;
+            for (int k = 0; k < 3; ++k) {
+                float w = weight[k] / max(total, 1e-30);
+                if (w > 0.02) {
+                    vec2 offset = hash3(corner[k] + ivec2(world.ripples.zw)).xy;
+                    r += w * ripple_sample(uv + offset, level);
+                    used += w;
+                    squared += w * w;
+                }
+            }
+            r /= used;
+            // rg hold the slopes as n * 0.5 + 0.5.
+            r.rg = 0.5 + (r.rg - 0.5) * used / sqrt(squared);
         }
     } else {
-        r = textureLod(sampler2D(ripple_normals, repeat_sampler), uv, 0.0);
+        r = ripple_sample(uv, level);
     }
     vec3 ripple = unpack_normal(r.rg);
     // Footprints (Sumner et al. 1998) in their detail field: the soles trod the ripples
@@ -254,7 +340,7 @@ void main() {
     float lit = 1.0;
     if (DUNE_SHADOWS) {
         if (DUNE_SHADOWS_MARCHED) {
-            lit *= march_dune_shadow(in_world, l);
+            lit *= march_dune_shadow(vec3(at.x, in_world.y, at.y), l);
         } else {
             // The map covers one period of the field and tiles with it.
             lit *= field.b;
@@ -265,7 +351,14 @@ void main() {
     float lit_dune = lit;
     if (SHADOW_MASK) {
         // The dune-shadow term alone (red), marked as terrain (blue, no green): the
-        // map and the per-pixel march compared pixel by pixel.
+        // map (its own texels, not their mips) and the per-pixel march compared pixel
+        // by pixel.
+        if (DUNE_SHADOWS) {
+            if (DUNE_SHADOWS_MARCHED) {
+            } else {
+                lit = textureLod(sampler2D(dune_field, repeat_sampler), at / dune.tile.w, 0.0).b;
+            }
+        }
         out_color = vec4(lit, 0.0, 1.0, 1.0);
         return;
     }

@@ -9,6 +9,7 @@
 // pixel lavapipe would pay for it in every fragment.
 #extension GL_GOOGLE_include_directive : require
 #include "atmosphere.glsl"
+#include "world.glsl"
 
 layout(set = 0, binding = 0) uniform Frame {
     mat4 view_proj;
@@ -37,9 +38,13 @@ layout(location = 0) in vec3 in_position;
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_transmit;
 layout(location = 2) out vec3 out_inscatter;
+// The dune copies' warp at this vertex (world.glsl): smooth over hundreds of metres,
+// interpolated across a quad.
+layout(location = 3) out vec2 out_warped;
 
 void main() {
     out_world = in_position;
+    out_warped = in_position.xz + warp_at(in_position.xz);
     vec3 to_eye = in_position - frame.camera_pos.xyz;
     float dist = length(to_eye);
     float nu = dot(to_eye / max(dist, 1e-6), normalize(frame.sun_dir.xyz));

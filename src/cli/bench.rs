@@ -23,7 +23,8 @@ pub struct BenchArgs {
     /// Only these variants, comma-separated (default all): grow: xfb-restream,
     /// xfb-append, compute-restream, cpu-upload; dunes: cull-off-lod-off,
     /// cull-on-lod-off, cull-on-lod-on, cull-on-lod-quad, dune-shadows,
-    /// dune-ripple-shadows, all-with-dust; cave: depth-5 .. depth-9.
+    /// dune-ripple-shadows, all-with-dust, dune-ripple-shadows-tiled (without
+    /// --endless); cave: depth-5 .. depth-9.
     #[arg(long, value_name = "V,V,...", value_delimiter = ',')]
     variants: Vec<String>,
     /// The report as JSON (for --compare); `-` writes it to stdout instead of the

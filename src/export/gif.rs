@@ -126,8 +126,8 @@ mod tests {
         image::open(path).expect("the fig17 golden").to_rgba8()
     }
 
-    /// The rows of the golden above the horizon.
-    const SKY_ROWS: u32 = 56;
+    /// The rows of the golden above the horizon (the far dunes start at row 51).
+    const SKY_ROWS: u32 = 48;
 
     /// Over `n` x `n` blocks of the first `rows` rows, |block mean - original block
     /// mean|, its mean and its worst: what the eye sees of the palette at a distance.

@@ -29,6 +29,18 @@ pub fn dune_mesh(n: usize, cell: f32, heights: &[f32]) -> Mesh {
 /// [0, n cell]): `tiles * n + 1` vertices per side, heights wrapping every `n` samples,
 /// so the seam is invisible and the field reaches toward the horizon.
 pub fn dune_mesh_tiled(n: usize, cell: f32, heights: &[f32], tiles: usize) -> Mesh {
+    let verts = tiles * n + 1;
+    let grid: Vec<f32> = (0..verts * verts)
+        .map(|k| heights[((k / verts) % n) * n + (k % verts) % n])
+        .collect();
+    dune_mesh_grid(n, cell, tiles, &grid)
+}
+
+/// `dune_mesh_tiled`'s layout (`tiles` x `tiles` periods of `n` x `n` cells, the
+/// middle one over [0, n cell]) with its vertices' heights from `grid`
+/// (`(tiles n + 1)^2`, row-major): also the world beyond the middle period
+/// (`model::dune_world::world_tiles`).
+pub fn dune_mesh_grid(n: usize, cell: f32, tiles: usize, grid: &[f32]) -> Mesh {
     let side = tiles * n;
     let half = 0.5 * side as f32 * cell;
     let origin = -(((tiles / 2) * n) as f32) * cell;
@@ -37,7 +49,7 @@ pub fn dune_mesh_tiled(n: usize, cell: f32, heights: &[f32], tiles: usize) -> Me
         let (i, j) = (k % (side + 1), k / (side + 1));
         p.x = origin + i as f32 * cell;
         p.z = origin + j as f32 * cell;
-        p.y = heights[(j % n) * n + i % n];
+        p.y = grid[k];
     }
     mesh.recompute_normals();
     mesh
@@ -145,15 +157,17 @@ struct ChunkError {
 pub const LOD_CHUNK: usize = 8;
 
 impl DuneLod {
-    /// The chunks of an `n` x `n` period of `heights` (world units) tiled `tiles`
-    /// times each way, as `dune_mesh_tiled` lays it out.
-    pub fn new(n: usize, heights: &[f32], tiles: usize) -> Self {
+    /// The chunks of a field of `tiles` x `tiles` periods of `n` x `n` cells whose
+    /// `(tiles n + 1)^2` vertex heights (world units, row-major) are `grid`, as
+    /// `dune_mesh_tiled` and `dune_mesh_grid` lay them out.
+    pub fn new(n: usize, tiles: usize, grid: &[f32]) -> Self {
         let mut chunk = LOD_CHUNK;
         while chunk > 1 && n % chunk != 0 {
             chunk /= 2;
         }
-        let h = |i: usize, j: usize| heights[(j % n) * n + i % n];
-        let per = n / chunk;
+        let verts = tiles * n + 1;
+        let h = |i: usize, j: usize| grid[j * verts + i];
+        let per = tiles * n / chunk;
         let mut chunks = Vec::with_capacity(per * per);
         for cj in 0..per {
             for ci in 0..per {
@@ -219,13 +233,12 @@ impl DuneLod {
     /// deviation; `cell` is the quad size (world units).
     pub fn steps(&self, eye: Vec3, cell: f32, focal: f32, pixels: f32) -> Vec<usize> {
         let side = self.tiles * self.n / self.chunk;
-        let per = self.n / self.chunk;
         let origin = -(((self.tiles / 2) * self.n) as f32) * cell;
         let size = self.chunk as f32 * cell;
         let mut out = Vec::with_capacity(side * side);
         for cj in 0..side {
             for ci in 0..side {
-                let c = &self.chunks[(cj % per) * per + ci % per];
+                let c = &self.chunks[cj * side + ci];
                 let lo = Vec3::new(origin + ci as f32 * size, c.low, origin + cj as f32 * size);
                 let hi = Vec3::new(lo.x + size, c.high, lo.z + size);
                 let distance = (eye.clamp(lo, hi) - eye).length();
@@ -289,8 +302,7 @@ impl DuneLod {
                 let corners = [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(a, b)| {
                     mesh.positions[index(i0 + a * self.chunk, j0 + b * self.chunk) as usize]
                 });
-                let c = &self.chunks[(cj % (self.n / self.chunk)) * (self.n / self.chunk)
-                    + ci % (self.n / self.chunk)];
+                let c = &self.chunks[cj * side + ci];
                 let clip: Vec<Vec4> = corners
                     .iter()
                     .flat_map(|p| [Vec3::new(p.x, c.low, p.z), Vec3::new(p.x, c.high, p.z)])
@@ -352,7 +364,7 @@ impl DuneLod {
 }
 
 /// Whether every clip-space point lies outside one plane of the view frustum.
-fn outside_one_plane(clip: &[Vec4]) -> bool {
+pub(crate) fn outside_one_plane(clip: &[Vec4]) -> bool {
     let outside = |f: &dyn Fn(Vec4) -> bool| clip.iter().all(|&c| f(c));
     outside(&|c| c.x < -c.w)
         || outside(&|c| c.x > c.w)
@@ -393,6 +405,16 @@ pub fn normal_texels(n: usize, cell: f32, heights: &[f32], res: usize) -> Vec<Ve
 mod tests {
     use super::*;
 
+    /// The LOD chunks of `heights` repeated `tiles` x `tiles` times.
+    fn periodic_lod(n: usize, heights: &[f32], tiles: usize) -> DuneLod {
+        let grid: Vec<f32> = dune_mesh_tiled(n, 1.0, heights, tiles)
+            .positions
+            .iter()
+            .map(|p| p.y)
+            .collect();
+        DuneLod::new(n, tiles, &grid)
+    }
+
     fn bumpy(n: usize) -> Vec<f32> {
         (0..n * n)
             .map(|k| {
@@ -429,7 +451,7 @@ mod tests {
         let (n, cell, tiles) = (16, 2.0, 3);
         let heights = bumpy(n);
         let mesh = dune_mesh_tiled(n, cell, &heights, tiles);
-        let lod = DuneLod::new(n, &heights, tiles);
+        let lod = periodic_lod(n, &heights, tiles);
         let side = tiles * n / LOD_CHUNK;
         let verts = tiles * n + 1;
         let on_border = |k: u32| {
@@ -488,8 +510,8 @@ mod tests {
     fn lod_steps_grow_with_distance_and_stay_fine_where_the_dunes_are_steep() {
         let (n, cell) = (32, 4.0);
         let heights = bumpy(n);
-        let lod = DuneLod::new(n, &heights, 3);
-        let flat = DuneLod::new(n, &vec![1.0; n * n], 3);
+        let lod = periodic_lod(n, &heights, 3);
+        let flat = periodic_lod(n, &vec![1.0; n * n], 3);
         let side = 3 * n / LOD_CHUNK;
         let eye = Vec3::new(10.0, 5.0, 10.0);
         let steps = lod.steps(eye, cell, 500.0, 1.0);
@@ -518,7 +540,7 @@ mod tests {
         let (n, cell) = (32, 4.0);
         let heights = bumpy(n);
         let mesh = dune_mesh_tiled(n, cell, &heights, 3);
-        let lod = DuneLod::new(n, &heights, 3);
+        let lod = periodic_lod(n, &heights, 3);
         let eye = Vec3::new(-90.0, 30.0, 70.0);
         let steps = lod.steps(eye, cell, 500.0, 1.0);
         let indices = lod.quads(&mesh, &steps, eye, Mat4::IDENTITY, false);

@@ -7,6 +7,7 @@ pub mod chamber;
 pub mod dune_mesh;
 pub mod dune_shadow;
 pub mod dune_wind;
+pub mod dune_world;
 pub mod dust;
 pub mod footprints;
 pub mod layers;

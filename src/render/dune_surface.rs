@@ -17,6 +17,9 @@ use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, Descriptor, DescriptorSet, GraphicsPipelineDesc, Image,
     ImageDesc, Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, VertexLayout, vk,
 };
+use crate::model::dune_world::{
+    DesertWorld, LATTICE_PERIODS, RIPPLE_LATTICE_TILES, RIPPLE_SALT, RIPPLE_SHARPNESS, WAVES,
+};
 use crate::model::mesh::Mesh;
 use crate::model::ripple_maps::{horizon_chain_toward, tile_azimuth};
 use crate::model::sky_light::SkyIrradiance;
@@ -73,9 +76,22 @@ pub struct DuneSwitches {
     pub sky_occlusion: bool,
     /// The sand's specular sheen and the glints of its grains.
     pub sparkle: bool,
+    /// Drawing the far rings (`model::dune_world::far_field`): one copy of the ripple
+    /// tile, no sheen or glints, no footprints (all finer than a pixel there).
+    pub far: bool,
 }
 
 impl DuneSwitches {
+    /// The switches of the far rings drawn with these.
+    fn far_away(self) -> Self {
+        Self {
+            far: true,
+            footprints: false,
+            sparkle: false,
+            ..self
+        }
+    }
+
     /// The specialization constants, `constant_id` 0 up.
     fn constants(self) -> Vec<(u32, u32)> {
         [
@@ -88,6 +104,7 @@ impl DuneSwitches {
             self.shadow_mask,
             self.sky_occlusion,
             self.sparkle,
+            self.far,
         ]
         .into_iter()
         .zip(0..)
@@ -105,21 +122,23 @@ const HEIGHTS: DescriptorBinding = DescriptorBinding::new(0, 5, DescriptorKind::
 const DETAIL: DescriptorBinding = DescriptorBinding::new(0, 6, DescriptorKind::SampledImage);
 const LEVELS: DescriptorBinding = DescriptorBinding::new(0, 7, DescriptorKind::StorageBuffer);
 const SKY_LIGHT: DescriptorBinding = DescriptorBinding::new(0, 8, DescriptorKind::UniformBuffer);
+const WORLD: DescriptorBinding = DescriptorBinding::new(0, 9, DescriptorKind::UniformBuffer);
 
-/// `dunes/surface.vert`: the `FrameUniforms` buffer (binding 0) and `DunePush`.
+/// `dunes/surface.vert`: the `FrameUniforms` buffer (binding 0), the
+/// `DuneWorldUniforms` buffer (9) and `DunePush`.
 pub static VERTEX_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_VERT,
-    bindings: &[FRAME],
+    bindings: &[FRAME, WORLD],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
 
 /// `dunes/surface.frag`: the frame buffer, the `DuneTextures` images and their repeating
 /// sampler (bindings 0-6), the per-quad levels storage buffer (7), the `DuneSkyLight`
-/// buffer (8) and `DunePush`.
+/// buffer (8), the `DuneWorldUniforms` buffer (9) and `DunePush`.
 pub static FRAGMENT_INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_SURFACE_FRAG,
     bindings: &[
-        FRAME, NORMALS, FIELD, GRAIN, REPEAT, HEIGHTS, DETAIL, LEVELS, SKY_LIGHT,
+        FRAME, NORMALS, FIELD, GRAIN, REPEAT, HEIGHTS, DETAIL, LEVELS, SKY_LIGHT, WORLD,
     ],
     push_constant_bytes: size_of::<DunePush>() as u32,
 };
@@ -179,6 +198,50 @@ impl DuneSkyLight {
             occluder_shaded: occluder[1].extend(0.0),
             circumsolar: (irradiance.circumsolar / pi).extend(0.0),
             circumsolar_direction: irradiance.circumsolar_direction.extend(0.0),
+        }
+    }
+}
+
+/// `dunes/world.glsl`'s block: the desert beyond the simulated period
+/// (`model::dune_world::DesertWorld`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DuneWorldUniforms {
+    /// xy wave vector, z phase, w amplitude: `DesertWorld::waves`.
+    pub waves: [Vec4; 2 * WAVES],
+    /// x period, y the lattice's ramp (0: the period repeated as it is), z the depth
+    /// of a copy of no weight, w the lattice's spacing (metres).
+    pub params: Vec4,
+    /// The ripple tile's lattice: x its spacing (m), y the weights' power, zw the
+    /// salt of its corners' hash.
+    pub ripples: Vec4,
+}
+// SAFETY: repr(C), eight Vec4.
+unsafe impl Pod for DuneWorldUniforms {}
+
+impl DuneWorldUniforms {
+    /// `world` as the shader reads it; `None`: the period and the ripple tile
+    /// repeated as they are.
+    pub fn new(world: Option<&DesertWorld>, period: f32, ripple_tile: f32) -> Self {
+        let ripples = Vec4::new(
+            RIPPLE_LATTICE_TILES * ripple_tile,
+            RIPPLE_SHARPNESS as f32,
+            RIPPLE_SALT.x as f32,
+            RIPPLE_SALT.y as f32,
+        );
+        match world {
+            Some(w) => Self {
+                waves: w
+                    .waves()
+                    .map(|v| Vec4::new(v.k.x, v.k.y, v.phase, v.amplitude)),
+                params: Vec4::new(w.period, w.ramp, w.depth, LATTICE_PERIODS * w.period),
+                ripples,
+            },
+            None => Self {
+                waves: [Vec4::ZERO; 2 * WAVES],
+                params: Vec4::new(period, 0.0, 0.0, period),
+                ripples,
+            },
         }
     }
 }
@@ -310,12 +373,14 @@ impl DuneTextures {
                 &staged("ripple chain", &packed)?,
                 &byte_offsets,
             )?,
-            field: Image::sampled_from_buffer(
+            // Mipmapped: beyond the 3 x 3 periods the desert reaches the horizon.
+            field: Image::sampled_from_buffer_with_mips(
                 ctx,
                 "dune normals and shadow",
                 rgba8(shadow.res, shadow.res),
                 &staged("dune field", &field)?,
                 &[0],
+                true,
             )?,
             grain: Image::upload_rgba8(
                 ctx,
@@ -358,6 +423,8 @@ pub struct DuneGeometry {
     /// The first indices, the triangles over the footprints' detail field: the rest
     /// are drawn without the footprints' texture fetch (`DuneSurfacePass::draw`).
     detail_count: u32,
+    /// Where the far rings' indices start (their cheaper pipeline draws them).
+    far_first: u32,
 }
 
 impl DuneGeometry {
@@ -382,22 +449,25 @@ impl DuneGeometry {
             )?,
             index_count: 0,
             detail_count: 0,
+            far_first: 0,
         })
     }
 
     /// Sets the quads to draw (a subset of the mesh's indices).
     pub fn set_visible(&mut self, indices: &[u32]) -> Result<()> {
-        self.set_visible_split(indices, indices.len())
+        self.set_visible_split(indices, indices.len(), indices.len())
     }
 
     /// `set_visible`, the first `detail` indices the triangles that reach the
-    /// footprints' detail field (the rest are shaded without it).
-    pub fn set_visible_split(&mut self, indices: &[u32], detail: usize) -> Result<()> {
+    /// footprints' detail field (the rest are shaded without it), and those from
+    /// `far` on the far rings' (shaded as far away).
+    pub fn set_visible_split(&mut self, indices: &[u32], detail: usize, far: usize) -> Result<()> {
         if !indices.is_empty() {
             self.indices.write(0, indices)?;
         }
         self.index_count = indices.len() as u32;
-        self.detail_count = detail.min(indices.len()) as u32;
+        self.far_first = far.min(indices.len()) as u32;
+        self.detail_count = detail.min(self.far_first as usize) as u32;
         Ok(())
     }
 
@@ -426,6 +496,8 @@ pub struct DuneSurfacePass {
     levels: Buffer,
     /// `DuneSkyLight`, per sun.
     sky_light: Buffer,
+    /// `DuneWorldUniforms`, per scene (written once, read by the set).
+    _world: Buffer,
     /// The switches the next draws use, and a pipeline for each set of switches
     /// used so far (each one costs lavapipe a shader compilation).
     switches: DuneSwitches,
@@ -438,7 +510,7 @@ pub struct DuneSurfacePass {
 
 impl DuneSurfacePass {
     /// For `quads` dune quads (the tiled field's), drawing with `switches`,
-    /// tone-mapping with `tone`.
+    /// tone-mapping with `tone`, in `world`.
     pub fn new(
         ctx: &Arc<Context>,
         target: TargetFormat,
@@ -446,6 +518,7 @@ impl DuneSurfacePass {
         textures: &DuneTextures,
         quads: usize,
         switches: DuneSwitches,
+        world: &DuneWorldUniforms,
     ) -> Result<Self> {
         let layout = PipelineLayout::new(
             ctx,
@@ -484,12 +557,23 @@ impl DuneSurfacePass {
             ),
         )?;
         set.write("skylight", Descriptor::Buffer(&sky_light))?;
+        let mut world_buffer = Buffer::new(
+            ctx,
+            "dune world",
+            BufferDesc::upload(
+                size_of::<DuneWorldUniforms>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+        )?;
+        world_buffer.write(0, std::slice::from_ref(world))?;
+        set.write("world", Descriptor::Buffer(&world_buffer))?;
         let mut pass = Self {
             set,
             _sampler: repeat,
             frame,
             levels,
             sky_light,
+            _world: world_buffer,
             switches,
             pipelines: HashMap::new(),
             target,
@@ -520,13 +604,15 @@ impl DuneSurfacePass {
 
     /// The switches of the next draws; builds their pipeline the first time.
     pub fn set_switches(&mut self, switches: DuneSwitches) -> Result<()> {
-        // With footprints, the one without too (for the triangles away from them).
+        // With footprints, the one without too (for the triangles away from them);
+        // and the far rings'.
         if switches.footprints {
             self.add_pipeline(DuneSwitches {
                 footprints: false,
                 ..switches
             })?;
         }
+        self.add_pipeline(switches.far_away())?;
         self.add_pipeline(switches)?;
         self.switches = switches;
         Ok(())
@@ -576,8 +662,9 @@ impl DuneSurfacePass {
         let split = if self.switches.footprints {
             geometry.detail_count
         } else {
-            geometry.index_count
+            0
         };
+        let far = geometry.far_first;
         let ranges = [
             (self.switches, 0, split),
             (
@@ -586,8 +673,9 @@ impl DuneSurfacePass {
                     ..self.switches
                 },
                 split,
-                geometry.index_count - split,
+                far - split,
             ),
+            (self.switches.far_away(), far, geometry.index_count - far),
         ];
         cmd.bind_vertex_buffer(&geometry.vertices, 0);
         cmd.bind_index_buffer(&geometry.indices);

@@ -264,6 +264,13 @@ crate::params! {
         /// Ripple surface height per unit of the simulated sand, in texels (their
         /// steepness).
         [top, "Scale"] ripple_height_scale: f32 = 0.35, "F", "texels", check::above(0.0);
+        /// The desert to the horizon, beyond the paper: around the simulated period,
+        /// the highest of randomly offset copies of it on a lattice (dunes of every
+        /// size at random places, no two periods alike) on rings of coarser quads to
+        /// 48 periods out, and the ripple tile bent so that its repeats do not line
+        /// up; off: the period and the ripple tile repeated as they are, 3 x 3
+        /// periods, as the paper draws them.
+        [top, "Scale"] endless: bool = true, "on|off", "", check::any();
         /// Ripples bump mapped onto the dunes at all (the paper's Fig. 12 has none).
         [top, "Shading"] ripples: bool = true, "on|off", "", check::any();
         /// Ripple bump strength (1: the simulated slopes as they are; the paper prints
@@ -638,6 +645,12 @@ impl DunesScene {
 /// it.
 pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
     let s = scene.field_size();
+    // As far as the desert reaches.
+    let far = if scene.endless {
+        crate::model::dune_world::far_reach(s, crate::model::dune_world::FAR_RINGS) + 2.0 * s
+    } else {
+        4.0 * s
+    };
     let top = terrain.dune_heights.iter().copied().fold(0.0, f32::max);
     if let Some([a, b, ..]) = scene.footprints.0.as_deref() {
         let grid = crate::model::dune_shadow::DuneGrid {
@@ -654,7 +667,7 @@ pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
             up: Vec3::Y,
             fov_y_degrees: 50.0,
             near: 0.1,
-            far: 4.0 * s,
+            far,
             jitter: Jitter::NONE,
         };
     }
@@ -668,7 +681,7 @@ pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
         up: Vec3::Y,
         fov_y_degrees: 50.0,
         near: 0.5,
-        far: 4.0 * s,
+        far,
         jitter: Jitter::NONE,
     }
 }

@@ -298,7 +298,12 @@ fn shadow_mask(
 #[test]
 fn per_pixel_dune_shadows_agree_with_the_shadow_map() {
     common::with_gpu(|ctx| {
-        let scene = small("fig15");
+        // The paper's field alone (`--endless off`): beyond it the map is read from
+        // its mips, whose texels mix lit and shadowed sand the march does not.
+        let scene = DunesScene {
+            endless: false,
+            ..small("fig15")
+        };
         let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
         let size = Size::new(240, 160);
         let map = render_desert(ctx, &scene, &terrain, size, None);
@@ -936,5 +941,158 @@ fn ripples_fade_out_on_the_slip_faces() {
             slip_kept > 0.5 * stoss_kept,
             "without the fade: {slip_kept:.4}, {stoss_kept:.4}"
         );
+    });
+}
+
+/// Pearson correlation of `values` (`width` a row) with themselves `dx`, `dy` over.
+fn shifted_correlation(values: &[f64], width: usize, dx: usize, dy: usize) -> f64 {
+    let height = values.len() / width;
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for y in 0..height - dy {
+        for x in 0..width - dx {
+            a.push(values[y * width + x]);
+            b.push(values[(y + dy) * width + x + dx]);
+        }
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let (ma, mb) = (mean(&a), mean(&b));
+    let (mut ab, mut aa, mut bb) = (0.0, 0.0, 0.0);
+    for (x, y) in a.iter().zip(&b) {
+        ab += (x - ma) * (y - mb);
+        aa += (x - ma) * (x - ma);
+        bb += (y - mb) * (y - mb);
+    }
+    ab / (aa * bb).sqrt().max(1e-12)
+}
+
+/// `values` less their mean over a box `radius` pixels round (a high-pass), or with
+/// `absolute` the box mean of the high-pass's magnitude (where a pattern's contrast
+/// changes: its defects, which a repeating tile puts on a lattice).
+fn box_pass(values: &[f64], width: usize, radius: usize, absolute: bool) -> Vec<f64> {
+    let height = values.len() / width;
+    let mean = |v: &[f64]| -> Vec<f64> {
+        (0..v.len())
+            .map(|k| {
+                let (x, y) = (k % width, k / width);
+                let (x0, x1) = (x.saturating_sub(radius), (x + radius).min(width - 1));
+                let (y0, y1) = (y.saturating_sub(radius), (y + radius).min(height - 1));
+                let mut sum = 0.0;
+                for yy in y0..=y1 {
+                    for xx in x0..=x1 {
+                        sum += v[yy * width + xx];
+                    }
+                }
+                sum / ((x1 - x0 + 1) * (y1 - y0 + 1)) as f64
+            })
+            .collect()
+    };
+    let high: Vec<f64> = values
+        .iter()
+        .zip(mean(values))
+        .map(|(v, m)| v - m)
+        .collect();
+    if absolute {
+        mean(&high.iter().map(|v| v.abs()).collect::<Vec<_>>())
+    } else {
+        high
+    }
+}
+
+// The desert beyond the simulated period (`--endless`, model::dune_world): seen from
+// 4 periods up, the picture one period over correlates at 0.31 and 0.24 (the period
+// repeated as it is: 0.77, 0.78); seen from 60 m over flat sand, the ripples'
+// contrast one tile over at 0.08 and -0.10 (repeated: 0.95, 0.96); and from the
+// default camera the band under the horizon, a flat plain beyond the 3 x 3 periods
+// before, holds dunes (high-pass RMS 12.0 against 2.8).
+#[test]
+fn the_desert_reaches_the_horizon_and_does_not_repeat() {
+    common::with_gpu(|ctx| {
+        // The paper's ripple tile (16 m of 256 texels, ripples a metre apart), whose
+        // defects a repeat shows; the small field's dunes.
+        let paper = dunes::preset("fig13").expect("preset");
+        let base = DunesScene {
+            sun_elevation: 35.0,
+            sun_azimuth: 150.0,
+            ripple_size: paper.ripple_size,
+            ripple_steps: paper.ripple_steps,
+            ripple_tile: paper.ripple_tile,
+            ..small("fig13")
+        };
+        let terrain = dunes::simulate(&base, &mut |_, _| {}).expect("simulate");
+        let period = base.field_size();
+        let side = 256;
+        let size = Size::new(side as u32, side as u32);
+        // The ripples alone, on flat sand: nothing else changes across the frame.
+        let flat = Terrain {
+            dune_heights: vec![0.0; terrain.dune_heights.len()],
+            ..terrain.clone()
+        };
+        let render_on = |endless: bool, terrain: &Terrain, camera: &sediment::camera::Camera| {
+            let scene = DunesScene {
+                endless,
+                ..base.clone()
+            };
+            luma_of(&render_desert(ctx, &scene, terrain, size, Some(camera)).image)
+        };
+        let render =
+            |endless: bool, camera: &sediment::camera::Camera| render_on(endless, &terrain, camera);
+        let above = |height: f32| {
+            let centre = glam::Vec3::new(0.5 * period, 0.0, 0.5 * period);
+            sediment::camera::Camera {
+                eye: centre + glam::Vec3::new(0.0, height, 0.01 * height),
+                target: centre,
+                ..dunes::default_camera(&base, &terrain)
+            }
+        };
+        // The ground spans 2 h tan 25 degrees across the frame.
+        let pixels_for = |metres: f32, height: f32| {
+            (metres / (2.0 * height * 25f32.to_radians().tan()) * side as f32).round() as usize
+        };
+
+        let height = 4.0 * period;
+        let shift = pixels_for(period, height);
+        let correlations = |endless: bool| {
+            let luma = render(endless, &above(height));
+            [(shift, 0), (0, shift)].map(|(dx, dy)| shifted_correlation(&luma, side, dx, dy))
+        };
+        let (endless, repeated) = (correlations(true), correlations(false));
+        eprintln!("one period over from above: {endless:.3?}, repeated {repeated:.3?}");
+        assert!(endless.iter().all(|&r| r <= 0.5), "{endless:?}");
+        assert!(repeated.iter().all(|&r| r >= 0.7), "{repeated:?}");
+
+        let low = 3.75 * base.ripple_tile;
+        let shift = pixels_for(base.ripple_tile, low);
+        let defects = |endless: bool| {
+            let luma = render_on(endless, &flat, &above(low));
+            // The ripples (less the dune's shading), then their contrast over a
+            // wavelength or so.
+            let ripples = box_pass(&luma, side, pixels_for(0.7, low), false);
+            let contrast = box_pass(&ripples, side, pixels_for(1.5, low), true);
+            [(shift, 0), (0, shift)].map(|(dx, dy)| shifted_correlation(&contrast, side, dx, dy))
+        };
+        let (endless, repeated) = (defects(true), defects(false));
+        eprintln!("ripple defects one tile over: {endless:.3?}, repeated {repeated:.3?}");
+        assert!(endless.iter().all(|&r| r <= 0.5), "{endless:?}");
+        assert!(repeated.iter().all(|&r| r >= 0.7), "{repeated:?}");
+
+        // Toward the horizon: the rows just under it, from the default camera.
+        let camera = dunes::default_camera(&base, &terrain);
+        let forward = (camera.target - camera.eye).with_y(0.0).normalize();
+        let far = camera.eye + forward * 20.0 * period - glam::Vec3::Y * 2.0;
+        let clip = camera.view_proj(1.0) * far.extend(1.0);
+        let row = ((clip.y / clip.w * 0.5 + 0.5) * side as f32) as usize;
+        let band = |endless: bool| {
+            let luma = render(endless, &camera);
+            let detail = box_pass(&luma, side, 2, false);
+            let rows = &detail[row * side..(row + 12).min(side) * side];
+            (rows.iter().map(|v| v * v).sum::<f64>() / rows.len() as f64).sqrt()
+        };
+        let (endless, repeated) = (band(true), band(false));
+        eprintln!("detail under the horizon (row {row}): {endless:.2}, repeated {repeated:.2}");
+        assert!(
+            endless > 2.0 * repeated && endless > 2.0,
+            "{endless:.2} against {repeated:.2}"
+        );
+        common::assert_no_validation_errors(ctx);
     });
 }

@@ -29,6 +29,8 @@ struct Variant {
     dust: bool,
     /// Fig. 18's footprints in the detail field (issue 15's "every effect").
     footprints: bool,
+    /// The desert to the horizon (`--endless`); off, the period repeated 3 x 3.
+    endless: bool,
 }
 
 const fn variant(
@@ -46,10 +48,11 @@ const fn variant(
         shadows,
         dust,
         footprints: false,
+        endless: true,
     }
 }
 
-const VARIANTS: [Variant; 7] = [
+const VARIANTS: [Variant; 8] = [
     variant("cull-off-lod-off", false, false, Shadows::None, false),
     variant("cull-on-lod-off", true, false, Shadows::None, false),
     variant("cull-on-lod-on", true, true, Shadows::None, false),
@@ -73,6 +76,18 @@ const VARIANTS: [Variant; 7] = [
         footprints: true,
         ..variant("all-with-dust", true, true, Shadows::DuneAndRipple, true)
     },
+    // Every effect but the desert beyond the period: what `--endless` costs.
+    Variant {
+        footprints: true,
+        endless: false,
+        ..variant(
+            "dune-ripple-shadows-tiled",
+            true,
+            true,
+            Shadows::DuneAndRipple,
+            false,
+        )
+    },
 ];
 
 const NAMES: &[&str] = &[
@@ -83,6 +98,7 @@ const NAMES: &[&str] = &[
     VARIANTS[4].name,
     VARIANTS[5].name,
     VARIANTS[6].name,
+    VARIANTS[7].name,
 ];
 
 /// The figure-17 scene's variants over one simulated terrain.
@@ -134,6 +150,7 @@ impl BenchScene for DunesBench {
             },
             shadows: v.shadows,
             dust: v.dust,
+            endless: v.endless,
             ..base.clone()
         };
         // Every variant from Fig. 17's camera (a walk would take the walker's).

@@ -22,10 +22,11 @@ use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::input::Key;
 use crate::model::atmosphere::Atmosphere;
 use crate::model::dune_mesh::{
-    DuneLod, dune_mesh_tiled, normal_texels, quad_levels, visible_quads,
+    DuneLod, dune_mesh_grid, dune_mesh_tiled, normal_texels, quad_levels, visible_quads,
 };
 use crate::model::dune_shadow::DuneGrid;
 use crate::model::dune_wind::WindDunes;
+use crate::model::dune_world::{DesertWorld, FAR_RINGS, FarField, far_field, world_tiles};
 use crate::model::dust::{DustCloud, DustGround};
 use crate::model::footprints::{self, DetailField, FootprintParams};
 use crate::model::mesh::Mesh;
@@ -39,7 +40,7 @@ use crate::render::atmosphere::{
 use crate::render::dune_shadow::DuneShadowPass;
 use crate::render::dune_surface::{
     DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSkyLight, DuneSurfacePass, DuneSwitches,
-    DuneTextures,
+    DuneTextures, DuneWorldUniforms,
 };
 use crate::render::dust::{DustLight, DustPass};
 use crate::render::lighting::Lighting;
@@ -223,6 +224,9 @@ pub struct DunesFrame {
     mesh: Mesh,
     /// The mesh's chunks, simplified far away (`--mesh-lod`).
     lod: DuneLod,
+    /// Beyond it to the horizon (`--endless`): its vertices follow the mesh's in
+    /// the geometry's buffer.
+    far: Option<FarField>,
     /// The sun the shadow map was made for.
     sun: Vec3,
     /// GPU time of the precomputations (ripple maps, dune shadow map).
@@ -280,6 +284,7 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
         shadow_mask,
         sky_occlusion: scene.sky_occlusion,
         sparkle: scene.sparkle,
+        far: false,
     }
 }
 
@@ -334,6 +339,9 @@ impl DunesFrame {
             GRAIN_SIZE,
             detail_texels(prints.as_ref(), sun).as_ref(),
         )?;
+        let world = scene
+            .endless
+            .then(|| DesertWorld::new(scene.field_size(), relief(&terrain.dune_heights)));
         let surface = DuneSurfacePass::new(
             ctx,
             ctx.frame_format(),
@@ -341,6 +349,7 @@ impl DunesFrame {
             &textures,
             9 * n * n,
             switches(&scene, prints.is_some(), false),
+            &DuneWorldUniforms::new(world.as_ref(), scene.field_size(), scene.ripple_tile),
         )?;
         // The dust: released whether or not it is shown (the viewer's `u` shows it).
         let cloud = scene.dust_params().as_ref().map(|params| {
@@ -358,17 +367,25 @@ impl DunesFrame {
             (released, cloud)
         });
         let blobs = cloud.as_ref().map_or(&[][..], |(_, c)| c.blobs());
-        let mesh = dune_mesh_tiled(n, scene.cell, &terrain.dune_heights, 3);
-        let lod = DuneLod::new(n, &terrain.dune_heights, 3);
+        let grid = match &world {
+            Some(w) => world_tiles(n, scene.cell, &terrain.dune_heights, w),
+            None => tiled_grid(n, &terrain.dune_heights),
+        };
+        let mesh = dune_mesh_grid(n, scene.cell, 3, &grid);
+        let lod = DuneLod::new(n, 3, &grid);
+        let far = world
+            .as_ref()
+            .map(|w| far_field(n, scene.cell, &terrain.dune_heights, w, FAR_RINGS));
         let atmosphere = scene.atmosphere();
         let multiple = scene
             .multiple_scattering
             .then(|| atmosphere.multiple_scattering());
         let sky_view = SkyViewPass::new(ctx, multiple.as_ref())?;
         Ok(Self {
-            geometry: DuneGeometry::new(ctx, &mesh)?,
+            geometry: DuneGeometry::new(ctx, &with_far(&mesh, far.as_ref()))?,
             mesh,
             lod,
+            far,
             dust: DustPass::new(
                 ctx,
                 ctx.frame_format(),
@@ -403,11 +420,12 @@ impl DunesFrame {
         })
     }
 
-    /// Triangles drawn after culling, and in all.
+    /// Triangles drawn after culling, and in all (the far rings' too).
     pub fn triangles(&self) -> (u32, u32) {
+        let far = self.far.as_ref().map_or(0, |f| f.mesh.indices.len());
         (
             self.geometry.visible_triangles(),
-            (self.mesh.indices.len() / 3) as u32,
+            ((self.mesh.indices.len() + far) / 3) as u32,
         )
     }
 
@@ -604,13 +622,20 @@ impl Scene for DunesFrame {
         } else {
             visible_quads(&self.mesh, v.eye, v.view_proj, self.scene.cull)
         };
-        match &self.prints {
-            Some(prints) => {
-                let (quads, detail) = over_detail_first(&self.mesh, quads, prints);
-                self.geometry.set_visible_split(&quads, detail)?;
+        let (mut quads, detail) = match &self.prints {
+            Some(prints) => over_detail_first(&self.mesh, quads, prints),
+            None => (quads, 0),
+        };
+        let near = quads.len();
+        if let Some(far) = &self.far {
+            if self.scene.cull {
+                far.visible(self.mesh.positions.len() as u32, v.view_proj, &mut quads);
+            } else {
+                let first = self.mesh.positions.len() as u32;
+                quads.extend(far.mesh.indices.iter().map(|i| i + first));
             }
-            None => self.geometry.set_visible(&quads)?,
         }
+        self.geometry.set_visible_split(&quads, detail, near)?;
         if self.scene.lod && self.scene.lod_choice == LodChoice::Quad {
             // Texels of the ripple tile across one dune quad (the paper: 64).
             let texels = self.scene.cell / self.scene.ripple_tile * self.scene.ripple_size as f32;
@@ -777,6 +802,32 @@ fn over_detail_first(mesh: &Mesh, indices: Vec<u32>, prints: &DetailField) -> (V
     let detail = near.len();
     near.extend(far);
     (near, detail)
+}
+
+/// The span of a field's heights (metres).
+fn relief(heights: &[f32]) -> f32 {
+    let (low, high) = heights
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+    (high - low).max(0.0)
+}
+
+/// The 3 x 3 periods' vertex heights of the field repeated as it is.
+fn tiled_grid(n: usize, heights: &[f32]) -> Vec<f32> {
+    let verts = 3 * n + 1;
+    (0..verts * verts)
+        .map(|k| heights[((k / verts) % n) * n + (k % verts) % n])
+        .collect()
+}
+
+/// The mesh with the far rings' vertices and triangles after its own, as the
+/// geometry's buffers hold them.
+fn with_far(mesh: &Mesh, far: Option<&FarField>) -> Mesh {
+    let mut all = mesh.clone();
+    if let Some(far) = far {
+        all.append(&far.mesh);
+    }
+    all
 }
 
 /// The footprints' detail texture for `sun`.
