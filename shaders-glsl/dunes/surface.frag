@@ -62,6 +62,7 @@ layout(constant_id = 6) const bool SHADOW_MASK = false;    // the dune-shadow te
 layout(constant_id = 7) const bool SKY_OCCLUSION = true;   // else every point sees all the sky
 layout(constant_id = 8) const bool SPARKLE = true;         // specular sheen and grain glints
 layout(constant_id = 9) const bool FAR = false;            // the far rings: one ripple copy
+layout(constant_id = 10) const bool ENDLESS = true;        // the world beyond the period (world.glsl)
 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
@@ -133,6 +134,10 @@ float march_dune_shadow(vec3 world, vec3 l) {
 // on the middle period `p` itself; beyond it the highest of the copies, each lowered
 // by how much lighter it is than the heaviest.
 vec2 field_point(vec2 p, vec2 warped) {
+    if (ENDLESS) {
+    } else {
+        return p;
+    }
     float share = lattice_share(p);
     if (share <= 0.0) {
         return p;
@@ -270,7 +275,7 @@ void main() {
         level = quad_level;
     }
     vec4 r;
-    if (world.params.y > 0.0) {
+    if (ENDLESS) {
         // The ripple tile's copies (DesertWorld::ripple_copies): each corner of the
         // lattice around the point moves the tile by its own offset; the sharpened
         // weights leave one copy alone over most of a cell, and the blocks of pixels

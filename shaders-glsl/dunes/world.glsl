@@ -10,8 +10,8 @@ layout(set = 0, binding = 9) uniform World {
     // xy wave vector (radians per metre), z phase, w amplitude (m): the warp's x then
     // z component (three waves each).
     vec4 waves[6];
-    // x period, y how far beyond it the lattice takes over (0: the period repeated as
-    // it is), z how deep a copy of no weight lies, w the lattice's spacing (metres).
+    // x period, y how far beyond it the lattice takes over, z how deep a copy of no
+    // weight lies, w the lattice's spacing (metres).
     vec4 params;
     // The ripple tile's lattice of copies: x its spacing (m), y the weights' power,
     // zw the salt added to a corner before hashing.
@@ -30,11 +30,9 @@ vec2 warp_at(vec2 p) {
     return d;
 }
 
-// DesertWorld::lattice_share.
+// DesertWorld::lattice_share (surface.frag calls it only with the world on: a branch
+// on a uniform would cost lavapipe both sides).
 float lattice_share(vec2 p) {
-    if (world.params.y <= 0.0) {
-        return 0.0;
-    }
     vec2 outside = max(max(-p, p - vec2(world.params.x)), vec2(0.0));
     return smoothstep(0.0, world.params.y, length(outside));
 }

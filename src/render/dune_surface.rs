@@ -79,6 +79,9 @@ pub struct DuneSwitches {
     /// Drawing the far rings (`model::dune_world::far_field`): one copy of the ripple
     /// tile, no sheen or glints, no footprints (all finer than a pixel there).
     pub far: bool,
+    /// The world beyond the simulated period (`DuneWorldUniforms`); off, the period
+    /// and the ripple tile repeated as they are.
+    pub endless: bool,
 }
 
 impl DuneSwitches {
@@ -105,6 +108,7 @@ impl DuneSwitches {
             self.sky_occlusion,
             self.sparkle,
             self.far,
+            self.endless,
         ]
         .into_iter()
         .zip(0..)
@@ -209,8 +213,8 @@ impl DuneSkyLight {
 pub struct DuneWorldUniforms {
     /// xy wave vector, z phase, w amplitude: `DesertWorld::waves`.
     pub waves: [Vec4; 2 * WAVES],
-    /// x period, y the lattice's ramp (0: the period repeated as it is), z the depth
-    /// of a copy of no weight, w the lattice's spacing (metres).
+    /// x period, y the lattice's ramp, z the depth of a copy of no weight, w the
+    /// lattice's spacing (metres).
     pub params: Vec4,
     /// The ripple tile's lattice: x its spacing (m), y the weights' power, zw the
     /// salt of its corners' hash.
@@ -221,7 +225,8 @@ unsafe impl Pod for DuneWorldUniforms {}
 
 impl DuneWorldUniforms {
     /// `world` as the shader reads it; `None`: the period and the ripple tile
-    /// repeated as they are.
+    /// repeated as they are (the pipelines' `DuneSwitches::endless` off, which read
+    /// none of it).
     pub fn new(world: Option<&DesertWorld>, period: f32, ripple_tile: f32) -> Self {
         let ripples = Vec4::new(
             RIPPLE_LATTICE_TILES * ripple_tile,

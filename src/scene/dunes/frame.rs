@@ -285,6 +285,7 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
         sky_occlusion: scene.sky_occlusion,
         sparkle: scene.sparkle,
         far: false,
+        endless: scene.endless,
     }
 }
 
