@@ -1003,7 +1003,7 @@ fn box_pass(values: &[f64], width: usize, radius: usize, absolute: bool) -> Vec<
 // repeated as it is: 0.77, 0.78); seen from 60 m over flat sand, the ripples'
 // contrast one tile over at 0.08 and -0.10 (repeated: 0.95, 0.96); and from the
 // default camera the band under the horizon, a flat plain beyond the 3 x 3 periods
-// before, holds dunes (high-pass RMS 12.0 against 2.8).
+// before, holds dunes (high-pass RMS 12.4 against 2.8).
 #[test]
 fn the_desert_reaches_the_horizon_and_does_not_repeat() {
     common::with_gpu(|ctx| {

@@ -257,7 +257,7 @@ fn the_far_rings_cover_the_annulus_and_meet_without_cracks() {
         .map(|((a, b), _)| (p(a), p(b)))
         .filter(|&(a, b)| {
             let boundary = |h: f32| (half(a) - h).abs() < 1e-2 && (half(b) - h).abs() < 1e-2;
-            let skirt = half(a) <= 1.5 * period + 1e-2 || half(b) <= 1.5 * period + 1e-2;
+            let skirt = half(a) <= 1.5 * period + 1e-2 && half(b) <= 1.5 * period + 1e-2;
             !boundary(0.5 * outer) && !skirt
         })
         .collect();
