@@ -29,11 +29,16 @@ pub fn dune_mesh(n: usize, cell: f32, heights: &[f32]) -> Mesh {
 /// [0, n cell]): `tiles * n + 1` vertices per side, heights wrapping every `n` samples,
 /// so the seam is invisible and the field reaches toward the horizon.
 pub fn dune_mesh_tiled(n: usize, cell: f32, heights: &[f32], tiles: usize) -> Mesh {
+    dune_mesh_grid(n, cell, tiles, &tiled_heights(n, heights, tiles))
+}
+
+/// The vertex heights (`(tiles n + 1)^2`, row-major) of the `n` x `n` periodic
+/// `heights` repeated `tiles` x `tiles` times.
+pub fn tiled_heights(n: usize, heights: &[f32], tiles: usize) -> Vec<f32> {
     let verts = tiles * n + 1;
-    let grid: Vec<f32> = (0..verts * verts)
+    (0..verts * verts)
         .map(|k| heights[((k / verts) % n) * n + (k % verts) % n])
-        .collect();
-    dune_mesh_grid(n, cell, tiles, &grid)
+        .collect()
 }
 
 /// `dune_mesh_tiled`'s layout (`tiles` x `tiles` periods of `n` x `n` cells, the
@@ -407,12 +412,7 @@ mod tests {
 
     /// The LOD chunks of `heights` repeated `tiles` x `tiles` times.
     fn periodic_lod(n: usize, heights: &[f32], tiles: usize) -> DuneLod {
-        let grid: Vec<f32> = dune_mesh_tiled(n, 1.0, heights, tiles)
-            .positions
-            .iter()
-            .map(|p| p.y)
-            .collect();
-        DuneLod::new(n, tiles, &grid)
+        DuneLod::new(n, tiles, &tiled_heights(n, heights, tiles))
     }
 
     fn bumpy(n: usize) -> Vec<f32> {

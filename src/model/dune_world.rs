@@ -129,8 +129,12 @@ pub struct DesertWorld {
 pub type Copies = [(Vec2, f32); 4];
 
 impl DesertWorld {
-    /// For a field of `period` metres whose heights span `relief` metres.
-    pub fn new(period: f32, relief: f32) -> Self {
+    /// For a field of `period` metres of `heights` (metres).
+    pub fn new(period: f32, heights: &[f32]) -> Self {
+        let (low, high) = heights
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        let relief = if heights.is_empty() { 0.0 } else { high - low };
         Self {
             field: Warp::new(period, FIELD_WARP_SLOPE, 0.3),
             period,
@@ -394,8 +398,6 @@ pub fn far_field(
     let pyramid = HeightPyramid::new(n, cell, heights);
     let period = n as f32 * cell;
     let centre = Vec2::splat(0.5 * period);
-    let relief = heights.iter().fold(f32::MIN, |a, &b| a.max(b))
-        - heights.iter().fold(f32::MAX, |a, &b| a.min(b));
     let mut mesh = Mesh {
         positions: Vec::new(),
         normals: Vec::new(),
@@ -514,8 +516,9 @@ pub fn far_field(
             }
         }
         if k == 0 {
-            // The skirt: the inner edge again, `relief` lower, and a strip between.
-            let depth = relief.max(spacing);
+            // The skirt: the inner edge again, below any copy's sand, and a strip
+            // between.
+            let depth = world.depth.max(spacing);
             let edge: Vec<(usize, usize)> = (0..4 * (RING_QUADS - 2 * inner) + 1)
                 .map(|s| {
                     let (w, s) = (RING_QUADS - 2 * inner, s % (4 * (RING_QUADS - 2 * inner)));

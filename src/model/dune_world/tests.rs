@@ -51,16 +51,11 @@ fn steepest(height: impl Fn(Vec2) -> f32, from: Vec2, count: usize, step: f32) -
     out
 }
 
-fn relief(heights: &[f32]) -> f32 {
-    heights.iter().fold(f32::MIN, |a, &b| a.max(b))
-        - heights.iter().fold(f32::MAX, |a, &b| a.min(b))
-}
-
 #[test]
 fn the_middle_copy_is_the_simulated_field_and_the_world_around_it_as_steep_as_its_dunes() {
     let (n, cell) = (32, 2.0);
     let heights = ridges(n, cell);
-    let world = DesertWorld::new(n as f32 * cell, relief(&heights));
+    let world = DesertWorld::new(n as f32 * cell, &heights);
     let tiles = world_tiles(n, cell, &heights, &world);
     let side = 3 * n + 1;
     for j in 0..=n {
@@ -106,7 +101,7 @@ fn a_copy_one_period_over_no_longer_matches() {
     let (n, cell) = (64, 4.0);
     let period = n as f32 * cell;
     let heights = ridges(n, cell);
-    let world = DesertWorld::new(period, relief(&heights));
+    let world = DesertWorld::new(period, &heights);
     let pyramid = HeightPyramid::new(n, cell, &heights);
     let samples = 200;
     let at = |x: usize, z: usize| {
@@ -216,7 +211,7 @@ fn the_far_rings_cover_the_annulus_and_meet_without_cracks() {
     let (n, cell) = (32, 2.0);
     let heights = ridges(n, cell);
     let period = n as f32 * cell;
-    let world = DesertWorld::new(period, relief(&heights));
+    let world = DesertWorld::new(period, &heights);
     let rings = 4;
     let far = far_field(n, cell, &heights, &world, rings);
     // The flat area of the upward quads: the square to the last ring's edge less the
@@ -282,7 +277,7 @@ fn the_far_rings_cover_the_annulus_and_meet_without_cracks() {
 
 #[test]
 fn one_ripple_copy_holds_most_of_the_sand_and_the_weights_sum_to_one() {
-    let world = DesertWorld::new(256.0, 10.0);
+    let world = DesertWorld::new(256.0, &[0.0, 10.0]);
     let (mut single, mut total) = (0, 0);
     for j in 0..150 {
         for i in 0..150 {

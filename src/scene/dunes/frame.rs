@@ -22,7 +22,8 @@ use crate::gpu::{Commands, Context, GpuTimer, OffscreenTarget, Span};
 use crate::input::Key;
 use crate::model::atmosphere::Atmosphere;
 use crate::model::dune_mesh::{
-    DuneLod, dune_mesh_grid, dune_mesh_tiled, normal_texels, quad_levels, visible_quads,
+    DuneLod, dune_mesh_grid, dune_mesh_tiled, normal_texels, quad_levels, tiled_heights,
+    visible_quads,
 };
 use crate::model::dune_shadow::DuneGrid;
 use crate::model::dune_wind::WindDunes;
@@ -342,7 +343,7 @@ impl DunesFrame {
         )?;
         let world = scene
             .endless
-            .then(|| DesertWorld::new(scene.field_size(), relief(&terrain.dune_heights)));
+            .then(|| DesertWorld::new(scene.field_size(), &terrain.dune_heights));
         let surface = DuneSurfacePass::new(
             ctx,
             ctx.frame_format(),
@@ -370,7 +371,7 @@ impl DunesFrame {
         let blobs = cloud.as_ref().map_or(&[][..], |(_, c)| c.blobs());
         let grid = match &world {
             Some(w) => world_tiles(n, scene.cell, &terrain.dune_heights, w),
-            None => tiled_grid(n, &terrain.dune_heights),
+            None => tiled_heights(n, &terrain.dune_heights, 3),
         };
         let mesh = dune_mesh_grid(n, scene.cell, 3, &grid);
         let lod = DuneLod::new(n, 3, &grid);
@@ -803,22 +804,6 @@ fn over_detail_first(mesh: &Mesh, indices: Vec<u32>, prints: &DetailField) -> (V
     let detail = near.len();
     near.extend(far);
     (near, detail)
-}
-
-/// The span of a field's heights (metres).
-fn relief(heights: &[f32]) -> f32 {
-    let (low, high) = heights
-        .iter()
-        .fold((f32::MAX, f32::MIN), |(l, h), &v| (l.min(v), h.max(v)));
-    (high - low).max(0.0)
-}
-
-/// The 3 x 3 periods' vertex heights of the field repeated as it is.
-fn tiled_grid(n: usize, heights: &[f32]) -> Vec<f32> {
-    let verts = 3 * n + 1;
-    (0..verts * verts)
-        .map(|k| heights[((k / verts) % n) * n + (k % verts) % n])
-        .collect()
 }
 
 /// The mesh with the far rings' vertices and triangles after its own, as the
