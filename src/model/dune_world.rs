@@ -163,7 +163,7 @@ impl DesertWorld {
         let mut out = [(p, 0.0); 4];
         out[0] = (p, 1.0 - share);
         if share > 0.0 {
-            let warped = p + self.field.at(p);
+            let warped = self.warped(p);
             let lattice = LATTICE_PERIODS * self.period;
             let corners = simplex_corners(p / lattice);
             // The heaviest corner weighs 1 against the middle copy: the two change
@@ -224,9 +224,9 @@ impl DesertWorld {
 }
 
 /// The three corners of the triangle of the lattice around `u` (in lattice spacings)
-/// and their weights: 2D simplex noise's skewed grid and its kernel
-/// `max(0.5 - d^2, 0)^2`, which vanishes before the next triangle's corners take
-/// over (so the copies change without a jump). `shaders-glsl/dunes/world.glsl`'s
+/// and their weights: 2D simplex noise's skewed grid and the falloff
+/// `max(0.5 - d^2, 0)` (its kernel before squaring), which vanishes on the edge
+/// opposite a corner, before the next triangle's corners take over (so the copies change without a jump). `shaders-glsl/dunes/world.glsl`'s
 /// `simplex_corners` is the same.
 pub fn simplex_corners(u: Vec2) -> [(IVec2, f32); 3] {
     let skew = 0.5 * (3f32.sqrt() - 1.0);
