@@ -63,6 +63,7 @@ layout(constant_id = 7) const bool SKY_OCCLUSION = true;   // else every point s
 layout(constant_id = 8) const bool SPARKLE = true;         // specular sheen and grain glints
 layout(constant_id = 9) const bool FAR = false;            // the far rings: one ripple copy
 layout(constant_id = 10) const bool ENDLESS = true;        // the world beyond the period (world.glsl)
+layout(constant_id = 11) const bool GRAINFLOWS = true;     // avalanche tongues on the slip faces
 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
@@ -212,6 +213,52 @@ float fresnel(float vh) {
     return SAND_F0 + (1.0 - SAND_F0) * pow(1.0 - vh, 5.0);
 }
 
+// Grainflows, beyond the paper: a slip face grows by avalanches that run down it as
+// tongues a few decimetres wide and a few centimetres thick, lobes side by side along
+// the fall line, each of sand sorted a little finer or coarser than its neighbours
+// (Hunter 1977, grainflow strata). Where the ripples fade out on a slip face these
+// take their place. Two staggered rows of tongues GRAINFLOW_WIDTH metres wide (and
+// 0.62 of it), each waxing and waning over about GRAINFLOW_LENGTH metres down the
+// face, GRAINFLOW_THICKNESS metres thick, its sand GRAINFLOW_TONE lighter or darker.
+const float GRAINFLOW_WIDTH = 0.7;
+const float GRAINFLOW_LENGTH = 8.0;
+const float GRAINFLOW_THICKNESS = 0.03;
+const float GRAINFLOW_TONE = 0.16;
+
+// The tongues at world point `p` on a face falling along unit `down` (world x, z):
+// xy the slope of their surface (d height / dx, dz), z the albedo factor less 1.
+// `dx`, `dy` (the point's screen derivatives) fade them out where a tongue is finer
+// than a few pixels across.
+vec3 grainflows(vec2 p, vec2 down, vec2 dx, vec2 dy) {
+    vec2 across = vec2(-down.y, down.x);
+    float pixel = abs(dot(dx, across)) + abs(dot(dy, across));
+    float a = dot(p, down);
+    float along_slope = 0.0;
+    float across_slope = 0.0;
+    float tone = 0.0;
+    for (int row = 0; row < 2; ++row) {
+        float width = GRAINFLOW_WIDTH * (row == 0 ? 1.0 : 0.62);
+        float s = dot(p, across) / width + 0.5 * float(row);
+        float cell = floor(s);
+        vec3 h = hash3(ivec2(int(cell), 7 + row));
+        // Across the tongue u in [-1, 1], its profile (1 - u^2)^2.
+        float u = 2.0 * (s - cell) - 1.0;
+        float bump = (1.0 - u * u) * (1.0 - u * u);
+        float dbump = -4.0 * u * (1.0 - u * u) * 2.0 / width;
+        // Down the face it waxes and wanes, each tongue at its own pace and phase.
+        float wave = 6.2831853 / (GRAINFLOW_LENGTH * (0.6 + 0.8 * h.y));
+        float phase = a * wave + 6.2831853 * h.x;
+        float grown = 0.5 + 0.5 * sin(phase);
+        float dgrown = 0.5 * cos(phase) * wave;
+        float size = GRAINFLOW_THICKNESS * (0.5 + h.z);
+        across_slope += size * grown * dbump;
+        along_slope += size * dgrown * bump;
+        tone += (2.0 * fract(h.x * 7.31 + h.z) - 1.0) * bump * grown;
+    }
+    float seen = 1.0 - smoothstep(0.3, 0.7, pixel / GRAINFLOW_WIDTH);
+    return seen * vec3(across * across_slope + down * along_slope, GRAINFLOW_TONE * 0.5 * tone);
+}
+
 // A unit normal from its two bytes (`n * 0.5 + 0.5`) across the surface; the third
 // component points out of it.
 vec3 unpack_normal(vec2 across) {
@@ -241,6 +288,11 @@ void main() {
     // avalanche leaves no ripples behind (their bump and their shadows fade out).
     float slope = length(nd.xz) / max(nd.y, 1e-3);
     float rippled = 1.0 - smoothstep(dune.shadows.x, dune.shadows.y, slope);
+    // The pixel's footprint on the ground in metres (derivatives need every pixel of
+    // a quad: found here, before any branch).
+    vec2 world_dx = dFdx(in_world.xz);
+    vec2 world_dy = dFdy(in_world.xz);
+    float pixel_m = max(length(abs(world_dx) + abs(world_dy)), 1e-6);
 
     // Ripple tile coordinates: the tile's +x (the simulation's wind) along the wind.
     vec2 c = dune.wind.xy;
@@ -338,6 +390,15 @@ void main() {
     // Back from tile to world orientation, then into the dune frame (tilted normal).
     vec2 rxy = vec2(c.x * ripple.x - c.y * ripple.y, c.y * ripple.x + c.x * ripple.y);
     vec3 n = normalize(t * rxy.x + b * rxy.y + nd * ripple.z);
+    // The grainflows where the ripples fade (their slopes added to the prints').
+    float tongue_tone = 0.0;
+    if (GRAINFLOWS) {
+        if (rippled < 1.0) {
+            vec3 g = grainflows(in_world.xz, normalize(nd.xz + vec2(1e-6, 0.0)), world_dx, world_dy);
+            prints += (1.0 - rippled) * g.xy;
+            tongue_tone = (1.0 - rippled) * g.z;
+        }
+    }
     // The prints' slopes in world x, z, tilted into the dune's frame like the ripples.
     n = normalize(n - t * prints.x - b * prints.y);
 
@@ -385,7 +446,7 @@ void main() {
     lit *= print_lit;
     float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z,
                           frame.params.z).r;
-    vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain);
+    vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain) * (1.0 + tongue_tone);
     // Sky light: the sky's irradiance from the harmonics, scaled by the share of the
     // sky the point sees; where a dune hides the sky, its sand lights the point
     // instead: in a dune's shadow the sand toward the sun is that dune's shaded lee.
@@ -401,7 +462,6 @@ void main() {
     // Only where the sun reaches: the dune shadows, coherent over many pixels, skip it.
     // (The glints' footprint is found outside the branch: derivatives need every
     // pixel of a quad.)
-    float pixel_m = max(length(fwidth(in_world.xz)), 1e-6);
     if (SPARKLE && nl * lit > 0.0) {
         // sun_color is the sunlight's irradiance over pi: a BRDF f gives f pi sun_color n.l.
         vec3 v = normalize(frame.camera_pos.xyz - in_world);

@@ -82,6 +82,8 @@ pub struct DuneSwitches {
     /// The world beyond the simulated period (`DuneWorldUniforms`); off, the period
     /// and the ripple tile repeated as they are.
     pub endless: bool,
+    /// The avalanches' tongues (grainflows) on the slip faces, where the ripples fade.
+    pub grainflows: bool,
 }
 
 impl DuneSwitches {
@@ -91,6 +93,7 @@ impl DuneSwitches {
             far: true,
             footprints: false,
             sparkle: false,
+            grainflows: false,
             ..self
         }
     }
@@ -109,6 +112,7 @@ impl DuneSwitches {
             self.sparkle,
             self.far,
             self.endless,
+            self.grainflows,
         ]
         .into_iter()
         .zip(0..)

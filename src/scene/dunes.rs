@@ -258,9 +258,10 @@ crate::params! {
         [top, "Dune law"] dune_lateral: f64 = 0.3, "F", "", check::within(0.0..=1.0);
         /// World metres per dune cell (the paper's 4).
         [top, "Scale"] cell: f32 = 2.0, "M", "m", check::within(0.01..=1000.0);
-        /// World metres covered by one ripple tile (16: 64 ripple texels per 4 m dune
-        /// cell, as in the paper).
-        [top, "Scale"] ripple_tile: f32 = 16.0, "M", "m", check::within(0.01..=10_000.0);
+        /// World metres covered by one ripple tile (2: ripples about 12 cm apart, as
+        /// wind ripples are; the paper's figures, and the fig presets, 16: 64 ripple
+        /// texels per 4 m dune cell, ripples a metre apart).
+        [top, "Scale"] ripple_tile: f32 = 2.0, "M", "m", check::within(0.01..=10_000.0);
         /// Ripple surface height per unit of the simulated sand, in texels (their
         /// steepness).
         [top, "Scale"] ripple_height_scale: f32 = 0.35, "F", "texels", check::above(0.0);
@@ -273,14 +274,19 @@ crate::params! {
         [top, "Scale"] endless: bool = true, "on|off", "", check::any();
         /// Ripples bump mapped onto the dunes at all (the paper's Fig. 12 has none).
         [top, "Shading"] ripples: bool = true, "on|off", "", check::any();
-        /// Ripple bump strength (1: the simulated slopes as they are; the paper prints
-        /// no contrast).
-        [top, "Shading"] ripple_strength: f32 = 0.65, "F", "", check::within(0.0..=4.0);
+        /// Ripple bump strength, a factor on the simulated ripples' height (1: as
+        /// simulated; 0.4: about 16 times as long as they are high, the ripple index
+        /// of wind ripples; the fig presets 0.65, as the paper prints no contrast).
+        [top, "Shading"] ripple_strength: f32 = 0.4, "F", "", check::within(0.0..=4.0);
         /// Draw the ripple tile mirrored along the wind, beyond the paper: Nishimori and
         /// Ouchi's law at the paper's values gives ripples whose steep faces face
         /// upwind and which creep upwind, the mirror image of real ripples; on, they
         /// have real ripples' gentle stoss upwind and steep lee downwind.
         [top, "Shading"] ripples_mirrored: bool = false, "on|off", "", check::any();
+        /// The avalanches' tongues on the slip faces, beyond the paper: where an
+        /// avalanche erased the ripples, grainflows a few decimetres wide and a few
+        /// centimetres thick streak the face down its fall line (off: smooth faces).
+        [top, "Shading"] grainflows: bool = true, "on|off", "", check::any();
         /// Ripple orientation relative to the dune field's wind (+x).
         [top, "Shading"] wind_direction: f32 = 0.0, "DEG", "degrees", check::any();
         /// Sun elevation above the horizon (below 0 the sun has set and the sky's
@@ -402,14 +408,25 @@ pub const PRESETS: &[(&str, &str)] = &[
     ("star", "peaks with arms: winds from three directions"),
 ];
 
+/// The ripple tile of the paper's figures, in metres (the fig presets'): ripples a metre
+/// apart where wind ripples are 5-15 cm (the default, 2 m, gives 12.5 cm).
+pub const PAPER_RIPPLE_TILE: f32 = 16.0;
+
 /// The scene of one of [`PRESETS`] (`--preset`); an unknown name is refused, listing them.
 pub fn preset(name: &str) -> Result<DunesScene> {
     // The paper gives no sun positions, only that Figs. 14 and 15 lower the sun. A
     // sun 16 degrees high brings out these dunes' relief (at 30 degrees their gentle
     // slopes barely differ in brightness); 8 degrees is the lowered sun of the shadow
     // figures.
+    // The paper's ripples: a metre apart (64 texels of the 256-texel tile per 4 m dune
+    // cell), about ten times as large as wind ripples are, so that they show from its
+    // figures' cameras (all but the walker's of Fig. 18); and their bump as sediment
+    // has drawn them since the first reproduction (the paper prints none).
+    let natural = DunesScene::default();
     let base = DunesScene {
         sun_elevation: 16.0,
+        ripple_tile: PAPER_RIPPLE_TILE,
+        ripple_strength: 0.65,
         ..DunesScene::default()
     };
     let low_sun = DunesScene {
@@ -442,34 +459,39 @@ pub fn preset(name: &str) -> Result<DunesScene> {
             shadows: Shadows::DuneAndRipple,
             ..base
         },
+        // Beyond the paper's scale: seen from a walker's eyes the ripples show at
+        // their natural size, and a footprint is two of them long.
         "fig18" => DunesScene {
             shadows: Shadows::DuneAndRipple,
             dust: true,
             footprints: Walk(Some(fig18_walk(base.field_size()))),
+            ripple_tile: natural.ripple_tile,
+            ripple_strength: natural.ripple_strength,
             ..base
         },
-        // The dune types of the wind law (Werner 1995; Paris et al. 2019), fig17's light
-        // and a camera high enough to see their plan.
+        // The dune types of the wind law (Werner 1995; Paris et al. 2019), beyond the
+        // paper: ripples at their natural scale, a low side sun and a camera high
+        // enough to see their plan.
         "barchans" => DunesScene {
             sand_supply: 0.8,
             dune_hop: 3.0,
-            ..dune_type(&base)
+            ..dune_type()
         },
         "transverse" => DunesScene {
             sand_supply: 5.0,
-            ..dune_type(&base)
+            ..dune_type()
         },
         "linear" => DunesScene {
             winds: Winds(vec![wind(70.0), wind(-70.0)]),
             wind_period: 4,
             sand_supply: 3.0,
             dune_hop: 3.0,
-            ..dune_type(&base)
+            ..dune_type()
         },
         "star" => DunesScene {
             winds: Winds(vec![wind(0.0), wind(120.0), wind(240.0)]),
             sand_supply: 4.0,
-            ..dune_type(&base)
+            ..dune_type()
         },
         other => return Err(Error::unknown_preset(other, PRESETS)),
     })
@@ -486,7 +508,8 @@ fn wind(degrees: f64) -> crate::model::dune_wind::Wind {
 /// The dune-type presets' common scene: fig17's (the wind law's dunes with their
 /// shadows and the ripples') and an aerial camera 90 m up over the field's corner,
 /// looking across it downwind, the sun to its left.
-fn dune_type(base: &DunesScene) -> DunesScene {
+fn dune_type() -> DunesScene {
+    let base = DunesScene::default();
     let s = base.field_size();
     DunesScene {
         shadows: Shadows::DuneAndRipple,
@@ -495,7 +518,7 @@ fn dune_type(base: &DunesScene) -> DunesScene {
         sun_azimuth: 310.0,
         eye: Some(Point3([-0.1 * s, 90.0, -0.05 * s])),
         target: Some(Point3([0.6 * s, 0.0, 0.55 * s])),
-        ..base.clone()
+        ..base
     }
 }
 

@@ -14,6 +14,7 @@ const DUNES_TOLERANCE: Tolerance = Tolerance { mean: 1.5, p99: 20 };
 
 /// A preset with small simulations, so the test suite stays quick.
 fn small(name: &str) -> DunesScene {
+    let preset = dunes::preset(name).expect("preset");
     let scene = DunesScene {
         ripple_size: 64,
         ripple_steps: 400,
@@ -21,8 +22,9 @@ fn small(name: &str) -> DunesScene {
         // 32 cells of 4 m.
         dune_size: 64,
         dune_steps: 600,
-        ripple_tile: 4.0,
-        ..dunes::preset(name).expect("preset")
+        // A quarter of the ripple texels, each as large as the preset's.
+        ripple_tile: preset.ripple_tile * 64.0 / preset.ripple_size as f32,
+        ..preset
     };
     // Fig. 18's walk is set in fractions of the field's period: on the smaller field
     // too, not where the full field's walk would land on its tiled copies.
@@ -84,11 +86,13 @@ fn figures_12_to_18_match_their_goldens() {
             let (scene, terrain) = if name.starts_with("fig") {
                 (small(name), &terrain)
             } else {
+                // A quarter of the ripple texels, each as large as the preset's.
+                let preset = dunes::preset(name).expect("preset");
                 let scene = DunesScene {
                     ripple_size: 64,
                     ripple_steps: 400,
-                    ripple_tile: 4.0,
-                    ..dunes::preset(name).expect("preset")
+                    ripple_tile: preset.ripple_tile * 64.0 / preset.ripple_size as f32,
+                    ..preset
                 };
                 own = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
                 (scene, &own)
@@ -725,7 +729,7 @@ fn as_pictures_are(
 /// (red over blue at most 1.25, as displayed; without the sky occlusion the warm
 /// circumsolar sky reaches it through the dune and it is redder), and its ripples
 /// still show (the pixels' departure from their 5x5 neighbourhood at least 3 % of the
-/// brightness). Back-lit, the sand's sheen brightens the sunlit slopes and its glints
+/// brightness), and no more than 15 % of the ground is featureless. Back-lit, the sand's sheen brightens the sunlit slopes and its glints
 /// sparkle; lit from behind the camera the sheen barely shows.
 #[test]
 fn the_sky_lights_the_shadows_and_the_sand_shines_against_the_sun() {
@@ -750,7 +754,9 @@ fn the_sky_lights_the_shadows_and_the_sand_shines_against_the_sun() {
             .collect();
         // Of those, the ones a dune's shadow took the sun from (the slopes facing away
         // from the sun are as dark without shadows): a 5x5 neighbourhood at least 4
-        // levels brighter with shadows off.
+        // levels brighter with shadows off. Chosen on the dunes' own surface, without
+        // the grainflows: a tongue's side on a slip face turned from the sun faces it,
+        // and would count the face as cast shadow.
         let box5 = |luma: &[f64], i: usize| {
             let (x, y) = (i % w, i / w);
             (y - 2..=y + 2)
@@ -759,19 +765,50 @@ fn the_sky_lights_the_shadows_and_the_sand_shines_against_the_sun() {
                 .sum::<f64>()
                 / 25.0
         };
+        let smooth_faces = DunesScene {
+            grainflows: false,
+            ..low.clone()
+        };
         let unshadowed = luma_of(&as_pictures_are(
             ctx,
             &DunesScene {
                 shadows: dunes::Shadows::None,
-                ..low.clone()
+                ..smooth_faces.clone()
             },
             &terrain,
             size,
         ));
+        let cast = luma_of(&as_pictures_are(ctx, &smooth_faces, &terrain, size));
         let shadowed = luma_of(&as_pictures_are(ctx, &low, &terrain, size));
+        // No featureless ground: from the horizon's dunes down (row 215 of 480), the
+        // share of pixels whose 5x5 neighbourhood varies by less than one level
+        // (standard deviation of the luminance) is at most 15 %. (It was 27 % with
+        // smooth slip faces: the grainflows streak them.)
+        let featureless = {
+            let mut flat = 0usize;
+            let mut all = 0usize;
+            for y in 215..h - 2 {
+                for x in 2..w - 2 {
+                    let block =
+                        (y - 2..=y + 2).flat_map(|v| (x - 2..=x + 2).map(move |u| v * w + u));
+                    let (sum, squares) = block.fold((0.0, 0.0), |(s, q), j| {
+                        (s + shadowed[j], q + shadowed[j] * shadowed[j])
+                    });
+                    let mean = sum / 25.0;
+                    let std = (squares / 25.0 - mean * mean).max(0.0).sqrt();
+                    flat += usize::from(std < 1.0);
+                    all += 1;
+                }
+            }
+            flat as f64 / all as f64
+        };
+        eprintln!(
+            "featureless ground at an 8-degree sun: {:.1} %",
+            100.0 * featureless
+        );
         let inside: Vec<usize> = inside
             .into_iter()
-            .filter(|&i| box5(&unshadowed, i) - box5(&shadowed, i) >= 4.0)
+            .filter(|&i| box5(&unshadowed, i) - box5(&cast, i) >= 4.0)
             .collect();
         assert!(inside.len() > 10_000, "{} shadowed pixels", inside.len());
 
@@ -794,6 +831,7 @@ fn the_sky_lights_the_shadows_and_the_sand_shines_against_the_sun() {
         assert!(red_over_blue <= 1.25, "shadows R/B {red_over_blue:.3}");
         // (0.004 with the two-colour hemisphere light this replaced.)
         assert!(contrast >= 0.03, "ripples in the shadows: {contrast:.4}");
+        assert!(featureless <= 0.15, "featureless ground {featureless:.3}");
         // The dunes that cast the shadows hide part of its sky, and their sand lights
         // it instead: about as bright, a little warmer.
         let (open_red_over_blue, _, open_sky) = shade(&DunesScene {
@@ -852,79 +890,109 @@ fn the_sky_lights_the_shadows_and_the_sand_shines_against_the_sun() {
     });
 }
 
-/// Avalanches erase ripples: on a field of sawtooth dunes (a 8-degree stoss rising
-/// with the wind, a 34-degree slip face falling beyond the brink), lit from upwind 45
-/// degrees up (both faces lit, the stoss slopes brighter), the ripples change the slip faces' pixels
-/// by less than a fifth of what they change on the stoss slopes (relative to each
-/// face's brightness), while without the fade (`--repose` near 90 degrees moves it
-/// past any slope here) they change both.
+/// A field of sawtooth dunes (per period 26 cells of 8-degree stoss rising with the
+/// wind, then a 34-degree slip face falling beyond the brink), seen across the wind
+/// from above (world +x, the wind and the slip faces' fall line, runs along the
+/// picture's rows), the sun 45 degrees up upwind (both faces lit, the stoss slopes
+/// brighter), no shadows or sparkle: the scene, its terrain and the camera.
+fn sawtooth_dunes() -> (DunesScene, Terrain, sediment::camera::Camera) {
+    let base = small("fig13");
+    let simulated = dunes::simulate(&base, &mut |_, _| {}).expect("simulate");
+    let n = base.dune_size;
+    let cell = base.cell;
+    let (stoss, lee) = (26usize, 6usize);
+    let rise = stoss as f32 * cell * 8f32.to_radians().tan();
+    let profile = |i: usize| {
+        let i = i % (stoss + lee);
+        if i <= stoss {
+            rise * i as f32 / stoss as f32
+        } else {
+            rise * (1.0 - (i - stoss) as f32 / lee as f32)
+        }
+    };
+    assert!((rise / (lee as f32 * cell)).atan().to_degrees() > 30.0);
+    let terrain = Terrain {
+        dune_heights: (0..n * n).map(|k| profile(k % n)).collect(),
+        ..simulated
+    };
+    let field = base.field_size();
+    let camera = sediment::camera::Camera {
+        eye: glam::Vec3::new(0.5 * field, 0.6 * field, -0.1 * field),
+        target: glam::Vec3::new(0.5 * field, 0.0, 0.5 * field),
+        up: glam::Vec3::Y,
+        fov_y_degrees: 45.0,
+        near: 0.5,
+        far: 4000.0,
+        jitter: sediment::camera::Jitter::NONE,
+    };
+    let scene = DunesScene {
+        sun_elevation: 45.0,
+        sun_azimuth: 180.0,
+        shadows: dunes::Shadows::None,
+        sparkle: false,
+        ..base
+    };
+    (scene, terrain, camera)
+}
+
+/// The sawtooth dunes' faces, by their brightness in `flat` (a frame without ripples
+/// or grainflows: the stoss slopes face the sun, the slip faces are lit at a grazing
+/// angle): for each pixel, whether it lies on a slip face (`Some(true)`), on a stoss
+/// slope (`Some(false)`) or neither.
+fn sawtooth_faces(flat: &[f64]) -> Vec<Option<bool>> {
+    let mut sorted: Vec<f64> = flat.iter().copied().filter(|&l| l > 1.0).collect();
+    sorted.sort_by(f64::total_cmp);
+    let (dim, bright) = (sorted[sorted.len() / 20], sorted[sorted.len() * 3 / 4]);
+    flat.iter()
+        .map(|f| {
+            if (f - dim).abs() < 3.0 {
+                Some(true)
+            } else if (f - bright).abs() < 3.0 {
+                Some(false)
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+/// How much `changed` departs from `flat` on one kind of face, relative to the face's
+/// brightness.
+fn face_modulation(changed: &[f64], flat: &[f64], faces: &[Option<bool>], slip: bool) -> f64 {
+    let (mut change, mut level, mut count) = (0.0, 0.0, 0.0);
+    for ((c, f), face) in changed.iter().zip(flat).zip(faces) {
+        if *face == Some(slip) {
+            change += (c - f).abs();
+            level += f;
+            count += 1.0;
+        }
+    }
+    assert!(count > 500.0, "{count} pixels of the face");
+    change / level
+}
+
+/// Avalanches erase ripples: on the sawtooth dunes, the ripples change the slip faces'
+/// pixels by less than a fifth of what they change on the stoss slopes (relative to
+/// each face's brightness), while without the fade (`--repose` near 90 degrees moves
+/// it past any slope here) they change both.
 #[test]
 fn ripples_fade_out_on_the_slip_faces() {
     common::with_gpu(|ctx| {
-        let base = small("fig13");
-        let simulated = dunes::simulate(&base, &mut |_, _| {}).expect("simulate");
-        let n = base.dune_size;
-        let cell = base.cell;
-        // Per period: 26 cells of stoss, 6 of slip face.
-        let (stoss, lee) = (26usize, 6usize);
-        let rise = stoss as f32 * cell * 8f32.to_radians().tan();
-        let profile = |i: usize| {
-            let i = i % (stoss + lee);
-            if i <= stoss {
-                rise * i as f32 / stoss as f32
-            } else {
-                rise * (1.0 - (i - stoss) as f32 / lee as f32)
-            }
-        };
-        assert!((rise / (lee as f32 * cell)).atan().to_degrees() > 30.0);
-        let terrain = Terrain {
-            dune_heights: (0..n * n).map(|k| profile(k % n)).collect(),
-            ..simulated
+        let (scene, terrain, camera) = sawtooth_dunes();
+        let scene = DunesScene {
+            grainflows: false,
+            ..scene
         };
         let size = Size::new(480, 320);
-        // Looking across the wind from above, the sun 45 degrees up upwind (-x).
-        let field = base.field_size();
-        let camera = sediment::camera::Camera {
-            eye: glam::Vec3::new(0.5 * field, 0.6 * field, -0.1 * field),
-            target: glam::Vec3::new(0.5 * field, 0.0, 0.5 * field),
-            up: glam::Vec3::Y,
-            fov_y_degrees: 45.0,
-            near: 0.5,
-            far: 4000.0,
-            jitter: sediment::camera::Jitter::NONE,
-        };
-        let scene = DunesScene {
-            sun_elevation: 45.0,
-            sun_azimuth: 180.0,
-            shadows: dunes::Shadows::None,
-            sparkle: false,
-            ..base
-        };
         let luma =
             |s: &DunesScene| luma_of(&render_desert(ctx, s, &terrain, size, Some(&camera)).image);
         let flat = luma(&DunesScene {
             ripples: false,
             ..scene.clone()
         });
-        // The faces by their brightness without ripples: the stoss slopes face the
-        // sun, the slip faces are lit at a grazing angle.
-        let mut sorted: Vec<f64> = flat.iter().copied().filter(|&l| l > 1.0).collect();
-        sorted.sort_by(f64::total_cmp);
-        let (dim, bright) = (sorted[sorted.len() / 20], sorted[sorted.len() * 3 / 4]);
-        let modulation = |rippled: &[f64], slip: bool| {
-            let (mut change, mut level, mut count) = (0.0, 0.0, 0.0);
-            for (r, f) in rippled.iter().zip(&flat) {
-                let on_slip = (f - dim).abs() < 3.0;
-                let on_stoss = (f - bright).abs() < 3.0;
-                if (slip && on_slip) || (!slip && on_stoss) {
-                    change += (r - f).abs();
-                    level += f;
-                    count += 1.0;
-                }
-            }
-            assert!(count > 500.0, "{count} pixels of the face");
-            change / level
-        };
+        let faces = sawtooth_faces(&flat);
+        let modulation =
+            |rippled: &[f64], slip: bool| face_modulation(rippled, &flat, &faces, slip);
         let faded = luma(&scene);
         let (slip, stoss) = (modulation(&faded, true), modulation(&faded, false));
         let kept = luma(&DunesScene {
@@ -940,6 +1008,66 @@ fn ripples_fade_out_on_the_slip_faces() {
         assert!(
             slip_kept > 0.5 * stoss_kept,
             "without the fade: {slip_kept:.4}, {stoss_kept:.4}"
+        );
+    });
+}
+
+/// Where the ripples fade, the avalanches' tongues take their place: on the sawtooth
+/// dunes (ripples off, to see the tongues alone), seen from downwind looking upwind at
+/// the slip faces (their fall line down the picture's columns), the grainflows change
+/// the slip faces by at least 0.5 % of their brightness (lit at a grazing angle, as in
+/// a low sun's frames: a tongue's sides turn the face about its fall line, which
+/// changes little, and its sand is lighter or darker) and the stoss slopes by less
+/// than a tenth of that; and they streak the faces down their fall line: the change
+/// varies at least 1.5 times as fast along the picture's rows as down its columns
+/// (isotropic speckle would give 1).
+#[test]
+fn grainflows_streak_the_slip_faces_down_their_fall_line() {
+    common::with_gpu(|ctx| {
+        let (scene, terrain, camera) = sawtooth_dunes();
+        let field = scene.field_size();
+        let camera = sediment::camera::Camera {
+            eye: glam::Vec3::new(0.9 * field, 12.0, 0.5 * field),
+            target: glam::Vec3::new(0.6 * field, 0.0, 0.5 * field),
+            ..camera
+        };
+        let scene = DunesScene {
+            ripples: false,
+            ..scene
+        };
+        let size = Size::new(480, 320);
+        let luma =
+            |s: &DunesScene| luma_of(&render_desert(ctx, s, &terrain, size, Some(&camera)).image);
+        let flat = luma(&DunesScene {
+            grainflows: false,
+            ..scene.clone()
+        });
+        let faces = sawtooth_faces(&flat);
+        let streaked = luma(&scene);
+        let (slip, stoss) = (
+            face_modulation(&streaked, &flat, &faces, true),
+            face_modulation(&streaked, &flat, &faces, false),
+        );
+        let w = size.width as usize;
+        let change: Vec<f64> = streaked.iter().zip(&flat).map(|(a, b)| a - b).collect();
+        let (mut along, mut across) = (0.0, 0.0);
+        for i in w..change.len() - w {
+            let on_slip = |j: usize| faces[j] == Some(true);
+            if on_slip(i) && on_slip(i + 1) && on_slip(i + w) {
+                across += (change[i + 1] - change[i]).abs();
+                along += (change[i + w] - change[i]).abs();
+            }
+        }
+        eprintln!(
+            "grainflows: slip faces {slip:.4}, stoss {stoss:.4}; change across / along the \
+             fall line {:.2}",
+            across / along
+        );
+        assert!(slip >= 0.005, "slip faces {slip:.4}");
+        assert!(stoss < 0.1 * slip, "stoss {stoss:.4}, slip faces {slip:.4}");
+        assert!(
+            across >= 1.5 * along,
+            "across {across:.1}, along {along:.1}"
         );
     });
 }
@@ -1095,4 +1223,119 @@ fn the_desert_reaches_the_horizon_and_does_not_repeat() {
         );
         common::assert_no_validation_errors(ctx);
     });
+}
+
+/// Ripples at their natural scale (the default: 12.5 cm apart, about 16 times as long
+/// as they are high) and the LOD that carries them from the foot to the horizon: in
+/// the exported tile the wavelength is 0.05-0.2 m and the dunes' spacing (the strongest
+/// wave along the wind in the exported field) at least 300 of them; and standing 1.7 m
+/// over flat sand, a frame drawn as pictures are (2x2 supersampled) departs from a
+/// 4x4-supersampled one, once both are blurred over 7x7 pixels (what aliasing leaves:
+/// moiré, not the lost sharpness), by at most 2 levels (RMS) in every band of rows
+/// from the horizon to the foot, and by at most half of what the finest ripple level
+/// alone (`--lod off`, whose moiré shows) departs in the two bands under the horizon.
+#[test]
+fn ripples_at_their_scale_reach_the_horizon_without_moire() {
+    common::with_gpu(|ctx| {
+        let base = DunesScene {
+            sun_elevation: 16.0,
+            ..DunesScene::default()
+        };
+        let terrain = dunes::simulate(&base, &mut |_, _| {}).expect("simulate");
+        let tile = sediment::scene::dunes::export::ripple_heightmap(&base, &terrain);
+        let wavelength = dominant_wavelength_along_rows(&tile.heights_m, tile.width, tile.cell_m);
+        let field = sediment::scene::dunes::export::dune_heightmap(&base, &terrain);
+        let spacing = dominant_wavelength_along_rows(&field.heights_m, field.width, field.cell_m);
+        eprintln!(
+            "ripple wavelength {wavelength:.4} m, dune spacing {spacing:.1} m: {:.0} wavelengths",
+            spacing / wavelength
+        );
+        assert!((0.05..=0.2).contains(&wavelength), "{wavelength} m");
+        assert!(spacing / wavelength >= 300.0, "{spacing} m");
+
+        let flat = Terrain {
+            dune_heights: vec![0.0; terrain.dune_heights.len()],
+            ..terrain.clone()
+        };
+        let size = Size::new(480, 320);
+        let field = base.field_size();
+        let camera = sediment::camera::Camera {
+            eye: glam::Vec3::new(0.5 * field, 1.7, 0.3 * field),
+            target: glam::Vec3::new(0.3 * field, 0.0, 0.4 * field),
+            ..dunes::default_camera(&base, &flat)
+        };
+        let frame = |scene: &DunesScene, scale: u32| {
+            let big = render_desert(
+                ctx,
+                scene,
+                &flat,
+                Size::new(scale * size.width, scale * size.height),
+                Some(&camera),
+            )
+            .image;
+            luma_of(&sediment::frame::supersample::downsample(big, scale))
+        };
+        let reference = frame(&base, 4);
+        let w = size.width as usize;
+        let blurred_departure = |luma: &[f64]| {
+            let difference: Vec<f64> = luma.iter().zip(&reference).map(|(a, b)| a - b).collect();
+            let high = box_pass(&difference, w, 3, false);
+            difference
+                .iter()
+                .zip(high)
+                .map(|(d, h)| d - h)
+                .collect::<Vec<f64>>()
+        };
+        let lod = blurred_departure(&frame(&base, 2));
+        let finest = blurred_departure(&frame(
+            &DunesScene {
+                lod: false,
+                ..base.clone()
+            },
+            2,
+        ));
+        // The horizon lies a little above the middle row (the camera looks down 3.6
+        // degrees); bands from just under it to the foot.
+        let rms = |v: &[f64], rows: std::ops::Range<usize>| {
+            let band = &v[rows.start * w..rows.end * w];
+            (band.iter().map(|d| d * d).sum::<f64>() / band.len() as f64).sqrt()
+        };
+        for (k, rows) in [165..180, 180..200, 200..230, 230..270, 270..320]
+            .into_iter()
+            .enumerate()
+        {
+            let (with, without) = (rms(&lod, rows.clone()), rms(&finest, rows.clone()));
+            eprintln!("rows {rows:?}: {with:.2} levels, level 0 alone {without:.2}");
+            assert!(with <= 2.0, "rows {rows:?}: {with:.2}");
+            if k < 2 {
+                assert!(
+                    with <= 0.5 * without,
+                    "rows {rows:?}: {with:.2} against {without:.2}"
+                );
+            }
+        }
+    });
+}
+
+/// The wavelength (metres) of the strongest wave along the rows of a periodic
+/// heightfield `width` samples wide, `cell` metres apart.
+fn dominant_wavelength_along_rows(heights: &[f64], width: usize, cell: f64) -> f64 {
+    let rows = heights.len() / width;
+    let mut best = (0.0, 1);
+    for k in 1..width / 2 {
+        let mut power = 0.0;
+        for row in heights.chunks(width).take(rows) {
+            let (mut re, mut im) = (0.0, 0.0);
+            for (x, &h) in row.iter().enumerate() {
+                let phase = std::f64::consts::TAU * (k * x) as f64 / width as f64;
+                re += h * phase.cos();
+                im += h * phase.sin();
+            }
+            power += re * re + im * im;
+        }
+        if power > best.0 {
+            best = (power, k);
+        }
+    }
+    width as f64 * cell / best.1 as f64
 }

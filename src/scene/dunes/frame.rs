@@ -287,6 +287,7 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
         sparkle: scene.sparkle,
         far: false,
         endless: scene.endless,
+        grainflows: scene.grainflows,
     }
 }
 
@@ -479,7 +480,7 @@ impl DunesFrame {
     pub const CONTROLS: &'static [&'static str] = &[
         "left/right sun azimuth  up/down sun elevation  l lod  k culling",
         "o shadows none/dune/dune+ripple  j ripples  u dust",
-        "y sky occlusion  g sheen and glints",
+        "y sky occlusion  g sheen and glints  i grainflows",
     ];
 }
 
@@ -716,6 +717,7 @@ impl Interactive for DunesFrame {
             Key::Char('j') => s.ripples = !s.ripples,
             Key::Char('y') => s.sky_occlusion = !s.sky_occlusion,
             Key::Char('g') => s.sparkle = !s.sparkle,
+            Key::Char('i') => s.grainflows = !s.grainflows,
             Key::Char('o') => {
                 s.shadows = match s.shadows {
                     Shadows::None => Shadows::Dune,
