@@ -281,8 +281,9 @@ crate::params! {
         /// Draw the ripple tile mirrored along the wind, beyond the paper: Nishimori and
         /// Ouchi's law at the paper's values gives ripples whose steep faces face
         /// upwind and which creep upwind, the mirror image of real ripples; on, they
-        /// have real ripples' gentle stoss upwind and steep lee downwind.
-        [top, "Shading"] ripples_mirrored: bool = false, "on|off", "", check::any();
+        /// have real ripples' gentle stoss upwind and steep lee downwind (the fig12-fig17
+        /// presets draw the tile as the paper does: off).
+        [top, "Shading"] ripples_mirrored: bool = true, "on|off", "", check::any();
         /// The avalanches' tongues on the slip faces, beyond the paper: where an
         /// avalanche erased the ripples, grainflows a few decimetres wide and a few
         /// centimetres thick streak the face down its fall line (off: smooth faces).
@@ -420,13 +421,15 @@ pub fn preset(name: &str) -> Result<DunesScene> {
     // figures.
     // The paper's ripples: a metre apart (64 texels of the 256-texel tile per 4 m dune
     // cell), about ten times as large as wind ripples are, so that they show from its
-    // figures' cameras (all but the walker's of Fig. 18); and their bump as sediment
-    // has drawn them since the first reproduction (the paper prints none).
+    // figures' cameras (all but the walker's of Fig. 18), as the paper's law makes
+    // them (not mirrored); and their bump as sediment has drawn them since the first
+    // reproduction (the paper prints none).
     let natural = DunesScene::default();
     let base = DunesScene {
         sun_elevation: 16.0,
         ripple_tile: PAPER_RIPPLE_TILE,
         ripple_strength: 0.65,
+        ripples_mirrored: false,
         ..DunesScene::default()
     };
     let low_sun = DunesScene {
@@ -467,6 +470,7 @@ pub fn preset(name: &str) -> Result<DunesScene> {
             footprints: Walk(Some(fig18_walk(base.field_size()))),
             ripple_tile: natural.ripple_tile,
             ripple_strength: natural.ripple_strength,
+            ripples_mirrored: natural.ripples_mirrored,
             ..base
         },
         // The dune types of the wind law (Werner 1995; Paris et al. 2019), beyond the

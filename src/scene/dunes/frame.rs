@@ -1254,6 +1254,7 @@ mod tests {
             ripple_steps: 3,
             dune_size: 8,
             dune_steps: 0,
+            ripples_mirrored: false,
             ..DunesScene::default()
         };
         let plain = simulate(&scene, &mut |_, _| {}).expect("simulate");
