@@ -395,7 +395,7 @@ pub const PRESETS: &[(&str, &str)] = &[
     ("fig17", "dune shadows and ripple shadows"),
     (
         "fig18",
-        "dune and ripple shadows with sand dust and footprints",
+        "a walker's view: ripples at their natural scale, footprints, sand dust",
     ),
     (
         "barchans",

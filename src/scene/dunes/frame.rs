@@ -1154,7 +1154,7 @@ impl SceneDef for DunesDef {
             shot(
                 "dunes-fig18",
                 "fig18",
-                "dune and ripple shadows with sand dust and footprints",
+                "a walker's view: ripples at their natural scale, footprints, sand dust",
             ),
             shot(
                 "dunes-barchans",
