@@ -64,6 +64,36 @@ pub struct Heightfield {
 }
 
 impl Heightfield {
+    /// The power of each wavenumber k = 0..=width/2 along x (k waves across the
+    /// period; 0 left at 0), summed over the rows, each row's mean removed.
+    pub fn x_spectrum(&self) -> Vec<f64> {
+        let w = self.width;
+        let mut power = vec![0.0f64; w / 2 + 1];
+        for row in self.data.chunks_exact(w).take(self.height) {
+            let mean = row.iter().sum::<f64>() / w as f64;
+            for (k, p) in power.iter_mut().enumerate().skip(1) {
+                let (mut re, mut im) = (0.0, 0.0);
+                for (x, &h) in row.iter().enumerate() {
+                    let a = std::f64::consts::TAU * (k * x) as f64 / w as f64;
+                    re += (h - mean) * a.cos();
+                    im -= (h - mean) * a.sin();
+                }
+                *p += re * re + im * im;
+            }
+        }
+        power
+    }
+
+    /// The wavelength along x, in cells, of the strongest wave in [`Self::x_spectrum`]
+    /// (the ripples' spacing along the wind; the width for a field without waves).
+    pub fn dominant_wavelength_x(&self) -> f64 {
+        let power = self.x_spectrum();
+        let k = (1..power.len())
+            .max_by(|&a, &b| power[a].total_cmp(&power[b]))
+            .unwrap_or(1);
+        self.width as f64 / k as f64
+    }
+
     /// Heights `base + u * amplitude` with `u` uniform in [0, 1), fixed by `seed`.
     pub fn random(width: usize, height: usize, base: f64, amplitude: f64, seed: u64) -> Self {
         let mut rng = Rng::new(seed);

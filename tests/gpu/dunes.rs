@@ -1235,8 +1235,8 @@ fn the_desert_reaches_the_horizon_and_does_not_repeat() {
 
 /// Ripples at their natural scale (the default: 12.5 cm apart, about 16 times as long
 /// as they are high) and the LOD that carries them from the foot to the horizon: in
-/// the exported tile the wavelength is 0.05-0.2 m and the dunes' spacing (the strongest
-/// wave along the wind in the exported field) at least 300 of them; and standing 1.7 m
+/// the exported tile the wavelength is 0.05-0.2 m and the dunes' spacing (the period
+/// over the exported field's mean wavenumber along the wind) at least 300 of them; and standing 1.7 m
 /// over flat sand, a frame drawn as pictures are (2x2 supersampled) departs from a
 /// 4x4-supersampled one, once both are blurred over 7x7 pixels (what aliasing leaves:
 /// moiré, not the lost sharpness), by at most 2.5 levels (RMS) in every band of rows
@@ -1251,9 +1251,24 @@ fn ripples_at_their_scale_reach_the_horizon_without_moire() {
         };
         let terrain = dunes::simulate(&base, &mut |_, _| {}).expect("simulate");
         let tile = sediment::scene::dunes::export::ripple_heightmap(&base, &terrain);
-        let wavelength = dominant_wavelength_along_rows(&tile.heights_m, tile.width, tile.cell_m);
         let field = sediment::scene::dunes::export::dune_heightmap(&base, &terrain);
-        let spacing = dominant_wavelength_along_rows(&field.heights_m, field.width, field.cell_m);
+        let cells =
+            |map: &sediment::export::heightmap::Heightmap| sediment::model::sand::Heightfield {
+                width: map.width,
+                height: map.height,
+                data: map.heights_m.clone(),
+            };
+        let wavelength = cells(&tile).dominant_wavelength_x() * tile.cell_m;
+        // The dunes' spacing: the period over the mean wavenumber along the wind,
+        // weighted by power (the strongest wave alone is the whole period).
+        let power = cells(&field).x_spectrum();
+        let mean_k = power
+            .iter()
+            .enumerate()
+            .map(|(k, p)| k as f64 * p)
+            .sum::<f64>()
+            / power.iter().sum::<f64>();
+        let spacing = field.width as f64 * field.cell_m / mean_k;
         eprintln!(
             "ripple wavelength {wavelength:.4} m, dune spacing {spacing:.1} m: {:.0} wavelengths",
             spacing / wavelength
@@ -1323,27 +1338,4 @@ fn ripples_at_their_scale_reach_the_horizon_without_moire() {
             }
         }
     });
-}
-
-/// The wavelength (metres) of the strongest wave along the rows of a periodic
-/// heightfield `width` samples wide, `cell` metres apart.
-fn dominant_wavelength_along_rows(heights: &[f64], width: usize, cell: f64) -> f64 {
-    let rows = heights.len() / width;
-    let mut best = (0.0, 1);
-    for k in 1..width / 2 {
-        let mut power = 0.0;
-        for row in heights.chunks(width).take(rows) {
-            let (mut re, mut im) = (0.0, 0.0);
-            for (x, &h) in row.iter().enumerate() {
-                let phase = std::f64::consts::TAU * (k * x) as f64 / width as f64;
-                re += h * phase.cos();
-                im += h * phase.sin();
-            }
-            power += re * re + im * im;
-        }
-        if power > best.0 {
-            best = (power, k);
-        }
-    }
-    width as f64 * cell / best.1 as f64
 }

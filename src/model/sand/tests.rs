@@ -9,34 +9,6 @@ fn run(field: Heightfield, params: SandParams, steps: u32) -> Heightfield {
     sim.into_field()
 }
 
-/// Power of each wavenumber k = 1..width/2 along x, averaged over rows.
-fn x_spectrum(f: &Heightfield) -> Vec<f64> {
-    let w = f.width;
-    let mut power = vec![0.0f64; w / 2 + 1];
-    for y in 0..f.height {
-        let row = &f.data[y * w..(y + 1) * w];
-        let mean = row.iter().sum::<f64>() / w as f64;
-        for (k, p) in power.iter_mut().enumerate().skip(1) {
-            let (mut re, mut im) = (0.0, 0.0);
-            for (x, &h) in row.iter().enumerate() {
-                let a = std::f64::consts::TAU * (k * x) as f64 / w as f64;
-                re += (h - mean) * a.cos();
-                im -= (h - mean) * a.sin();
-            }
-            *p += re * re + im * im;
-        }
-    }
-    power
-}
-
-fn dominant_wavelength(f: &Heightfield) -> f64 {
-    let power = x_spectrum(f);
-    let k = (1..power.len())
-        .max_by(|&a, &b| power[a].total_cmp(&power[b]))
-        .unwrap_or(1);
-    f.width as f64 / k as f64
-}
-
 #[test]
 fn mass_is_conserved_over_thousands_of_steps() {
     for params in [SandParams::paper_ripples(), SandParams::paper_dunes()] {
@@ -57,13 +29,13 @@ fn ripples_emerge_with_the_predicted_wavelength_across_the_wind() {
     // The mean hop L0 + b <H> sets the ripple spacing in Nishimori & Ouchi's model:
     // the spacing grows from about one hop as ripples coarsen.
     let hop = 7.3 + 2.0 * mean_h;
-    let lambda = dominant_wavelength(&ripples);
+    let lambda = ripples.dominant_wavelength_x();
     assert!(
         (0.8 * hop..=2.0 * hop).contains(&lambda),
         "wavelength {lambda} vs mean hop {hop}"
     );
     // A pattern, not noise: the dominant mode carries a large share of the power.
-    let power = x_spectrum(&ripples);
+    let power = ripples.x_spectrum();
     let total: f64 = power.iter().sum();
     let peak = power.iter().copied().fold(0.0, f64::max);
     assert!(peak / total > 0.15, "peak share {}", peak / total);
@@ -137,7 +109,7 @@ fn the_published_ripple_law_mirrors_real_ripples() {
     let after = sim.field();
     let w = before.width;
     // The dominant wavenumber's phase, row by row: its shift over one step.
-    let power = x_spectrum(&before);
+    let power = before.x_spectrum();
     let k = (1..power.len())
         .max_by(|&a, &b| power[a].total_cmp(&power[b]))
         .unwrap_or(1);
