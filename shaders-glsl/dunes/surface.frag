@@ -219,7 +219,8 @@ float fresnel(float vh) {
 // (Hunter 1977, grainflow strata). Where the ripples fade out on a slip face these
 // take their place. Two staggered rows of tongues GRAINFLOW_WIDTH metres wide (and
 // 0.62 of it), each waxing and waning over about GRAINFLOW_LENGTH metres down the
-// face, GRAINFLOW_THICKNESS metres thick, its sand GRAINFLOW_TONE lighter or darker.
+// face, 0.5 to 1.5 GRAINFLOW_THICKNESS metres thick, its sand up to GRAINFLOW_TONE
+// lighter or darker.
 const float GRAINFLOW_WIDTH = 0.7;
 const float GRAINFLOW_LENGTH = 8.0;
 const float GRAINFLOW_THICKNESS = 0.03;

@@ -84,14 +84,19 @@ impl Heightfield {
         power
     }
 
-    /// The wavelength along x, in cells, of the strongest wave in [`Self::x_spectrum`]
-    /// (the ripples' spacing along the wind; the width for a field without waves).
-    pub fn dominant_wavelength_x(&self) -> f64 {
+    /// The wavenumber k >= 1 of the strongest wave in [`Self::x_spectrum`] (1 for a
+    /// field without waves).
+    pub fn dominant_wavenumber_x(&self) -> usize {
         let power = self.x_spectrum();
-        let k = (1..power.len())
+        (1..power.len())
             .max_by(|&a, &b| power[a].total_cmp(&power[b]))
-            .unwrap_or(1);
-        self.width as f64 / k as f64
+            .unwrap_or(1)
+    }
+
+    /// The wavelength along x, in cells, of the strongest wave (the ripples' spacing
+    /// along the wind; the width for a field without waves).
+    pub fn dominant_wavelength_x(&self) -> f64 {
+        self.width as f64 / self.dominant_wavenumber_x() as f64
     }
 
     /// Heights `base + u * amplitude` with `u` uniform in [0, 1), fixed by `seed`.

@@ -430,7 +430,7 @@ pub fn preset(name: &str) -> Result<DunesScene> {
         ripple_tile: PAPER_RIPPLE_TILE,
         ripple_strength: 0.65,
         ripples_mirrored: false,
-        ..DunesScene::default()
+        ..natural.clone()
     };
     let low_sun = DunesScene {
         sun_elevation: 8.0,
@@ -509,9 +509,9 @@ fn wind(degrees: f64) -> crate::model::dune_wind::Wind {
     }
 }
 
-/// The dune-type presets' common scene: fig17's (the wind law's dunes with their
-/// shadows and the ripples') and an aerial camera 90 m up over the field's corner,
-/// looking across it downwind, the sun to its left.
+/// The dune-type presets' common scene: the default's (the wind law's dunes, ripples at
+/// their natural scale) with dune and ripple shadows, and an aerial camera 90 m up over
+/// the field's corner, looking across it downwind, the sun to its left.
 fn dune_type() -> DunesScene {
     let base = DunesScene::default();
     let s = base.field_size();

@@ -109,10 +109,7 @@ fn the_published_ripple_law_mirrors_real_ripples() {
     let after = sim.field();
     let w = before.width;
     // The dominant wavenumber's phase, row by row: its shift over one step.
-    let power = before.x_spectrum();
-    let k = (1..power.len())
-        .max_by(|&a, &b| power[a].total_cmp(&power[b]))
-        .unwrap_or(1);
+    let k = before.dominant_wavenumber_x();
     let (mut re, mut im) = (0.0, 0.0);
     for y in 0..before.height {
         let (mut a, mut b) = ((0.0, 0.0), (0.0, 0.0));
