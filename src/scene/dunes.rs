@@ -288,7 +288,9 @@ crate::params! {
         /// avalanche erased the ripples, grainflows a few decimetres wide and a few
         /// centimetres thick streak the face down its fall line (off: smooth faces).
         [top, "Shading"] grainflows: bool = true, "on|off", "", check::any();
-        /// Ripple orientation relative to the dune field's wind (+x).
+        /// Ripple orientation relative to the wind that blew last: the last of
+        /// --winds with the wind law, +x with the paper's law (the ripples and the
+        /// dust follow it).
         [top, "Shading"] wind_direction: f32 = 0.0, "DEG", "degrees", check::any();
         /// Sun elevation above the horizon (below 0 the sun has set and the sky's
         /// twilight lights the sand).
@@ -618,6 +620,25 @@ impl DunesScene {
             period: self.wind_period,
             ..base
         }
+    }
+
+    /// Where the ripples' wind blows toward, degrees from +x toward +z: the wind that
+    /// blew last (the wind law's regime at its last iteration; the paper's law blows
+    /// along +x) turned by `wind_direction`. Ripples turn with the wind within hours
+    /// and dust flies with it, while the dunes keep the shape the whole regime gave
+    /// them: under the linear preset's two winds, ripples lie across the one blowing
+    /// now, not across the ridges' mean wind.
+    pub fn ripple_wind_degrees(&self) -> f32 {
+        let last = match self.dune_law {
+            DuneLaw::Wind => {
+                let params = self.wind_dune_params();
+                params
+                    .wind_at(u64::from(self.dune_steps.max(1) - 1))
+                    .toward_degrees as f32
+            }
+            DuneLaw::Paper => 0.0,
+        };
+        last + self.wind_direction
     }
 
     /// The wind law's sand supply in slabs per cell.

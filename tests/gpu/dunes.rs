@@ -1020,6 +1020,72 @@ fn ripples_fade_out_on_the_slip_faces() {
     });
 }
 
+/// Ripples lie across the wind that blew last: on flat sand seen from straight above
+/// (the picture's rows along world +x, its columns along +z), under a regime whose
+/// last wind blows toward +x the ripples' shading varies along the rows at least twice
+/// as fast as down the columns, and under one whose last wind blows toward +z the
+/// other way round; `wind_direction` turns them from there.
+#[test]
+fn ripples_lie_across_the_wind_that_blew_last() {
+    common::with_gpu(|ctx| {
+        let base = small("fig13");
+        let simulated = dunes::simulate(&base, &mut |_, _| {}).expect("simulate");
+        let n = base.dune_size;
+        let terrain = Terrain {
+            dune_heights: vec![0.0; n * n],
+            ..simulated
+        };
+        let centre = 0.5 * base.field_size();
+        let camera = sediment::camera::Camera {
+            eye: glam::Vec3::new(centre, 12.0, centre),
+            target: glam::Vec3::new(centre, 0.0, centre + 0.01),
+            up: glam::Vec3::Y,
+            fov_y_degrees: 45.0,
+            near: 0.5,
+            far: 4000.0,
+            jitter: sediment::camera::Jitter::NONE,
+        };
+        let size = Size::new(240, 240);
+        // Gradient energy along the rows over that down the columns.
+        let anisotropy = |scene: &DunesScene| {
+            let luma = luma_of(&render_desert(ctx, scene, &terrain, size, Some(&camera)).image);
+            let w = size.width as usize;
+            let (mut along_rows, mut down_columns) = (0.0, 0.0);
+            for y in 1..w - 1 {
+                for x in 1..w - 1 {
+                    let at = |x: usize, y: usize| luma[y * w + x];
+                    along_rows += (at(x + 1, y) - at(x - 1, y)).powi(2);
+                    down_columns += (at(x, y + 1) - at(x, y - 1)).powi(2);
+                }
+            }
+            along_rows / down_columns
+        };
+        let regime = |winds: &str, turn: f32| DunesScene {
+            dune_law: dunes::DuneLaw::Wind,
+            winds: winds.parse().expect("winds"),
+            wind_period: 4,
+            dune_steps: 8,
+            wind_direction: turn,
+            sun_elevation: 40.0,
+            sun_azimuth: 225.0,
+            shadows: dunes::Shadows::None,
+            sparkle: false,
+            ..base.clone()
+        };
+        // Two winds in turn, the last toward +x (the linear preset's kind of regime).
+        let along_x = anisotropy(&regime("90;0", 0.0));
+        let along_z = anisotropy(&regime("0;90", 0.0));
+        let turned = anisotropy(&regime("0;90", -90.0));
+        eprintln!(
+            "row / column gradient energy: last wind +x {along_x:.2}, +z {along_z:.2}, \
+             +z turned back by -90 degrees {turned:.2}"
+        );
+        assert!(along_x > 2.0, "last wind toward +x: {along_x:.2}");
+        assert!(along_z < 0.5, "last wind toward +z: {along_z:.2}");
+        assert!(turned > 2.0, "turned back to +x: {turned:.2}");
+    });
+}
+
 /// Where the ripples fade, the avalanches' tongues take their place: on the sawtooth
 /// dunes (ripples off, to see the tongues alone), seen from downwind looking upwind at
 /// the slip faces (their fall line down the picture's columns), the grainflows change

@@ -15,7 +15,7 @@ use crate::model::ripple_maps::normal_level0;
 
 /// The wind's direction in the ground plane (x, z): the ripple tile's +u.
 fn wind(scene: &DunesScene) -> Vec2 {
-    Vec2::from_angle(scene.wind_direction.to_radians())
+    Vec2::from_angle(scene.ripple_wind_degrees().to_radians())
 }
 
 /// surface.frag's frame at a dune normal: `t` along world +x in the surface, `b =
