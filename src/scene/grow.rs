@@ -176,9 +176,10 @@ crate::params! {
         /// CPU reference, uploaded). All give the same mesh. None: restream for
         /// pictures, append in the viewer.
         [growth, "Growth"] growth_path: Option<GrowthPath> = None, "restream|append|compute|cpu", "", check::any();
-        /// Initial ring radius irr.
+        /// Initial ring radius irr, at most --chamber-extent.
         [units, "Units"] radius: f32 = 0.09, "UNITS", "scene units", check::above(0.0);
-        /// Table 2's "x1" radius step.
+        /// Table 2's "x1" radius step, at most the chamber's height (as are the
+        /// height step, kf and the thickening).
         [units, "Units"] radius_unit: f32 = 0.006, "UNITS", "scene units", check::above(0.0);
         /// Table 2's "x1" height step.
         [units, "Units"] height_unit: f32 = 0.035, "UNITS", "scene units", check::above(0.0);

@@ -1084,3 +1084,43 @@ fn usage_errors_exit_2_in_every_subcommand() {
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }
 }
+
+/// `grow --radius 1e30` drew a picture of noise (the rings' arithmetic overflowed).
+/// Lengths beyond the chamber are refused up front, naming the option and its bound:
+/// a base ring wider than the sites' spread, a step or a thickening taller than the
+/// chamber.
+#[test]
+fn lengths_beyond_the_chamber_are_refused() {
+    let dir = scratch("rel-lengths");
+    let out = dir.join("x.png").to_string_lossy().into_owned();
+    for (option, value, names) in [
+        (
+            "--radius",
+            "1e30",
+            "--radius: must be in (0, 1.2] scene units",
+        ),
+        (
+            "--radius",
+            "1.3",
+            "--radius: must be in (0, 1.2] scene units",
+        ),
+        (
+            "--height-unit",
+            "5",
+            "--height-unit: must be in (0, 2.4] scene units",
+        ),
+        (
+            "--thicken",
+            "1e20",
+            "--thicken: must be in [0, 2.4] scene units",
+        ),
+    ] {
+        refused(
+            &["grow", option, value, "--size", "32x24", "-o", &out],
+            names,
+        );
+    }
+    let left: Vec<_> = std::fs::read_dir(&dir).expect("dir").collect();
+    assert!(left.is_empty(), "{left:?}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

@@ -603,6 +603,29 @@ impl GrowthScene {
             "ceiling above the floor",
         )?;
         check(positive(self.extent), "extent", "(0, inf)")?;
+        // Lengths far beyond the chamber's overflow the geometry into a picture of
+        // noise: a base ring must fit between the sites' spread and a step in the
+        // chamber's height.
+        let height = self.ceiling_y - self.floor_y;
+        if self.sites.is_empty() {
+            check(
+                u.initial_radius <= self.extent,
+                "--radius",
+                &format!("(0, {}] scene units (--chamber-extent)", self.extent),
+            )?;
+        }
+        for (value, name, open) in [
+            (u.radius_unit, "--radius-unit", "("),
+            (u.height_unit, "--height-unit", "("),
+            (u.flank_scale, "--kf", "["),
+            (u.thicken_rate, "--thicken", "["),
+        ] {
+            check(
+                value <= height,
+                name,
+                &format!("{open}0, {height}] scene units (the chamber's height)"),
+            )?;
+        }
         check(self.sites.len() <= 256, "sites", "at most 256")?;
         if let Some(c) = &self.climate {
             c.validate()?;
