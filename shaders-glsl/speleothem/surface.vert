@@ -94,4 +94,9 @@ void main() {
     out_id = in_pos_id.w;
     out_growth = g;
     gl_Position = frame.view_proj * vec4(p, 1.0);
+    // A joint (ID 2, model::speleothem::feet::joints) waits for its front's last ring,
+    // its ring number: until the two have met it lies beyond the far plane.
+    if (in_pos_id.w > 1.5 && in_extra.w > mineral.w + 0.5) {
+        gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
+    }
 }

@@ -13,6 +13,7 @@ pub mod obj;
 pub mod optimise;
 pub mod png;
 pub mod section;
+pub mod union;
 
 /// `path`'s extension in lower case (`None` without one): what the writers choose their
 /// format by.

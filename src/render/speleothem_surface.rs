@@ -455,3 +455,48 @@ impl SpeleothemSurfacePass {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `surface.vert` hides a joint's vertices while their ring number exceeds their
+    /// speleothem's rings so far (`speleothem_info`): in Fig. 9g each joint appears
+    /// when its stalagmite has grown its last ring against the stalactite, in the pass
+    /// it stopped in or as it begins (a last step too short for a ring leaves the
+    /// front where it stops a pass earlier), and stays.
+    #[test]
+    fn joints_wait_for_the_two_to_meet() {
+        use crate::model::speleothem::feet::{JOINT_ID, joints};
+        let plan = crate::scene::grow::preset("fig9g")
+            .expect("preset")
+            .growth_scene()
+            .expect("scene")
+            .plan()
+            .expect("plan");
+        let joints = joints(&plan);
+        assert!(!joints.is_empty());
+        let mut checked = 0;
+        for (i, s) in plan.speleothems.iter().enumerate() {
+            let Some(v) = joints.iter().find(|v| v.speleothem() == i) else {
+                continue;
+            };
+            assert_eq!(v.pos_id[3], JOINT_ID);
+            let Some((stopped, _)) = s.stop else {
+                panic!("speleothem {i} has a joint but never stopped");
+            };
+            let hidden = |passes: u32| v.extra[3] > speleothem_info(&plan, passes)[3 * i].w + 0.5;
+            let appears = (0..=plan.passes).find(|&p| !hidden(p)).unwrap_or(u32::MAX);
+            assert!(
+                (stopped..=stopped + 1).contains(&appears),
+                "speleothem {i} stopped in pass {stopped}: its joint appears after {appears} passes"
+            );
+            assert!(
+                (appears..=plan.passes).all(|p| !hidden(p)),
+                "speleothem {i}"
+            );
+            checked += 1;
+        }
+        assert!(checked >= 7, "{checked} joints");
+    }
+}

@@ -137,6 +137,39 @@ fn every_grow_preset_exports_closed_speleothems() {
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
 
+/// Issue 43: a stalagmite that met a stalactite (in Figs. 9g and 9h, seven to nine
+/// contacts) is exported with it as one closed solid, their union through the joint's
+/// fillet: every piece of the columns part stands on the floor and reaches the roof
+/// (before, each contact was two solids, one hanging from the roof, one standing below
+/// it), and the part is closed but for the base rings in the rock.
+#[test]
+fn speleothems_that_met_export_as_one_solid() {
+    let dir = scratch("export-contacts");
+    for preset in ["fig9g", "fig9h"] {
+        let (glb, _, _) = exported(
+            &dir,
+            &format!("{preset}.glb"),
+            &["grow", "--preset", preset],
+        );
+        assert_closed_but_for_base_rings(&glb, preset);
+        let columns = glb.part("columns");
+        let roof = columns.bounds().1[1];
+        let pieces = columns.pieces();
+        let apart: Vec<_> = pieces
+            .iter()
+            .filter(|(lo, hi)| lo[1] > 1e-3 || hi[1] < roof - 1e-3)
+            .collect();
+        assert!(pieces.len() >= 7, "{preset}: {} pieces", pieces.len());
+        assert!(
+            apart.is_empty(),
+            "{preset}: {} of {} pieces do not span floor to roof: {apart:?}",
+            apart.len(),
+            pieces.len()
+        );
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
 #[test]
 fn obj_colours_are_the_glb_colours_in_srgb() {
     let dir = scratch("export-obj");

@@ -47,6 +47,49 @@ impl GlbPart {
             .collect()
     }
 
+    /// The connected pieces (triangles joined where they share a position, whatever
+    /// splits the vertices), each as the min and max of its positions per axis.
+    pub fn pieces(&self) -> Vec<([f32; 3], [f32; 3])> {
+        let key = |i: u32| {
+            let p = &self.positions()[i as usize];
+            [p[0].to_bits(), p[1].to_bits(), p[2].to_bits()]
+        };
+        let mut id: BTreeMap<[u32; 3], usize> = BTreeMap::new();
+        let of: Vec<usize> = (0..self.positions().len() as u32)
+            .map(|i| {
+                let n = id.len();
+                *id.entry(key(i)).or_insert(n)
+            })
+            .collect();
+        let mut parent: Vec<usize> = (0..id.len()).collect();
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        for t in self.indices.chunks_exact(3) {
+            let a = root(&mut parent, of[t[0] as usize]);
+            for &v in &t[1..] {
+                let b = root(&mut parent, of[v as usize]);
+                parent[b] = a;
+            }
+        }
+        let mut boxes: BTreeMap<usize, ([f32; 3], [f32; 3])> = BTreeMap::new();
+        for (i, p) in self.positions().iter().enumerate() {
+            let r = root(&mut parent, of[i]);
+            let b = boxes
+                .entry(r)
+                .or_insert(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]));
+            for (k, &v) in p.iter().enumerate().take(3) {
+                b.0[k] = b.0[k].min(v);
+                b.1[k] = b.1[k].max(v);
+            }
+        }
+        boxes.into_values().collect()
+    }
+
     /// Min and max of the positions per axis.
     pub fn bounds(&self) -> ([f32; 3], [f32; 3]) {
         let mut lo = [f32::INFINITY; 3];

@@ -1,6 +1,7 @@
 //! Where grown speleothems meet the rock: a stalagmite's foot flaring into the floor,
 //! a stalactite's collar blending into the ceiling, as calcite deposited by the water
-//! that runs off them does (and as the cave's Short-profile speleothems' fillets do).
+//! that runs off them does (and as the cave's Short-profile speleothems' fillets do);
+//! and where they meet each other, a joint ([`joints`]).
 //! Tortelli & Walter's rings start as a plain cylinder standing on the rock: the
 //! surface pass draws these feet beside the growing mesh, built once per plan.
 //!
@@ -42,18 +43,63 @@ const SKIRT: f32 = 0.4;
 /// rock speleothem `index` stands on (the floor) or hangs from (the ceiling), not
 /// finite where there is none fit to stand on (that speleothem then has no foot).
 pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<RingVertex> {
-    let segments = plan.segments.max(3);
     let mut out = Vec::new();
     for (index, s) in plan.speleothems.iter().enumerate() {
-        let sign = s.kind.sign();
-        let g = Vec3::Y * sign;
         let (reach, rise) = match s.kind {
             Kind::Stalagmite => STALAGMITE_FOOT,
             Kind::Stalactite => STALACTITE_FOOT,
         };
         let r0 = s.initial_radius;
-        let (inner, reach, rise) = (INSIDE_TRUNK * r0, reach * r0, rise * r0);
-        let site = rock(index, s.base.x, s.base.z);
+        let fillet = Fillet {
+            index,
+            axis: s.base,
+            sign: s.kind.sign(),
+            inner: INSIDE_TRUNK * r0,
+            reach: reach * r0,
+            rise: rise * r0,
+            ring: FOOT_RING,
+            id: 0.0,
+            closed: false,
+            sink: 0.0,
+        };
+        fillet.build(plan.segments.max(3), &|x, z| rock(index, x, z), &mut out);
+    }
+    out
+}
+
+/// One fillet turned about a vertical axis: from the rock `reach` out from the top
+/// ring's radius `inner`, rising `rise` along `sign` (1 up, -1 down) to that ring,
+/// closed by a lid over it and sunk into the rock by a skirt.
+struct Fillet {
+    /// The speleothem its vertices belong to (their thickening and colour).
+    index: usize,
+    /// A point of the axis: x and z place it, y is where texture heights count from.
+    axis: Vec3,
+    sign: f32,
+    inner: f32,
+    reach: f32,
+    rise: f32,
+    /// The ring number its vertices carry (`FOOT_RING`, or a joint's gate).
+    ring: f32,
+    /// Their ID (0 a foot, `JOINT_ID` a joint).
+    id: f32,
+    /// Closed under the skirt too (a joint, a solid the export unites with the two it
+    /// joins; a foot's skirt ends in the rock).
+    closed: bool,
+    /// How far the whole fillet is sunk into the rock: a joint's edge then meets the
+    /// stalagmite's top at an angle rather than tangent to it, which mesh booleans
+    /// cut cleanly (tangent faces leave slivers).
+    sink: f32,
+}
+
+impl Fillet {
+    /// Appends the fillet's triangles to `out` over the rock `rock(x, z)`; nothing
+    /// where the rock under any point cannot be found (not finite).
+    fn build(&self, segments: u32, rock: &dyn Fn(f32, f32) -> f32, out: &mut Vec<RingVertex>) {
+        let (sign, inner, reach, rise) = (self.sign, self.inner, self.reach, self.rise);
+        let g = Vec3::Y * sign;
+        let base = self.axis;
+        let site = rock(base.x, base.z);
         // Ring k of the profile: k = 0 the skirt in the rock, 1 the edge on it, up to
         // PROFILE_RINGS at the top.
         let around = |seg: u32| {
@@ -63,11 +109,11 @@ pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<Rin
         let point = |k: u32, seg: u32| -> Vec3 {
             let t = (k.clamp(1, PROFILE_RINGS) - 1) as f32 / (PROFILE_RINGS - 1) as f32;
             let angle = t * std::f32::consts::FRAC_PI_2;
-            let at = s.base + around(seg) * (inner + reach * (1.0 - angle.sin()));
-            let ground = rock(index, at.x, at.z);
+            let at = base + around(seg) * (inner + reach * (1.0 - angle.sin()));
+            let ground = rock(at.x, at.z);
             // The edge follows the rock under it, the top the rock at the site.
             let level = ground + (site - ground) * angle.sin();
-            let mut y = level + sign * rise * (1.0 - angle.cos());
+            let mut y = level + sign * (rise * (1.0 - angle.cos()) - self.sink);
             if k == 0 {
                 y -= sign * SKIRT * rise;
             }
@@ -78,9 +124,9 @@ pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<Rin
             .flat_map(|k| (0..segments).map(move |i| (k, i)))
             .map(|(k, i)| point(k, i))
             .collect();
-        // Rock that cannot be found (`rock` not finite) under any point: no foot.
+        // Rock that cannot be found (`rock` not finite) under any point: no fillet.
         if grid.iter().any(|p| !p.is_finite()) {
-            continue;
+            return;
         }
         let point = |k: u32, seg: u32| grid[(k * segments + seg) as usize];
         // The shader tilts the radial normal by dr/dh (`surface.vert`): taken along
@@ -95,7 +141,7 @@ pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<Rin
                 point(k.max(2) - 1, seg),
                 point((k + 1).min(PROFILE_RINGS), seg),
             );
-            let radial = |p: Vec3| (p - s.base).with_y(0.0).length();
+            let radial = |p: Vec3| (p - base).with_y(0.0).length();
             let dh = (b.y - a.y) * sign;
             if dh <= 1e-3 * rise {
                 -1e4
@@ -103,16 +149,17 @@ pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<Rin
                 (radial(b) - radial(a)) / dh
             }
         };
+        let index = self.index as f32;
         let vertex = |k: u32, seg: u32, facing: Option<f32>| -> RingVertex {
             let (p, n) = (point(k, seg), around(seg));
             RingVertex {
-                pos_id: [p.x, p.y, p.z, 0.0],
-                normal_sp: [n.x, n.y, n.z, index as f32],
+                pos_id: [p.x, p.y, p.z, self.id],
+                normal_sp: [n.x, n.y, n.z, index],
                 extra: [
                     seg as f32,
-                    (p.y - s.base.y) * sign,
+                    (p.y - base.y) * sign,
                     facing.unwrap_or_else(|| slope(k, seg)),
-                    FOOT_RING,
+                    self.ring,
                 ],
             }
         };
@@ -130,15 +177,101 @@ pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<Rin
         // The lid: a fan over the top ring about the axis, facing along the growth.
         let top = point(PROFILE_RINGS, 0).y;
         let centre = RingVertex {
-            pos_id: [s.base.x, top, s.base.z, 0.0],
-            normal_sp: [0.0, 0.0, 0.0, index as f32],
-            extra: [0.0, (top - s.base.y) * sign, -1.0, FOOT_RING],
+            pos_id: [base.x, top, base.z, self.id],
+            normal_sp: [0.0, 0.0, 0.0, index],
+            extra: [0.0, (top - base.y) * sign, -1.0, self.ring],
         };
         for i in 0..segments {
             let i1 = (i + 1) % segments;
             let lid = |seg| vertex(PROFILE_RINGS, seg, Some(-1e4));
             out.extend(wind([centre, lid(i1), lid(i)], g.y));
         }
+        if self.closed {
+            // The floor: a fan under the skirt, facing against the growth.
+            let low = point(0, 0).y;
+            let centre = RingVertex {
+                pos_id: [base.x, low, base.z, self.id],
+                extra: [0.0, (low - base.y) * sign, 1e4, self.ring],
+                ..centre
+            };
+            for i in 0..segments {
+                let i1 = (i + 1) % segments;
+                let floor = |seg| vertex(0, seg, Some(1e4));
+                out.extend(wind([centre, floor(i), floor(i1)], g.y));
+            }
+        }
+    }
+}
+
+/// The ID a joint's vertices carry (`joints`): `surface.vert` hides them until their
+/// front has grown its last ring (their ring number), so that a growing scene shows
+/// the joint only once the two have met.
+pub const JOINT_ID: f32 = 2.0;
+/// A joint's fillet: how far it reaches over the stalagmite's top and how high it
+/// rises up the stalactite, in the stalagmite's top radii.
+const JOINT: (f32, f32) = (0.6, 1.0);
+/// How far a joint's fillet is sunk into the stalagmite's top, in its rises.
+const JOINT_SINK: f32 = 0.03;
+
+/// Where a front stopped against a speleothem of the other kind (`StopReason::Contact`):
+/// a fillet of calcite about the stalactite of the two, standing on the stalagmite's
+/// flat top and rising up the stalactite, as the water running down the one and onto
+/// the other coats the join (Section 4: "the union of the two, to form a column"). Its
+/// vertices belong to the stalagmite (they rise along its growth and thicken with it)
+/// and carry its last ring's number, which gates them. The fillet reaches no nearer
+/// than a tenth of the top's radius to its rim; where that leaves it under a tenth of
+/// its reach (the stalactite stands near the rim, or beyond it: a flank grazing the
+/// rim), there is no joint.
+pub fn joints(plan: &GrowthPlan) -> Vec<RingVertex> {
+    let mut out = Vec::new();
+    for (index, s) in plan.speleothems.iter().enumerate() {
+        let Some(other) = s.touched else { continue };
+        let Some(o) = plan.speleothems.get(other) else {
+            continue;
+        };
+        let (mite, tite) = match (s.kind, o.kind) {
+            (Kind::Stalagmite, Kind::Stalactite) => (index, other),
+            (Kind::Stalactite, Kind::Stalagmite) => (other, index),
+            _ => continue,
+        };
+        let top = plan.tip_centre(mite, plan.passes);
+        let radius = plan.tip_radius(mite, plan.passes);
+        let (reach, rise) = (JOINT.0 * radius, JOINT.1 * radius);
+        // The stalactite's axis and radius at the fillet's top, from its rings.
+        let rings = plan.body_rings(tite, plan.passes);
+        let at = |y: f32| -> Option<(Vec3, f32)> {
+            rings.windows(2).find_map(|w| {
+                let (a, b) = (w[0], w[1]);
+                let (low, high) = (a.0.y.min(b.0.y), a.0.y.max(b.0.y));
+                (high - low > 1e-9 && (low..=high).contains(&y)).then(|| {
+                    let t = (y - a.0.y) / (b.0.y - a.0.y);
+                    (a.0.lerp(b.0, t), a.1 + (b.1 - a.1) * t)
+                })
+            })
+        };
+        let Some((axis, trunk)) = at(top.y + rise) else {
+            continue;
+        };
+        let inner = INSIDE_TRUNK * trunk;
+        let off = glam::Vec2::new(axis.x - top.x, axis.z - top.z).length();
+        // The edge stays on the top, a tenth of its radius in from its rim.
+        let room = 0.9 * radius - off - inner;
+        if room < 0.1 * reach {
+            continue;
+        }
+        let fillet = Fillet {
+            index: mite,
+            axis: Vec3::new(axis.x, top.y, axis.z),
+            sign: 1.0,
+            inner,
+            reach: reach.min(room),
+            rise,
+            ring: plan.speleothems[mite].rings as f32,
+            id: JOINT_ID,
+            closed: true,
+            sink: JOINT_SINK * rise,
+        };
+        fillet.build(plan.segments.max(3), &|_, _| top.y, &mut out);
     }
     out
 }
@@ -193,6 +326,78 @@ mod tests {
                 Kind::Stalactite => STALACTITE_FOOT,
             };
             assert!(((lid.y - site) * s.kind.sign() - rise * s.initial_radius).abs() < 1e-4);
+        }
+    }
+
+    /// Contacts get joints (issue 43): in Figs. 9g and 9h every contact whose
+    /// stalactite stands over the stalagmite's top gets one, each a closed solid
+    /// (every edge, welded by position, shared by two triangles, wound outward: a
+    /// positive volume) standing on that top (sunk a little into it) and rising half
+    /// the top's radius and more up the stalactite, its vertices the stalagmite's,
+    /// gated by its last ring.
+    #[test]
+    fn contacts_are_joined_by_closed_fillets_on_the_stalagmites_tops() {
+        for name in ["fig9g", "fig9h"] {
+            let scene = crate::scene::grow::preset(name)
+                .expect("preset")
+                .growth_scene()
+                .expect("scene");
+            let plan = scene.plan().expect("plan");
+            let contacts = plan
+                .speleothems
+                .iter()
+                .filter(|s| s.touched.is_some())
+                .count();
+            let joints = joints(&plan);
+            let per = (plan.segments * (2 * PROFILE_RINGS + 2) * 3) as usize;
+            assert_eq!(joints.len() % per, 0);
+            let count = joints.len() / per;
+            assert!(
+                contacts >= 7 && count + 1 >= contacts,
+                "{name}: {count} joints for {contacts} contacts"
+            );
+            for joint in joints.chunks(per) {
+                let mite = joint[0].speleothem();
+                let s = &plan.speleothems[mite];
+                assert_eq!(s.kind, Kind::Stalagmite);
+                let top = plan.tip_centre(mite, plan.passes).y;
+                let mut edges = std::collections::HashMap::new();
+                let key = |p: Vec3| (p * 1e6).round().as_ivec3().to_array();
+                let mut volume = 0.0;
+                for tri in joint.chunks(3) {
+                    let [a, b, c] = [tri[0].position(), tri[1].position(), tri[2].position()];
+                    volume += a.dot(b.cross(c)) / 6.0;
+                    for (p, q) in [(a, b), (b, c), (c, a)] {
+                        let (p, q) = (key(p), key(q));
+                        *edges
+                            .entry(if p < q { (p, q) } else { (q, p) })
+                            .or_insert(0) += 1;
+                    }
+                }
+                assert!(
+                    edges.values().all(|&n| n == 2),
+                    "{name}: a joint not closed"
+                );
+                assert!(volume > 0.0, "{name}: a joint turned inside out ({volume})");
+                for v in joint {
+                    assert_eq!(v.pos_id[3], JOINT_ID);
+                    assert_eq!(v.extra[3], s.rings as f32);
+                }
+                let lowest = joint
+                    .iter()
+                    .map(|v| v.position().y)
+                    .fold(f32::MAX, f32::min);
+                let highest = joint
+                    .iter()
+                    .map(|v| v.position().y)
+                    .fold(f32::MIN, f32::max);
+                let radius = plan.tip_radius(mite, plan.passes);
+                assert!(
+                    lowest < top && top - lowest < 0.5 * radius,
+                    "{name}: {lowest} {top}"
+                );
+                assert!(highest > top + 0.5 * radius, "{name}: {highest} over {top}");
+            }
         }
     }
 }

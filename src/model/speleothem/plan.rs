@@ -304,6 +304,9 @@ pub struct Speleothem {
     pub rings: u32,
     /// The pass in which it stopped growing vertically, and why; `None` while growing.
     pub stop: Option<(u32, StopReason)>,
+    /// The speleothem its front touched and stopped against (a `Contact` it made; the
+    /// one touched stops too, with this `None`).
+    pub touched: Option<usize>,
 }
 
 /// The plan the GPU and the CPU reference both follow.
@@ -389,6 +392,36 @@ impl GrowthPlan {
                 (0.75 * s.initial_radius / tip).clamp(0.3, 1.0)
             }
         }
+    }
+
+    /// Speleothem `index`'s rings after `passes` passes as centres and radii from the
+    /// base to the front (each band's two rings; a closed tip's apex, a column's
+    /// meeting ring), flank deposits and thickening aside: the body the contact tests
+    /// planned against.
+    pub fn body_rings(&self, index: usize, passes: u32) -> Vec<(Vec3, f32)> {
+        let n = self.speleothems.len();
+        let Some(s) = self.speleothems.get(index) else {
+            return Vec::new();
+        };
+        let g = Vec3::Y * s.kind.sign();
+        let t0 = self.ring_thickness;
+        let (mut centre, mut radius) = (s.base, s.initial_radius);
+        let mut rings = vec![(centre, radius), (centre + g * t0, radius)];
+        for p in 0..passes.min(self.passes) as usize {
+            let step = self.steps[p * n + index];
+            match step.action {
+                PassAction::Grow => {
+                    centre += g * step.height + step.wind;
+                    radius = (radius + step.radius).max(0.0);
+                    rings.push((centre, radius));
+                    rings.push((centre + g * t0, radius));
+                }
+                PassAction::Close => rings.push((step.target, 0.0)),
+                PassAction::Join => rings.push((step.target, step.target_radius)),
+                PassAction::Idle => {}
+            }
+        }
+        rings
     }
 
     /// Speleothem `index`'s tip ring radius after `passes` passes, as the steps set
@@ -737,6 +770,7 @@ impl GrowthScene {
                 mineral_intensity: self.params.mineral_intensity,
                 rings: 0,
                 stop: None,
+                touched: None,
             };
             speleothems.push(make(Kind::Stalactite, ceiling_y));
             bounds.push((floor_y, ceiling_y));
@@ -894,6 +928,7 @@ impl GrowthScene {
                 let Some(j) = touches(hi) else { continue };
                 let s = &mut speleothems[i];
                 s.stop = Some((pass, StopReason::Contact));
+                s.touched = Some(j);
                 candidates[i] = None;
                 next[i].clear();
                 // The part of the step that stays clear of the other body, if it is

@@ -197,7 +197,9 @@ impl CaveFrame {
                     scene.seed,
                     (&environment, &shadow),
                 )?;
-                surface.set_feet(&cave_feet(&plan, &model))?;
+                let mut fillets = cave_feet(&plan, &model);
+                fillets.extend(crate::model::speleothem::feet::joints(&plan));
+                surface.set_feet(&fillets)?;
                 Some(Grown {
                     // Append-only: all passes in one submission at O(one ring) each.
                     growth: GrowthPath::XfbAppend.start(ctx, &plan)?,

@@ -8,16 +8,20 @@ use glam::Vec3;
 
 use crate::error::Result;
 use crate::export::asset::{Asset, Material, PartMesh};
+use crate::export::union::Solid;
 use crate::gpu::Context;
 use crate::model::speleothem::plan::{Kind as SpeleothemKind, StopReason};
 use crate::model::speleothem::{GrowthPlan, RingVertex};
 use crate::render::speleothem_surface::speleothem_info;
 
 /// The parts a grown scene exports: stalactites, stalagmites and columns (both halves
-/// of a site that joined), each welded from the transform-feedback triangles and the
-/// caps of open fronts and of the base rings sunk in the rock into one vertex per
-/// position (closed solids as mesh tools count them; a cap's rim shaded round), with the
-/// mineral colours the surface shader uses as COLOR_0.
+/// of a site that joined, and speleothems that met another), each welded from the
+/// transform-feedback triangles and the caps of open fronts and of the base rings sunk
+/// in the rock into one vertex per position (closed solids as mesh tools count them; a
+/// cap's rim shaded round), with the mineral colours the surface shader uses as
+/// COLOR_0. A contact — a front stopped against a speleothem of the other kind — is
+/// written as one solid: the two and the joint's fillet between them
+/// (`model::speleothem::feet::joints`) united (`export::union`).
 /// Positions stay in the plan's scene units; the caller places them
 /// ([`Asset::to_metres`]).
 pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asset) {
@@ -38,41 +42,34 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
             Vec3::new(0.0, misc.x, 0.0),
         )
     };
-    // 0 stalactites, 1 stalagmites, 2 columns.
-    let joined: std::collections::HashSet<u32> = plan
-        .speleothems
-        .iter()
-        .filter(|s| matches!(s.stop, Some((_, StopReason::Column | StopReason::Contact))))
-        .map(|s| s.site)
-        .collect();
-    let part_of = |sp: usize| {
-        plan.speleothems.get(sp).map_or(0, |s| {
-            if joined.contains(&s.site) {
-                2
-            } else if s.kind == SpeleothemKind::Stalagmite {
-                1
-            } else {
-                0
-            }
-        })
+    let n = plan.speleothems.len();
+    let mut bodies: Vec<Solid> = vec![Solid::default(); n];
+    let push = |solid: &mut Solid, p: Vec3, normal: Vec3, color: Vec3| {
+        solid.positions.push(p);
+        solid.normals.push(normal);
+        solid.colors.push(color);
     };
-    let mut soups: [(Vec<Vec3>, Vec<Vec3>, Vec<Vec3>); 3] = Default::default();
     for tri in vertices.chunks_exact(3) {
-        let soup = &mut soups[part_of(tri[0].speleothem())];
+        let Some(body) = bodies.get_mut(tri[0].speleothem()) else {
+            continue;
+        };
         for v in tri {
             let (color, g) = color_of(v);
-            soup.0.push(v.position());
-            soup.1.push((v.normal() - g * v.extra[2]).normalize_or(g));
-            soup.2.push(color);
+            push(
+                body,
+                v.position(),
+                (v.normal() - g * v.extra[2]).normalize_or(g),
+                color,
+            );
         }
     }
     for cap in crate::model::speleothem::caps(vertices, plan, plan.passes) {
         let (color, _) = color_of(&cap.from);
-        let soup = &mut soups[part_of(cap.from.speleothem())];
+        let Some(body) = bodies.get_mut(cap.from.speleothem()) else {
+            continue;
+        };
         for (p, n) in cap.corners.into_iter().zip(cap.normals) {
-            soup.0.push(p);
-            soup.1.push(n);
-            soup.2.push(color);
+            push(body, p, n, color);
         }
     }
     // The base rings, sunk in the rock, closed too: a file's bodies are then solids
@@ -88,7 +85,6 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
             .copied()
             .filter(|v| ((v.position() - s.base).dot(down)).abs() < 1e-5)
             .collect();
-        let soup = &mut soups[part_of(i)];
         for tri in vertices
             .chunks_exact(3)
             .filter(|t| t[0].speleothem() == i && t.iter().all(|v| v.ring() == 0))
@@ -99,20 +95,124 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
                 if on(&tri[a]) && on(&tri[b]) && tri[a].position() != tri[b].position() {
                     let (color, _) = color_of(&tri[a]);
                     for p in [tri[b].position(), tri[a].position(), s.base] {
-                        soup.0.push(p);
-                        soup.1.push(down);
-                        soup.2.push(color);
+                        push(&mut bodies[i], p, down, color);
                     }
                 }
             }
         }
     }
-    for ((positions, normals, colors), name) in
-        soups.iter().zip(["stalactites", "stalagmites", "columns"])
-    {
+    // The joints, thickened as the surface pass draws them (their vertices are stored
+    // less their speleothem's thickening, which widens them about their own axis).
+    let thickening = crate::model::speleothem::accumulated_thickening(plan, plan.passes);
+    let mut joints: Vec<Solid> = vec![Solid::default(); n];
+    for tri in crate::model::speleothem::feet::joints(plan).chunks_exact(3) {
+        let i = tri[0].speleothem();
+        let Some(joint) = joints.get_mut(i) else {
+            continue;
+        };
+        for v in tri {
+            let (color, g) = color_of(v);
+            let radial = v.normal();
+            push(
+                joint,
+                v.position() + radial * thickening[i],
+                (radial - g * v.extra[2]).normalize_or(g),
+                color,
+            );
+        }
+    }
+
+    // Solids: a site's column is one (its halves meet in one ring, welded by position);
+    // a contact unites the two that met and their joint.
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let column = |s: &crate::model::speleothem::plan::Speleothem| {
+        matches!(s.stop, Some((_, StopReason::Column)))
+    };
+    let mut columns: Vec<usize> = (0..n).collect();
+    for (a, sa) in plan.speleothems.iter().enumerate() {
+        for (b, sb) in plan.speleothems.iter().enumerate().skip(a + 1) {
+            if sa.site == sb.site && column(sa) && column(sb) {
+                let (ra, rb) = (root(&mut columns, a), root(&mut columns, b));
+                columns[rb] = ra;
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[rb] = ra;
+            }
+        }
+    }
+    for (a, s) in plan.speleothems.iter().enumerate() {
+        if let Some(b) = s.touched.filter(|&b| b < n) {
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            parent[rb] = ra;
+        }
+    }
+    // 0 stalactites, 1 stalagmites, 2 columns.
+    let part_of = |group: &[usize]| {
+        if group.len() > 1 {
+            2
+        } else {
+            match plan.speleothems[group[0]].kind {
+                SpeleothemKind::Stalactite => 0,
+                SpeleothemKind::Stalagmite => 1,
+            }
+        }
+    };
+    let mut parts: [Solid; 3] = Default::default();
+    let mut seen = vec![false; n];
+    for first in 0..n {
+        let r = root(&mut parent, first);
+        if seen[r] {
+            continue;
+        }
+        seen[r] = true;
+        let group: Vec<usize> = (0..n).filter(|&i| root(&mut parent, i) == r).collect();
+        // One solid per column in the group, then its joints.
+        let mut solids: Vec<Solid> = Vec::new();
+        let mut units: Vec<usize> = group.iter().map(|&i| root(&mut columns, i)).collect();
+        units.sort_unstable();
+        units.dedup();
+        for unit in units {
+            let mut solid = Solid::default();
+            for &i in &group {
+                if root(&mut columns, i) == unit {
+                    solid.extend(&bodies[i]);
+                }
+            }
+            solids.push(solid);
+        }
+        for &i in &group {
+            if !joints[i].positions.is_empty() {
+                solids.push(joints[i].clone());
+            }
+        }
+        let part = &mut parts[part_of(&group)];
+        if solids.len() == 1 {
+            part.extend(&solids[0]);
+            continue;
+        }
+        match crate::export::union::union(&solids) {
+            Ok(united) => part.extend(&united),
+            Err(why) => {
+                log::warn!(
+                    "speleothems {group:?} met but are exported as separate solids (the \
+                     union failed: {why})"
+                );
+                for solid in &solids {
+                    part.extend(solid);
+                }
+            }
+        }
+    }
+    for (solid, name) in parts.iter().zip(["stalactites", "stalagmites", "columns"]) {
         asset.push(
             name,
-            PartMesh::weld_by_position(positions, normals, Some(colors)),
+            PartMesh::weld_by_position(&solid.positions, &solid.normals, Some(&solid.colors)),
             // Wet calcite: a smooth dielectric; the colour is the vertices'.
             Material::plain("grow_calcite", Vec3::ONE, 0.35),
         );

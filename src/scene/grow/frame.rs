@@ -445,9 +445,15 @@ fn surface_pass(
     surface.set_look(look.bump, look.environment);
     surface.set_subsurface(look.subsurface);
     surface.set_age_colours((look.color == ColorBy::Age).then_some(plan.passes));
-    if chambered {
-        surface.set_feet(&super::chamber::feet(scene, plan))?;
-    }
+    // Feet where the speleothems meet the chamber's rock, joints where they met
+    // each other.
+    let mut fillets = if chambered {
+        super::chamber::feet(scene, plan)
+    } else {
+        Vec::new()
+    };
+    fillets.extend(crate::model::speleothem::feet::joints(plan));
+    surface.set_feet(&fillets)?;
     Ok(surface)
 }
 
