@@ -47,11 +47,18 @@ layout(location = 4) out vec3 out_color;
 // The axis (w 0: a cap, which no light crosses in `surface.glsl`'s sense).
 layout(location = 5) out vec4 out_axis;
 
+// The caps' texture: the normal map laid flat in world x and z, this many repeats a
+// scene unit (the flanks' density round a ring 5 cm in radius). The flanks' u runs
+// round the ring and their tangent along it: copied to a cap's corners, every sector
+// got its own stretch and turn of the bumps, a star across a flat top.
+const float CAP_REPEATS = 3.2;
+
 void corner(int k, vec3 world, vec3 normal) {
     out_world = world;
     out_normal = normal;
-    out_tangent = in_tangent[k];
-    out_uv = in_uv[k];
+    out_tangent = normalize(vec3(1.0, 0.0, 0.0) - normal * normal.x + vec3(0.0, 0.0, 1e-6));
+    float u = world.x * CAP_REPEATS;
+    out_uv = vec3(u, u + 0.5, world.z * CAP_REPEATS);
     out_color = in_color[k];
     out_axis = vec4(in_tip_centre[k].xyz, 0.0);
     gl_Position = frame.view_proj * vec4(world, 1.0);
