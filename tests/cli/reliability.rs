@@ -366,32 +366,41 @@ fn a_dune_animation_streams_its_frames_too() {
 
 #[test]
 fn a_run_failing_late_leaves_none_of_its_outputs() {
-    // #10, the rest: outputs are written all or nothing as a set. Here the mesh's
-    // final guard (a thickening that overflows single precision) fails after the
-    // picture was finished: the picture must not stay behind either.
+    // #10, the rest: outputs are written all or nothing as a set. Here the heightmap's
+    // ripple tile overflows an EXR's floats after the dune field's EXR and its sidecar
+    // were finished: they must not stay behind, nor the picture. (This test used
+    // grow's mesh guard, a thickening that overflowed single precision; grow now
+    // refuses such a thickening before any work.)
     let dir = scratch("rel-set");
     let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
-    let (png, glb) = (s("ok.png"), s("t.glb"));
-    let out = sediment(&[
-        "grow",
-        "--size",
-        "64x48",
-        "--count",
-        "2",
-        "--passes",
-        "40",
-        "--thicken",
-        "1e38",
-        "-o",
-        &png,
-        "--mesh",
-        &glb,
-    ]);
+    let (png, exr) = (s("ok.png"), s("h.exr"));
+    let run = |q: &str| {
+        sediment(&[
+            "dunes",
+            "--size",
+            "64x48",
+            "--ripple-size",
+            "16",
+            "--ripple-steps",
+            "10",
+            "--dune-size",
+            "8",
+            "--dune-steps",
+            "10",
+            "--ripple-q",
+            q,
+            "-o",
+            &png,
+            "--heightmap",
+            &exr,
+        ])
+    };
+    let out = run("1e300");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{stderr}");
-    assert!(stderr.contains("not a finite number"), "{stderr}");
+    assert!(stderr.contains("does not fit"), "{stderr}");
     assert!(
-        stderr.contains("nothing was written") && stderr.contains("ok.png"),
+        stderr.contains("nothing was written") && stderr.contains("h.exr"),
         "{stderr}"
     );
     let left: Vec<_> = std::fs::read_dir(&dir)
@@ -399,16 +408,14 @@ fn a_run_failing_late_leaves_none_of_its_outputs() {
         .map(|e| e.expect("entry").file_name())
         .collect();
     assert!(left.is_empty(), "left behind: {left:?}");
-    // The same run without the overflow writes both.
-    let out = sediment(&[
-        "grow", "--size", "64x48", "--count", "2", "--passes", "40", "-o", &png, "--mesh", &glb,
-    ]);
+    // The same run without the overflow writes them all.
+    let out = run("0.2");
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(dir.join("ok.png").exists() && dir.join("t.glb").exists());
+    assert!(dir.join("ok.png").exists() && dir.join("h.exr").exists());
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
 
