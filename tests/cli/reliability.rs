@@ -21,6 +21,27 @@ fn refused(args: &[&str], names: &str) -> String {
     stderr
 }
 
+/// A desert of a few cells and steps with ripple saltation `q`, writing `outputs`.
+fn tiny_dunes(q: &str, outputs: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "dunes",
+        "--size",
+        "64x48",
+        "--ripple-size",
+        "16",
+        "--ripple-steps",
+        "10",
+        "--dune-size",
+        "8",
+        "--dune-steps",
+        "10",
+        "--ripple-q",
+        q,
+    ];
+    args.extend_from_slice(outputs);
+    sediment(&args)
+}
+
 #[test]
 fn outputs_into_missing_folders_are_refused_before_any_work() {
     // #10: `dunes --preset fig17 --gif nodir/d.gif -o ok.png` worked 14 s, wrote ok.png
@@ -374,27 +395,7 @@ fn a_run_failing_late_leaves_none_of_its_outputs() {
     let dir = scratch("rel-set");
     let s = |name: &str| dir.join(name).to_string_lossy().into_owned();
     let (png, exr) = (s("ok.png"), s("h.exr"));
-    let run = |q: &str| {
-        sediment(&[
-            "dunes",
-            "--size",
-            "64x48",
-            "--ripple-size",
-            "16",
-            "--ripple-steps",
-            "10",
-            "--dune-size",
-            "8",
-            "--dune-steps",
-            "10",
-            "--ripple-q",
-            q,
-            "-o",
-            &png,
-            "--heightmap",
-            &exr,
-        ])
-    };
+    let run = |q: &str| tiny_dunes(q, &["-o", &png, "--heightmap", &exr]);
     let out = run("1e300");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{stderr}");
@@ -552,23 +553,7 @@ fn a_pass_count_beside_a_climate_record_is_refused() {
 fn heights_beyond_an_exrs_floats_are_refused_and_nothing_is_left() {
     let dir = scratch("rel-exr-inf");
     let map = dir.join("h.exr").to_string_lossy().into_owned();
-    let out = sediment(&[
-        "dunes",
-        "--size",
-        "64x48",
-        "--ripple-size",
-        "16",
-        "--ripple-steps",
-        "10",
-        "--dune-size",
-        "8",
-        "--dune-steps",
-        "10",
-        "--ripple-q",
-        "1e300",
-        "--heightmap",
-        &map,
-    ]);
+    let out = tiny_dunes("1e300", &["--heightmap", &map]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     // The value given (--ripple-q) is refused: a usage error, though found late.
     assert_eq!(out.status.code(), Some(2), "{stderr}");
