@@ -170,6 +170,22 @@ fn speleothems_that_met_export_as_one_solid() {
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
 
+/// A column's halves are the two fronts that joined one meeting ring, whatever their
+/// sites: Fig. 9g with seed 141 joins a stalactite to another site's stalagmite, and
+/// both halves are exported in the columns part, where they close each other (kept
+/// apart by site, each part held half a column open at its meeting ring).
+#[test]
+fn a_column_across_two_sites_exports_closed() {
+    let dir = scratch("export-cross-column");
+    let (glb, _, _) = exported(
+        &dir,
+        "cross.glb",
+        &["grow", "--preset", "fig9g", "--seed", "141"],
+    );
+    assert_closed_but_for_base_rings(&glb, "fig9g seed 141");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
 #[test]
 fn obj_colours_are_the_glb_colours_in_srgb() {
     let dir = scratch("export-obj");

@@ -122,8 +122,9 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
         }
     }
 
-    // Solids: a site's column is one (its halves meet in one ring, welded by position);
-    // a contact unites the two that met and their joint.
+    // Solids: a column is one (its halves join one meeting ring, welded by position;
+    // the meeting decides the halves, which need not share a site); a contact unites
+    // the two that met and their joint.
     let mut parent: Vec<usize> = (0..n).collect();
     fn root(parent: &mut [usize], mut i: usize) -> usize {
         while parent[i] != i {
@@ -132,13 +133,17 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
         }
         i
     }
-    let column = |s: &crate::model::speleothem::plan::Speleothem| {
-        matches!(s.stop, Some((_, StopReason::Column)))
+    let meeting = |i: usize| match plan.speleothems[i].stop {
+        Some((pass, StopReason::Column)) => {
+            let step = plan.step(pass, i);
+            Some((pass, step.target.to_array().map(f32::to_bits)))
+        }
+        _ => None,
     };
     let mut columns: Vec<usize> = (0..n).collect();
-    for (a, sa) in plan.speleothems.iter().enumerate() {
-        for (b, sb) in plan.speleothems.iter().enumerate().skip(a + 1) {
-            if sa.site == sb.site && column(sa) && column(sb) {
+    for a in 0..n {
+        for b in a + 1..n {
+            if meeting(a).is_some() && meeting(a) == meeting(b) {
                 let (ra, rb) = (root(&mut columns, a), root(&mut columns, b));
                 columns[rb] = ra;
                 let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
