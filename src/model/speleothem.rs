@@ -24,6 +24,7 @@
 
 pub mod climate;
 pub mod feet;
+pub mod joints;
 pub mod lod;
 pub mod plan;
 pub mod table2;

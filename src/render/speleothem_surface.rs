@@ -467,7 +467,7 @@ mod tests {
     /// front where it stops a pass earlier), and stays.
     #[test]
     fn joints_wait_for_the_two_to_meet() {
-        use crate::model::speleothem::feet::{JOINT_ID, joints};
+        use crate::model::speleothem::joints::{JOINT_ID, joints};
         let plan = crate::scene::grow::preset("fig9g")
             .expect("preset")
             .growth_scene()

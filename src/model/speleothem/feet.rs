@@ -1,7 +1,7 @@
 //! Where grown speleothems meet the rock: a stalagmite's foot flaring into the floor,
 //! a stalactite's collar blending into the ceiling, as calcite deposited by the water
 //! that runs off them does (and as the cave's Short-profile speleothems' fillets do);
-//! and where they meet each other, a joint ([`joints`]).
+//! and where they meet each other, a joint (`super::joints`, from the same fillet).
 //! Tortelli & Walter's rings start as a plain cylinder standing on the rock: the
 //! surface pass draws these feet beside the growing mesh, built once per plan.
 //!
@@ -28,9 +28,9 @@ const STALACTITE_FOOT: (f32, f32) = (0.6, 0.7);
 /// The farthest any foot reaches from its axis, in base radii.
 pub const FOOT_REACH_RADII: f32 = INSIDE_TRUNK + STALAGMITE_FOOT.0;
 /// The top ring's radius as a share of the trunk's base radius.
-const INSIDE_TRUNK: f32 = 0.93;
+pub(super) const INSIDE_TRUNK: f32 = 0.93;
 /// Rings along the quarter ellipse, edge to top.
-const PROFILE_RINGS: u32 = 7;
+pub(super) const PROFILE_RINGS: u32 = 7;
 /// The ring number a foot's vertices carry: below the base band's 0, so the surface
 /// shader colours them as the base by mineral and as the newest calcite by age (the
 /// water running off still coats a foot).
@@ -61,6 +61,8 @@ pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<Rin
             id: 0.0,
             closed: false,
             sink: 0.0,
+            scales: Vec::new(),
+            thickened: 0.0,
         };
         fillet.build(plan.segments.max(3), &|x, z| rock(index, x, z), &mut out);
     }
@@ -70,32 +72,43 @@ pub fn feet(plan: &GrowthPlan, rock: &dyn Fn(usize, f32, f32) -> f32) -> Vec<Rin
 /// One fillet turned about a vertical axis: from the rock `reach` out from the top
 /// ring's radius `inner`, rising `rise` along `sign` (1 up, -1 down) to that ring,
 /// closed by a lid over it and sunk into the rock by a skirt.
-struct Fillet {
+pub(super) struct Fillet {
     /// The speleothem its vertices belong to (their thickening and colour).
-    index: usize,
+    pub(super) index: usize,
     /// A point of the axis: x and z place it, y is where texture heights count from.
-    axis: Vec3,
-    sign: f32,
-    inner: f32,
-    reach: f32,
-    rise: f32,
+    pub(super) axis: Vec3,
+    pub(super) sign: f32,
+    pub(super) inner: f32,
+    pub(super) reach: f32,
+    pub(super) rise: f32,
     /// The ring number its vertices carry (`FOOT_RING`, or a joint's gate).
-    ring: f32,
-    /// Their ID (0 a foot, `JOINT_ID` a joint).
-    id: f32,
+    pub(super) ring: f32,
+    /// Their ID (0 a foot, `super::joints::JOINT_ID` a joint).
+    pub(super) id: f32,
     /// Closed under the skirt too (a joint, a solid the export unites with the two it
     /// joins; a foot's skirt ends in the rock).
-    closed: bool,
+    pub(super) closed: bool,
     /// How far the whole fillet is sunk into the rock: a joint's edge then meets the
     /// stalagmite's top at an angle rather than tangent to it, which mesh booleans
     /// cut cleanly (tangent faces leave slivers).
-    sink: f32,
+    pub(super) sink: f32,
+    /// Per segment, the share of `reach` and of `rise` it has there (empty: all of
+    /// them): a joint by a stalagmite's rim reaches over its top only.
+    pub(super) scales: Vec<(f32, f32)>,
+    /// The thickening the shader adds along the normals when drawn (where the
+    /// scales vary round the axis, the normals are no longer radial).
+    pub(super) thickened: f32,
 }
 
 impl Fillet {
     /// Appends the fillet's triangles to `out` over the rock `rock(x, z)`; nothing
     /// where the rock under any point cannot be found (not finite).
-    fn build(&self, segments: u32, rock: &dyn Fn(f32, f32) -> f32, out: &mut Vec<RingVertex>) {
+    pub(super) fn build(
+        &self,
+        segments: u32,
+        rock: &dyn Fn(f32, f32) -> f32,
+        out: &mut Vec<RingVertex>,
+    ) {
         let (sign, inner, reach, rise) = (self.sign, self.inner, self.reach, self.rise);
         let g = Vec3::Y * sign;
         let base = self.axis;
@@ -109,6 +122,8 @@ impl Fillet {
         let point = |k: u32, seg: u32| -> Vec3 {
             let t = (k.clamp(1, PROFILE_RINGS) - 1) as f32 / (PROFILE_RINGS - 1) as f32;
             let angle = t * std::f32::consts::FRAC_PI_2;
+            let scale = self.scales.get(seg as usize).copied().unwrap_or((1.0, 1.0));
+            let (reach, rise) = (reach * scale.0, rise * scale.1);
             let at = base + around(seg) * (inner + reach * (1.0 - angle.sin()));
             let ground = rock(at.x, at.z);
             // The edge follows the rock under it, the top the rock at the site.
@@ -149,16 +164,39 @@ impl Fillet {
                 (radial(b) - radial(a)) / dh
             }
         };
+        // Scaled differently round the axis (a joint by a rim), the surface is no
+        // longer turned about it: each point's normal from its neighbours, as the
+        // horizontal part the shader tilts by a slope, and the point stored less the
+        // thickening the shader then adds along that part instead of the radius.
+        let varying = self.scales.windows(2).any(|w| w[0] != w[1]);
+        let true_normal = |k: u32, seg: u32| -> (Vec3, f32) {
+            let (next, prev) = ((seg + 1) % segments, (seg + segments - 1) % segments);
+            let across = point(k, next) - point(k, prev);
+            let along = point((k + 1).min(PROFILE_RINGS), seg) - point(k.max(1) - 1, seg);
+            let guess = around(seg) - g * slope(k, seg).clamp(-1e3, 1e3);
+            let mut n = across.cross(along).normalize_or(guess.normalize_or(g));
+            if n.dot(guess) < 0.0 {
+                n = -n;
+            }
+            (n.with_y(0.0), -n.y * sign)
+        };
         let index = self.index as f32;
         let vertex = |k: u32, seg: u32, facing: Option<f32>| -> RingVertex {
-            let (p, n) = (point(k, seg), around(seg));
+            let (mut p, mut n) = (point(k, seg), around(seg));
+            let mut tilt = None;
+            if varying {
+                let (horizontal, slope) = true_normal(k, seg);
+                p += (n - horizontal) * self.thickened;
+                n = horizontal;
+                tilt = Some(slope);
+            }
             RingVertex {
                 pos_id: [p.x, p.y, p.z, self.id],
                 normal_sp: [n.x, n.y, n.z, index],
                 extra: [
                     seg as f32,
                     (p.y - base.y) * sign,
-                    facing.unwrap_or_else(|| slope(k, seg)),
+                    facing.or(tilt).unwrap_or_else(|| slope(k, seg)),
                     self.ring,
                 ],
             }
@@ -175,7 +213,10 @@ impl Fillet {
             }
         }
         // The lid: a fan over the top ring about the axis, facing along the growth.
-        let top = point(PROFILE_RINGS, 0).y;
+        // Lid and floor centred on the axis at their rings' mean height (level unless
+        // the fillet is scaled round).
+        let mean_y = |k: u32| (0..segments).map(|i| point(k, i).y).sum::<f32>() / segments as f32;
+        let top = mean_y(PROFILE_RINGS);
         let centre = RingVertex {
             pos_id: [base.x, top, base.z, self.id],
             normal_sp: [0.0, 0.0, 0.0, index],
@@ -188,7 +229,7 @@ impl Fillet {
         }
         if self.closed {
             // The floor: a fan under the skirt, facing against the growth.
-            let low = point(0, 0).y;
+            let low = mean_y(0);
             let centre = RingVertex {
                 pos_id: [base.x, low, base.z, self.id],
                 extra: [0.0, (low - base.y) * sign, 1e4, self.ring],
@@ -201,79 +242,6 @@ impl Fillet {
             }
         }
     }
-}
-
-/// The ID a joint's vertices carry (`joints`): `surface.vert` hides them until their
-/// front has grown its last ring (their ring number), so that a growing scene shows
-/// the joint only once the two have met.
-pub const JOINT_ID: f32 = 2.0;
-/// A joint's fillet: how far it reaches over the stalagmite's top and how high it
-/// rises up the stalactite, in the stalagmite's top radii.
-const JOINT: (f32, f32) = (0.6, 1.0);
-/// How far a joint's fillet is sunk into the stalagmite's top, in its rises.
-const JOINT_SINK: f32 = 0.03;
-
-/// Where a front stopped against a speleothem of the other kind (`StopReason::Contact`):
-/// a fillet of calcite about the stalactite of the two, standing on the stalagmite's
-/// flat top and rising up the stalactite, as the water running down the one and onto
-/// the other coats the join (Section 4: "the union of the two, to form a column"). Its
-/// vertices belong to the stalagmite (they rise along its growth and thicken with it)
-/// and carry its last ring's number, which gates them. The fillet reaches no nearer
-/// than a tenth of the top's radius to its rim; where that leaves it under a tenth of
-/// its reach (the stalactite stands near the rim, or beyond it: a flank grazing the
-/// rim), there is no joint.
-pub fn joints(plan: &GrowthPlan) -> Vec<RingVertex> {
-    let mut out = Vec::new();
-    for (index, s) in plan.speleothems.iter().enumerate() {
-        let Some(other) = s.touched else { continue };
-        let Some(o) = plan.speleothems.get(other) else {
-            continue;
-        };
-        let (mite, tite) = match (s.kind, o.kind) {
-            (Kind::Stalagmite, Kind::Stalactite) => (index, other),
-            (Kind::Stalactite, Kind::Stalagmite) => (other, index),
-            _ => continue,
-        };
-        let top = plan.tip_centre(mite, plan.passes);
-        let radius = plan.tip_radius(mite, plan.passes);
-        let (reach, rise) = (JOINT.0 * radius, JOINT.1 * radius);
-        // The stalactite's axis and radius at the fillet's top, from its rings.
-        let rings = plan.body_rings(tite, plan.passes);
-        let at = |y: f32| -> Option<(Vec3, f32)> {
-            rings.windows(2).find_map(|w| {
-                let (a, b) = (w[0], w[1]);
-                let (low, high) = (a.0.y.min(b.0.y), a.0.y.max(b.0.y));
-                (high - low > 1e-9 && (low..=high).contains(&y)).then(|| {
-                    let t = (y - a.0.y) / (b.0.y - a.0.y);
-                    (a.0.lerp(b.0, t), a.1 + (b.1 - a.1) * t)
-                })
-            })
-        };
-        let Some((axis, trunk)) = at(top.y + rise) else {
-            continue;
-        };
-        let inner = INSIDE_TRUNK * trunk;
-        let off = glam::Vec2::new(axis.x - top.x, axis.z - top.z).length();
-        // The edge stays on the top, a tenth of its radius in from its rim.
-        let room = 0.9 * radius - off - inner;
-        if room < 0.1 * reach {
-            continue;
-        }
-        let fillet = Fillet {
-            index: mite,
-            axis: Vec3::new(axis.x, top.y, axis.z),
-            sign: 1.0,
-            inner,
-            reach: reach.min(room),
-            rise,
-            ring: plan.speleothems[mite].rings as f32,
-            id: JOINT_ID,
-            closed: true,
-            sink: JOINT_SINK * rise,
-        };
-        fillet.build(plan.segments.max(3), &|_, _| top.y, &mut out);
-    }
-    out
 }
 
 #[cfg(test)]
@@ -326,78 +294,6 @@ mod tests {
                 Kind::Stalactite => STALACTITE_FOOT,
             };
             assert!(((lid.y - site) * s.kind.sign() - rise * s.initial_radius).abs() < 1e-4);
-        }
-    }
-
-    /// Contacts get joints (issue 43): in Figs. 9g and 9h every contact whose
-    /// stalactite stands over the stalagmite's top gets one, each a closed solid
-    /// (every edge, welded by position, shared by two triangles, wound outward: a
-    /// positive volume) standing on that top (sunk a little into it) and rising half
-    /// the top's radius and more up the stalactite, its vertices the stalagmite's,
-    /// gated by its last ring.
-    #[test]
-    fn contacts_are_joined_by_closed_fillets_on_the_stalagmites_tops() {
-        for name in ["fig9g", "fig9h"] {
-            let scene = crate::scene::grow::preset(name)
-                .expect("preset")
-                .growth_scene()
-                .expect("scene");
-            let plan = scene.plan().expect("plan");
-            let contacts = plan
-                .speleothems
-                .iter()
-                .filter(|s| s.touched.is_some())
-                .count();
-            let joints = joints(&plan);
-            let per = (plan.segments * (2 * PROFILE_RINGS + 2) * 3) as usize;
-            assert_eq!(joints.len() % per, 0);
-            let count = joints.len() / per;
-            assert!(
-                contacts >= 7 && count + 1 >= contacts,
-                "{name}: {count} joints for {contacts} contacts"
-            );
-            for joint in joints.chunks(per) {
-                let mite = joint[0].speleothem();
-                let s = &plan.speleothems[mite];
-                assert_eq!(s.kind, Kind::Stalagmite);
-                let top = plan.tip_centre(mite, plan.passes).y;
-                let mut edges = std::collections::HashMap::new();
-                let key = |p: Vec3| (p * 1e6).round().as_ivec3().to_array();
-                let mut volume = 0.0;
-                for tri in joint.chunks(3) {
-                    let [a, b, c] = [tri[0].position(), tri[1].position(), tri[2].position()];
-                    volume += a.dot(b.cross(c)) / 6.0;
-                    for (p, q) in [(a, b), (b, c), (c, a)] {
-                        let (p, q) = (key(p), key(q));
-                        *edges
-                            .entry(if p < q { (p, q) } else { (q, p) })
-                            .or_insert(0) += 1;
-                    }
-                }
-                assert!(
-                    edges.values().all(|&n| n == 2),
-                    "{name}: a joint not closed"
-                );
-                assert!(volume > 0.0, "{name}: a joint turned inside out ({volume})");
-                for v in joint {
-                    assert_eq!(v.pos_id[3], JOINT_ID);
-                    assert_eq!(v.extra[3], s.rings as f32);
-                }
-                let lowest = joint
-                    .iter()
-                    .map(|v| v.position().y)
-                    .fold(f32::MAX, f32::min);
-                let highest = joint
-                    .iter()
-                    .map(|v| v.position().y)
-                    .fold(f32::MIN, f32::max);
-                let radius = plan.tip_radius(mite, plan.passes);
-                assert!(
-                    lowest < top && top - lowest < 0.5 * radius,
-                    "{name}: {lowest} {top}"
-                );
-                assert!(highest > top + 0.5 * radius, "{name}: {highest} over {top}");
-            }
         }
     }
 }

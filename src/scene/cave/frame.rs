@@ -198,7 +198,7 @@ impl CaveFrame {
                     (&environment, &shadow),
                 )?;
                 let mut fillets = cave_feet(&plan, &model);
-                fillets.extend(crate::model::speleothem::feet::joints(&plan));
+                fillets.extend(crate::model::speleothem::joints::joints(&plan));
                 surface.set_feet(&fillets)?;
                 Some(Grown {
                     // Append-only: all passes in one submission at O(one ring) each.

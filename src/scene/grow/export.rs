@@ -21,7 +21,7 @@ use crate::render::speleothem_surface::speleothem_info;
 /// cap's rim shaded round), with the mineral colours the surface shader uses as
 /// COLOR_0. A contact — a front stopped against a speleothem of the other kind — is
 /// written as one solid: the two and the joint's fillet between them
-/// (`model::speleothem::feet::joints`) united (`export::union`).
+/// (`model::speleothem::joints::joints`) united (`export::union`).
 /// Positions stay in the plan's scene units; the caller places them
 /// ([`Asset::to_metres`]).
 pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asset) {
@@ -102,24 +102,29 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
         }
     }
     // The joints, thickened as the surface pass draws them (their vertices are stored
-    // less their speleothem's thickening, which widens them about their own axis).
+    // less their speleothem's thickening, which the shader adds along their normals):
+    // per speleothem, each joint's solid (a fillet, a web) closed on its own.
     let thickening = crate::model::speleothem::accumulated_thickening(plan, plan.passes);
-    let mut joints: Vec<Solid> = vec![Solid::default(); n];
-    for tri in crate::model::speleothem::feet::joints(plan).chunks_exact(3) {
-        let i = tri[0].speleothem();
-        let Some(joint) = joints.get_mut(i) else {
+    let mut joints: Vec<Vec<Solid>> = vec![Vec::new(); n];
+    for piece in crate::model::speleothem::joints::joint_solids(plan) {
+        let Some(i) = piece.first().map(RingVertex::speleothem) else {
             continue;
         };
-        for v in tri {
+        let Some(solids) = joints.get_mut(i) else {
+            continue;
+        };
+        let mut joint = Solid::default();
+        for v in &piece {
             let (color, g) = color_of(v);
             let radial = v.normal();
             push(
-                joint,
+                &mut joint,
                 v.position() + radial * thickening[i],
                 (radial - g * v.extra[2]).normalize_or(g),
                 color,
             );
         }
+        solids.push(joint);
     }
 
     // Solids: a column is one (its halves join one meeting ring, welded by position;
@@ -192,9 +197,12 @@ pub fn export_parts(plan: &GrowthPlan, vertices: &[RingVertex], asset: &mut Asse
             solids.push(solid);
         }
         for &i in &group {
-            if !joints[i].positions.is_empty() {
-                solids.push(joints[i].clone());
-            }
+            solids.extend(
+                joints[i]
+                    .iter()
+                    .filter(|j| !j.positions.is_empty())
+                    .cloned(),
+            );
         }
         let part = &mut parts[part_of(&group)];
         if solids.len() == 1 {

@@ -452,7 +452,7 @@ fn surface_pass(
     } else {
         Vec::new()
     };
-    fillets.extend(crate::model::speleothem::feet::joints(plan));
+    fillets.extend(crate::model::speleothem::joints::joints(plan));
     surface.set_feet(&fillets)?;
     Ok(surface)
 }
