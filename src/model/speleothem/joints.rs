@@ -32,11 +32,13 @@ const JOINT_LEAST: f32 = 0.05;
 /// the other coats the join (Section 4: "the union of the two, to form a column"). Its
 /// vertices belong to the stalagmite (they rise along its growth and thicken with it)
 /// and carry its last ring's number, which gates them. Laid out on the two as they
-/// end, thickened: each way round the stalactite the fillet reaches over the top no
-/// nearer than a tenth of its radius to its rim, and where the rim is nearer (a
-/// stalactite by the rim, or a flank grazing it) it reaches and rises less in
-/// proportion, down to a collar inside the stalactite on the side away from the top.
-/// Where it reaches over the top nowhere, there is no joint.
+/// end, thickened: the fillet reaches over the top no nearer than a tenth of its
+/// radius to its rim, all round where the nearest rim leaves room enough; else (a
+/// stalactite by the rim, or a flank grazing it) each way round as far as the rim
+/// allows, rising less in proportion, down to a collar inside the stalactite on the
+/// side away from the top. Where it reaches over the top nowhere, there is no
+/// fillet. Where the stalactite hangs on beside the stalagmite, their flanks
+/// crossing below the top, a web fills the creases between them (`Web`).
 pub fn joints(plan: &GrowthPlan) -> Vec<RingVertex> {
     joint_solids(plan).concat()
 }
@@ -329,7 +331,7 @@ fn section_points(
     use glam::Vec2;
     let d = c1.distance(c2);
     let (a, b) = (r1 + rho, r2 + rho);
-    if d <= (r1 - r2).abs() || d >= r1 + r2 || rho <= 0.0 {
+    if !(d > (r1 - r2).abs() && d < r1 + r2 && rho > 0.0 && (d + rho).is_finite()) {
         return None;
     }
     let e = (c2 - c1) / d;
