@@ -388,9 +388,13 @@ impl Context {
         let core = vk::PhysicalDeviceFeatures::default()
             .geometry_shader(true)
             .sample_rate_shading(sample_rate_shading);
+        // maintenance4 (required of every 1.3 device) lets a vertex stage write outputs
+        // that only the geometry stage of another pipeline reads, as the speleothems'
+        // surface.vert does for cap.geom, without validation calling it a mismatch.
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
-            .synchronization2(true);
+            .synchronization2(true)
+            .maintenance4(true);
         let mut xfb =
             vk::PhysicalDeviceTransformFeedbackFeaturesEXT::default().transform_feedback(true);
         let device_info = vk::DeviceCreateInfo::default()

@@ -40,6 +40,13 @@ fn fig9f_writes_png_gif_and_a_valid_glb() {
         "--validate",
     ]);
     common::cli::assert_success(&out, "sediment");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // Not even a performance warning: a user who turns validation on sees only what
+    // is wrong.
+    assert!(
+        !stderr.contains("Vulkan validation"),
+        "validation spoke:\n{stderr}"
+    );
     let img = image::open(&png).expect("PNG readable");
     assert_eq!((img.width(), img.height()), (160, 120));
     let gif_bytes = std::fs::read(&gif).expect("GIF written");
