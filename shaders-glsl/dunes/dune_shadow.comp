@@ -1,8 +1,10 @@
 #version 450
 // Dune shadows (Onoue & Nishita 3.4) into a shadow map: from every texel's surface
 // point a ray toward the sun, sampled where it crosses the grid lines (found
-// incrementally); shadowed if the heightfield there rises above the ray. The CPU twin
-// is `visibility` / `shadow_map` in src/model/dune_shadow.rs.
+// incrementally); shadowed if the heightfield there rises above the ray. Each texel
+// holds the sun's margin over the horizon so found (radians, within the range either
+// way), not lit or not, so that the map interpolates to straight, soft edges. The CPU
+// twin is `sun_margin` / `shadow_map` in src/model/dune_shadow.rs.
 
 #extension GL_GOOGLE_include_directive : require
 #include "periodic.glsl"
@@ -16,7 +18,7 @@ layout(set = 0, binding = 0, std430) readonly buffer Heights {
 } heights;
 
 layout(set = 0, binding = 1, std430) buffer Shadow {
-    float visibility[];
+    float margin[];
 } shadow;
 
 // The same heights as an R32F texel buffer, read instead of binding 0 when
@@ -26,7 +28,7 @@ layout(set = 0, binding = 2) uniform samplerBuffer height_texels;
 layout(constant_id = 0) const bool HEIGHTS_AS_TEXELS = true;
 
 layout(push_constant) uniform Params {
-    vec4 sun;   // xy: horizontal unit direction toward the sun (x, z); z: rise per unit; w unused
+    vec4 sun;   // xy: horizontal unit direction toward the sun (x, z); z: rise per unit; w: the margins' range (radians)
     uint n;     // grid vertices per side
     uint res;   // shadow map texels per side
     uint unused0;
@@ -81,7 +83,13 @@ void main() {
     vec2 sz = first_step(z, dir.y);
     float tx = sx.x;
     float tz = sz.x;
-    float lit = 1.0;
+    float range = pc.sun.w;
+    float elevation = atan(rise);
+    // A horizon this steep puts the sun out of the range: the march stops there.
+    float deepest = elevation + range;
+    float deep = deepest < 1.5707963 ? tan(deepest) : NEVER;
+    // The horizon's slope toward the sun: the steepest (height - y) / distance seen.
+    float horizon = -NEVER;
     // At most one crossing per grid line of each axis.
     for (uint i = 0u; i < 2u * pc.n + 2u; ++i) {
         float t = min(tx, tz);
@@ -93,8 +101,8 @@ void main() {
         }
         float px = x + dir.x * t;
         float pz = z + dir.y * t;
-        if (sample_height(px, pz) > y + rise * t) {
-            lit = 0.0;
+        horizon = max(horizon, (sample_height(px, pz) - y) / t);
+        if (horizon >= deep) {
             break;
         }
         if (tx <= tz) {
@@ -103,5 +111,5 @@ void main() {
             tz += sz.y;
         }
     }
-    shadow.visibility[id.y * pc.res + id.x] = lit;
+    shadow.margin[id.y * pc.res + id.x] = clamp(elevation - atan(horizon), -range, range);
 }

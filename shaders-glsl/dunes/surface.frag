@@ -24,7 +24,8 @@ layout(set = 0, binding = 0) uniform Frame {
 // Our LOD chain as mips: rg the ripple normal's x, y; b the horizon toward the sun as
 // an elevation angle over a right angle, a its spread under a mip texel (DuneTextures).
 layout(set = 0, binding = 1) uniform texture2D ripple_normals;
-// One period of the dune field: rg the dune normal's x, z; b the dune shadow map (1 lit);
+// One period of the dune field: rg the dune normal's x, z; b the dune shadow map's sun
+// margin over its range (0.5: the sun's centre on the horizon, above it lit);
 // a the share of the sky the dunes leave (sky_visibility).
 layout(set = 0, binding = 2) uniform texture2D dune_field;
 layout(set = 0, binding = 3) uniform texture2D sand_grain;
@@ -68,12 +69,12 @@ layout(constant_id = 11) const bool GRAINFLOWS = true;     // avalanche tongues 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
     vec4 wind;     // xy cos/sin of the wind direction
-    vec4 shadows;  // xy slopes over which the ripples fade on slip faces, z ripple-shadow softness (radians)
+    vec4 shadows;  // xy slopes over which the ripples fade on slip faces, z ripple-shadow softness, w the sun's angular radius (radians)
     vec4 albedo;   // rgb sand albedo
     vec4 air_extinction;  // rgb per metre at the ground, w aerosol g
     vec4 air_scattering;  // rgb Rayleigh per metre, w aerosol
     vec4 detail_rect;     // footprints' detail field: world x, z of its corner, its size
-    vec4 detail;          // y slope range of the encoding, w dune grid side
+    vec4 detail;          // x the shadow map's range of sun margins (radians), y slope range of the encoding, w dune grid side
 } dune;
 
 layout(location = 0) in vec3 in_world;
@@ -86,8 +87,9 @@ const float NEVER = 3.0e38;
 
 // The paper's dune-shadow march (3.4) per pixel, for comparison with the precomputed
 // map: crossings of the grid lines toward the sun, the periodic heightfield sampled
-// there (bilinear, in cell units) against the ray's height.
-float march_dune_shadow(vec3 world, vec3 l) {
+// there (bilinear, in cell units) against the ray's height. Returns the sun's margin
+// over the horizon so found, radians within the map's range (as dune_shadow.comp).
+float march_sun_margin(vec3 world, vec3 l) {
     float n = float(textureSize(sampler2D(dune_heights, repeat_sampler), 0).x);
     float cell = dune.tile.w / n;
     vec2 p = world.xz / cell;
@@ -100,6 +102,11 @@ float march_dune_shadow(vec3 world, vec3 l) {
     float len = max(length(h), 1e-6);
     vec2 dir = h / len;
     float rise = l.y / len;
+    float range = dune.detail.x;
+    float elevation = atan(rise);
+    float deepest = elevation + range;
+    float deep = deepest < 0.5 * PI ? tan(deepest) : NEVER;
+    float horizon = -NEVER;
     vec2 next = vec2(NEVER);
     vec2 delta = vec2(NEVER);
     for (int a = 0; a < 2; ++a) {
@@ -115,12 +122,13 @@ float march_dune_shadow(vec3 world, vec3 l) {
     for (int i = 0; i < 2 * int(n) + 2; ++i) {
         float t = min(next.x, next.y);
         if (t >= NEVER || t > n) {
-            return 1.0;
+            break;
         }
         vec2 q = p + dir * t;
         float ground = textureLod(sampler2D(dune_heights, repeat_sampler), (q + 0.5) / n, 0.0).r;
-        if (ground > y + rise * t) {
-            return 0.0;
+        horizon = max(horizon, (ground - y) / t);
+        if (horizon >= deep) {
+            break;
         }
         if (next.x <= next.y) {
             next.x += delta.x;
@@ -128,7 +136,15 @@ float march_dune_shadow(vec3 world, vec3 l) {
             next.y += delta.y;
         }
     }
-    return 1.0;
+    return clamp(elevation - atan(horizon), -range, range);
+}
+
+// The share of the sun's disc above a straight horizon its centre stands `margin`
+// radians above, the disc widened to `soft` where a pixel spans more margin than the
+// sun (model::dune_shadow::sun_share).
+float sun_share(float margin, float soft) {
+    float u = clamp(margin / max(dune.shadows.w, soft), -1.0, 1.0);
+    return 0.5 + (u * sqrt(1.0 - u * u) + asin(u)) / PI;
 }
 
 // The point of the periodic field that world point `p` shows (DesertWorld::height):
@@ -282,6 +298,10 @@ void main() {
     vec4 field = textureGrad(sampler2D(dune_field, repeat_sampler), at / dune.tile.w,
                              dFdx(in_world.xz) / dune.tile.w, dFdy(in_world.xz) / dune.tile.w);
     vec3 nd = normalize(unpack_normal(field.rg).xzy);
+    // The sun's margin over the dunes' horizon from the map, and its spread over the
+    // pixel (derivatives: here, before any branch).
+    float map_margin = (field.b * 2.0 - 1.0) * dune.detail.x;
+    float map_soft = 0.5 * fwidth(map_margin);
     // The dune's tangent frame: T along world +x in the surface, B toward world +z.
     vec3 t = normalize(vec3(1.0, 0.0, 0.0) - nd * nd.x);
     vec3 b = cross(t, nd);
@@ -407,10 +427,12 @@ void main() {
     float lit = 1.0;
     if (DUNE_SHADOWS) {
         if (DUNE_SHADOWS_MARCHED) {
-            lit *= march_dune_shadow(vec3(at.x, in_world.y, at.y), l);
+            float margin = march_sun_margin(vec3(at.x, in_world.y, at.y), l);
+            lit *= sun_share(margin, 0.5 * fwidth(margin));
         } else {
-            // The map covers one period of the field and tiles with it.
-            lit *= field.b;
+            // The map covers one period of the field and tiles with it; its margins
+            // interpolate to straight edges between texels, as soft as the sun's disc.
+            lit *= sun_share(map_margin, map_soft);
         }
     }
     // The circumsolar sky is hidden by the dunes that hide the sun (the ripples'
@@ -423,7 +445,8 @@ void main() {
         if (DUNE_SHADOWS) {
             if (DUNE_SHADOWS_MARCHED) {
             } else {
-                lit = textureLod(sampler2D(dune_field, repeat_sampler), at / dune.tile.w, 0.0).b;
+                float texel = textureLod(sampler2D(dune_field, repeat_sampler), at / dune.tile.w, 0.0).b;
+                lit = sun_share((texel * 2.0 - 1.0) * dune.detail.x, 0.0);
             }
         }
         out_color = vec4(lit, 0.0, 1.0, 1.0);

@@ -38,13 +38,37 @@ impl DuneGrid<'_> {
 /// shared with the shader).
 const NEVER: f32 = 3.0e38;
 
-/// Whether the point above (x, z) at height `y` sees the sun: `dir` is the horizontal
-/// unit direction toward the sun, `rise` the ray's climb per unit of horizontal
-/// distance (tan of the sun's elevation). Returns 1 (lit) or 0 (shadowed).
-pub fn visibility(grid: &DuneGrid<'_>, x: f32, z: f32, y: f32, dir: [f32; 2], rise: f32) -> f32 {
+/// The sun's angular radius, radians (0.267 degrees): how far the sun's disc reaches
+/// above and below its centre, which makes a dune's shadow soft at its edge, the
+/// farther from the crest that casts it the wider (a penumbra about a metre wide 100 m
+/// behind it).
+pub const SUN_RADIUS_RADIANS: f32 = 0.004_66;
+
+/// The sun margins a shadow map holds, radians either side of 0: beyond eight of the
+/// sun's radii from the horizon the sun is wholly above it or below, and an 8-bit
+/// texel still resolves a sixteenth of a radius.
+pub const MARGIN_RANGE: f32 = 8.0 * SUN_RADIUS_RADIANS;
+
+/// How far the sun's centre stands above the horizon toward it from the point above
+/// (x, z) at height `y`, radians, within [`MARGIN_RANGE`] either way: `dir` is the
+/// horizontal unit direction toward the sun, `rise` the ray's climb per unit of
+/// horizontal distance (tan of the sun's elevation). Positive where the point sees the
+/// sun's centre (where the paper's test, the heightfield rising above the ray, finds it
+/// lit), negative in shadow. A margin, not lit or not, so that a map of it interpolates
+/// to straight shadow edges between its texels, and the edges can be as soft as the
+/// sun's disc makes them ([`sun_share`]).
+pub fn sun_margin(grid: &DuneGrid<'_>, x: f32, z: f32, y: f32, dir: [f32; 2], rise: f32) -> f32 {
     // Rays are followed one period (`n` cells): a sun higher than the field's relief
     // over one period clears every crest beyond.
     let reach = grid.n as f32;
+    let elevation = rise.atan();
+    // A horizon this steep puts the sun out of the range: the march can stop there.
+    let deepest = elevation + MARGIN_RANGE;
+    let deep = if deepest < std::f32::consts::FRAC_PI_2 {
+        deepest.tan()
+    } else {
+        f32::INFINITY
+    };
     // Distance along the ray to the next vertical (x = i) and horizontal (z = j) grid
     // line, and between successive ones.
     let step = |p: f32, d: f32| -> (f32, f32) {
@@ -58,18 +82,18 @@ pub fn visibility(grid: &DuneGrid<'_>, x: f32, z: f32, y: f32, dir: [f32; 2], ri
     };
     let (mut tx, dtx) = step(x, dir[0]);
     let (mut tz, dtz) = step(z, dir[1]);
+    // The horizon's slope toward the sun: the steepest (height - y) / distance seen.
+    let mut horizon = f32::NEG_INFINITY;
     loop {
         let t = tx.min(tz);
-        if t >= NEVER {
-            return 1.0;
-        }
-        if t > reach {
-            return 1.0;
+        if t >= NEVER || t > reach {
+            break;
         }
         let (px, pz) = (x + dir[0] * t, z + dir[1] * t);
         // On a grid line the bilinear sample is the linear interpolation along it.
-        if grid.sample(px, pz) > y + rise * t {
-            return 0.0;
+        horizon = horizon.max((grid.sample(px, pz) - y) / t);
+        if horizon >= deep {
+            return -MARGIN_RANGE;
         }
         if tx <= tz {
             tx += dtx;
@@ -77,10 +101,20 @@ pub fn visibility(grid: &DuneGrid<'_>, x: f32, z: f32, y: f32, dir: [f32; 2], ri
             tz += dtz;
         }
     }
+    (elevation - horizon.atan()).clamp(-MARGIN_RANGE, MARGIN_RANGE)
 }
 
-/// The shadow map: `res` x `res` texels over one period (texel centres), 1 lit,
-/// 0 shadow; it tiles like the field.
+/// The share of the sun's disc above a straight horizon its centre stands `margin`
+/// radians above, the disc's radius widened to `soft` where that is larger (a pixel's
+/// spread of margins, so that an edge finer than a pixel is not aliased): the area of
+/// a disc's segment.
+pub fn sun_share(margin: f32, soft: f32) -> f32 {
+    let u = (margin / soft.max(SUN_RADIUS_RADIANS)).clamp(-1.0, 1.0);
+    0.5 + (u * (1.0 - u * u).sqrt() + u.asin()) / std::f32::consts::PI
+}
+
+/// The shadow map: `res` x `res` texels over one period (texel centres), each the
+/// [`sun_margin`] of the surface point there; it tiles like the field.
 pub fn shadow_map(grid: &DuneGrid<'_>, res: usize, dir: [f32; 2], rise: f32) -> Vec<f32> {
     let scale = grid.n as f32 / res as f32;
     let mut out = Vec::with_capacity(res * res);
@@ -89,7 +123,7 @@ pub fn shadow_map(grid: &DuneGrid<'_>, res: usize, dir: [f32; 2], rise: f32) -> 
             let (x, z) = ((i as f32 + 0.5) * scale, (j as f32 + 0.5) * scale);
             // A hair above the surface, so a point does not shadow itself.
             let y = grid.sample(x, z) + 1e-3;
-            out.push(visibility(grid, x, z, y, dir, rise));
+            out.push(sun_margin(grid, x, z, y, dir, rise));
         }
     }
     out
@@ -121,7 +155,7 @@ mod tests {
         let mut end = 0.0;
         let mut x = 20.5;
         while x < 63.0 {
-            let lit = visibility(
+            let margin = sun_margin(
                 &grid,
                 x,
                 32.0,
@@ -129,7 +163,7 @@ mod tests {
                 [-1.0, 0.0],
                 rise,
             );
-            if lit == 1.0 {
+            if margin > 0.0 {
                 end = x;
                 break;
             }
@@ -142,9 +176,63 @@ mod tests {
         );
         // Sun toward +x: the flat ground at x = 30 sees it over the ridge's next copy
         // (the field is periodic: x = 84), which is far enough to clear.
-        assert_eq!(visibility(&grid, 30.0, 32.0, 1e-3, [1.0, 0.0], rise), 1.0);
+        assert_eq!(
+            sun_margin(&grid, 30.0, 32.0, 1e-3, [1.0, 0.0], rise),
+            MARGIN_RANGE
+        );
         let map = shadow_map(&grid, 64, [-1.0, 0.0], rise);
-        let shadowed = map.iter().filter(|&&v| v == 0.0).count();
+        let shadowed = map.iter().filter(|&&v| v < 0.0).count();
         assert!(shadowed > 0 && shadowed < map.len() / 2);
+    }
+
+    #[test]
+    fn the_margin_is_the_suns_elevation_over_the_crests_and_the_edge_is_the_suns_disc() {
+        // The same ridge, 6 cells high at x = 20, the sun toward -x: from flat ground
+        // at distance d behind it the crest stands atan(6 / d) high, and the margin is
+        // the sun's elevation less that, wherever it is within the range.
+        let n = 64;
+        let heights: Vec<f32> = (0..n * n)
+            .map(|i| (6.0 - 6.0 * ((i % n) as f32 - 20.0).abs()).max(0.0))
+            .collect();
+        let grid = DuneGrid {
+            n,
+            heights: &heights,
+        };
+        let elevation = 20.0f32.to_radians();
+        let edge = 20.0 + 6.0 / elevation.tan();
+        for d in [-0.6f32, -0.3, -0.05, 0.05, 0.3, 0.6] {
+            let x = edge + d;
+            let margin = sun_margin(&grid, x, 32.5, 1e-3, [-1.0, 0.0], elevation.tan());
+            let expected =
+                (elevation - (6.0f32 - 1e-3).atan2(x - 20.0)).clamp(-MARGIN_RANGE, MARGIN_RANGE);
+            assert!(
+                (margin - expected).abs() < 1e-4,
+                "{d} cells past the edge: {margin} vs {expected}"
+            );
+            assert_eq!(margin > 0.0, d > 0.0, "{d}: {margin}");
+        }
+        // The disc's share: none below it, all above, and in between the share of a
+        // disc's points (counted on a fine grid) above a line that far below its centre.
+        let r = SUN_RADIUS_RADIANS;
+        assert_eq!(sun_share(-r, 0.0), 0.0);
+        assert_eq!(sun_share(r, 0.0), 1.0);
+        let points: Vec<(f32, f32)> = (0..400 * 400)
+            .map(|i| {
+                (
+                    ((i % 400) as f32 + 0.5) / 200.0 - 1.0,
+                    ((i / 400) as f32 + 0.5) / 200.0 - 1.0,
+                )
+            })
+            .filter(|(a, b)| a * a + b * b <= 1.0)
+            .collect();
+        for k in 1..10 {
+            let u = -1.0 + 2.0 * k as f32 / 10.0;
+            let above =
+                points.iter().filter(|(_, b)| *b >= -u).count() as f32 / points.len() as f32;
+            let share = sun_share(u * r, 0.0);
+            assert!((share - above).abs() < 0.005, "{u}: {share} vs {above}");
+        }
+        // A pixel spanning more margin than the disc softens it further.
+        assert!(sun_share(0.5 * r, 4.0 * r) < sun_share(0.5 * r, 0.0));
     }
 }

@@ -16,7 +16,8 @@ use crate::shaders::{DescriptorBinding, DescriptorKind, ShaderInterface, compile
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowPush {
-    /// xy: horizontal unit direction toward the sun (x, z); z: rise per unit distance.
+    /// xy: horizontal unit direction toward the sun (x, z); z: rise per unit distance;
+    /// w: the margins' range (`model::dune_shadow::MARGIN_RANGE`, radians).
     pub sun: Vec4,
     /// Height-grid vertices per side (the field is periodic with this period).
     pub n: u32,
@@ -28,7 +29,7 @@ pub struct ShadowPush {
 // SAFETY: repr(C), a Vec4 and four u32, no padding.
 unsafe impl Pod for ShadowPush {}
 
-/// `dune_shadow.comp`: heights (binding 0) and visibilities (binding 1) as storage
+/// `dune_shadow.comp`: heights (binding 0) and sun margins (binding 1) as storage
 /// buffers, the heights again as an R32F texel buffer (binding 2), and `ShadowPush`.
 pub static INTERFACE: ShaderInterface = ShaderInterface {
     shader: &compiled::DUNES_DUNE_SHADOW_COMP,
@@ -48,15 +49,15 @@ pub struct DuneShadowPass {
     set: DescriptorSet,
     // The texel view before the buffer it views.
     _texels: FloatTexels,
-    /// `res` x `res` visibilities (1 lit, 0 shadow).
-    pub visibility: Buffer,
+    /// `res` x `res` sun margins, radians (`model::dune_shadow::sun_margin`).
+    pub margin: Buffer,
     /// The heights it marches over (cell units), also sampled by the per-pixel variant.
     pub heights: Buffer,
     pipeline: Pipeline,
     layout: PipelineLayout,
     /// Grid side (vertices per period) and shadow-map side.
     pub n: u32,
-    /// Shadow-map side in texels (`visibility` holds `res` x `res` f32).
+    /// Shadow-map side in texels (`margin` holds `res` x `res` f32).
     pub res: u32,
 }
 
@@ -94,7 +95,7 @@ impl DuneShadowPass {
             &layout,
             &[(HEIGHTS_AS_TEXELS, u32::from(texels.readable()))],
         )?;
-        let visibility = Buffer::new(
+        let margin = Buffer::new(
             ctx,
             "dune shadow map",
             BufferDesc::readback(
@@ -104,12 +105,12 @@ impl DuneShadowPass {
         )?;
         let set = layout.allocate_set("dune shadow set", 0)?;
         set.write_buffer(0, &heights_buffer)?;
-        set.write_buffer(1, &visibility)?;
+        set.write_buffer(1, &margin)?;
         set.write_texel_buffer(2, texels.view())?;
         Ok(Self {
             set,
             _texels: texels,
-            visibility,
+            margin,
             heights: heights_buffer,
             pipeline,
             layout,
@@ -122,19 +123,24 @@ impl DuneShadowPass {
     /// rising `rise` per unit distance, with the barriers that make it visible to the
     /// host.
     pub fn record(&self, cmd: &Commands<'_>, dir: [f32; 2], rise: f32) -> Result<()> {
-        self.visibility.use_as(cmd, Usage::ComputeWrite);
+        self.margin.use_as(cmd, Usage::ComputeWrite);
         cmd.bind_pipeline(&self.pipeline, &self.layout, &[&self.set]);
         cmd.push_constants(
             &self.layout,
             &ShadowPush {
-                sun: Vec4::new(dir[0], dir[1], rise, 0.0),
+                sun: Vec4::new(
+                    dir[0],
+                    dir[1],
+                    rise,
+                    crate::model::dune_shadow::MARGIN_RANGE,
+                ),
                 n: self.n,
                 res: self.res,
                 unused: [0; 2],
             },
         )?;
         cmd.dispatch(self.res.div_ceil(8), self.res.div_ceil(8), 1);
-        self.visibility.use_as(cmd, Usage::HostRead);
+        self.margin.use_as(cmd, Usage::HostRead);
         Ok(())
     }
 }

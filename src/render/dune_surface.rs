@@ -17,6 +17,7 @@ use crate::gpu::{
     Buffer, BufferDesc, Commands, Context, Descriptor, DescriptorSet, GraphicsPipelineDesc, Image,
     ImageDesc, Pipeline, PipelineLayout, Pod, Sampler, TargetFormat, VertexLayout, vk,
 };
+use crate::model::dune_shadow::MARGIN_RANGE;
 use crate::model::dune_world::{
     DesertWorld, LATTICE_PERIODS, RIPPLE_LATTICE_TILES, RIPPLE_SALT, RIPPLE_SHARPNESS, WAVES,
 };
@@ -34,7 +35,8 @@ pub struct DunePush {
     /// xy cos/sin of the wind direction (zw unused).
     pub wind: Vec4,
     /// x, y the slopes (tangents) over which the ripples fade out on slip faces, z
-    /// ripple-shadow softness (radians; w unused).
+    /// ripple-shadow softness, w the sun's angular radius (radians; the dune shadows'
+    /// penumbra).
     pub shadows: Vec4,
     /// rgb sand albedo.
     pub albedo: Vec4,
@@ -45,8 +47,8 @@ pub struct DunePush {
     pub air_scattering: Vec4,
     /// The footprints' detail field: world x, z of its corner and its size (m).
     pub detail_rect: Vec4,
-    /// y the slope range of the detail texture's encoding, w the dune grid's side (xz
-    /// unused).
+    /// x the dune shadow map's range of sun margins (radians), y the slope range of the
+    /// detail texture's encoding, w the dune grid's side (z unused).
     pub detail: Vec4,
 }
 // SAFETY: repr(C), eight Vec4 (128 bytes, the guaranteed push-constant size).
@@ -164,7 +166,8 @@ pub struct DuneTextures {
     pub normals: Image,
     /// One period of the dune field at the shadow map's resolution, RGBA8 UNORM: rg
     /// the dune normal's x and z (`n * 0.5 + 0.5`, y up follows), b the dune shadow
-    /// map's visibility (1 lit, 0 shadow).
+    /// map's sun margin over [`MARGIN_RANGE`] (`m * 0.5 + 0.5`: above 0.5 the sun's
+    /// centre is up).
     pub field: Image,
     /// The sand-grain tile, RGBA8 UNORM with a blitted mip chain.
     pub grain: Image,
@@ -323,37 +326,37 @@ impl DuneTextures {
             .iter()
             .map(|&o| u64::from(o) * 4)
             .collect();
-        let visibility = shadow.visibility.read::<f32>()?;
-        if bake.dune_normals.len() != visibility.len() {
+        let margins = shadow.margin.read::<f32>()?;
+        if bake.dune_normals.len() != margins.len() {
             return Err(crate::error::Error::internal(
                 "dune textures",
                 format!(
                     "{} dune normals for a {}-texel shadow map",
                     bake.dune_normals.len(),
-                    visibility.len()
+                    margins.len()
                 ),
             ));
         }
-        if bake.sky.len() != visibility.len() {
+        if bake.sky.len() != margins.len() {
             return Err(crate::error::Error::internal(
                 "dune textures",
                 format!(
                     "{} sky occlusion texels for a {}-texel shadow map",
                     bake.sky.len(),
-                    visibility.len()
+                    margins.len()
                 ),
             ));
         }
         let field: Vec<u8> = bake
             .dune_normals
             .iter()
-            .zip(&visibility)
+            .zip(&margins)
             .zip(bake.sky)
-            .flat_map(|((n, &v), &sky)| {
+            .flat_map(|((n, &m), &sky)| {
                 [
                     signed_byte(n.x),
                     signed_byte(n.z),
-                    unit_byte(v),
+                    signed_byte(m / MARGIN_RANGE),
                     unit_byte(sky),
                 ]
             })

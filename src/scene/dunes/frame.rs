@@ -25,7 +25,7 @@ use crate::model::dune_mesh::{
     DuneLod, dune_mesh_grid, dune_mesh_tiled, normal_texels, quad_levels, tiled_heights,
     visible_quads,
 };
-use crate::model::dune_shadow::DuneGrid;
+use crate::model::dune_shadow::{DuneGrid, MARGIN_RANGE, SUN_RADIUS_RADIANS};
 use crate::model::dune_wind::WindDunes;
 use crate::model::dune_world::{DesertWorld, FAR_RINGS, FarField, far_field, world_tiles};
 use crate::model::dust::{DustCloud, DustGround};
@@ -556,7 +556,9 @@ impl Scene for DunesFrame {
                 scene.field_size(),
             ),
             wind: glam::Vec4::new(wind.cos(), wind.sin(), 0.0, 0.0),
-            shadows: slip_faces(scene).extend(RIPPLE_SHADOW_SOFTNESS).extend(0.0),
+            shadows: slip_faces(scene)
+                .extend(RIPPLE_SHADOW_SOFTNESS)
+                .extend(SUN_RADIUS_RADIANS),
             albedo: SAND_ALBEDO.extend(1.0),
             air_extinction: self
                 .atmosphere
@@ -574,7 +576,12 @@ impl Scene for DunesFrame {
                     d.height as f32 * d.cell,
                 )
             }),
-            detail: glam::Vec4::new(0.0, footprints::SLOPE_RANGE, 0.0, scene.dune_size as f32),
+            detail: glam::Vec4::new(
+                MARGIN_RANGE,
+                footprints::SLOPE_RANGE,
+                0.0,
+                scene.dune_size as f32,
+            ),
         };
         let sky = AtmosphereSkyPush {
             inverse_view_proj: frame.view_proj.inverse(),
@@ -832,9 +839,6 @@ fn detail_texels(prints: Option<&DetailField>, sun: Vec3) -> Option<DetailTexels
 fn dune_height(n: usize, cell: f32, heights: &[f32]) -> impl Fn(f32, f32) -> f32 + '_ {
     move |x, z| DuneGrid { n, heights }.sample(x / cell, z / cell)
 }
-
-/// The sun's angular radius (0.267 degrees).
-const SUN_RADIUS_RADIANS: f32 = 0.004_66;
 
 /// What the atmosphere gives the terrain for one sun, in the shading's units
 /// (`surface.frag` shades albedo x (sun cos + ambient), so irradiances enter over pi).
