@@ -158,6 +158,8 @@ impl SceneDef for HeightmapDef {
                 dune_heights,
                 ripples: ripples.field().clone(),
                 dune_field,
+                // A heightmap's ground has no floor of rock under it.
+                bedrock_m: None,
             },
         ))
     }

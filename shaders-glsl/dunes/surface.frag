@@ -302,6 +302,15 @@ void main() {
     // pixel (derivatives: here, before any branch).
     float map_margin = (field.b * 2.0 - 1.0) * dune.detail.x;
     float map_soft = 0.5 * fwidth(map_margin);
+    // Sand over the bedrock (the wind law's floor): 1 where it lies deeper than the
+    // cover depth, 0 on bare rock; without a bedrock, sand everywhere.
+    float sand = 1.0;
+    if (world.bedrock.y > 0.0) {
+        float side = float(textureSize(sampler2D(dune_heights, repeat_sampler), 0).x);
+        float cell = dune.tile.w / side;
+        float ground = textureLod(sampler2D(dune_heights, repeat_sampler), (at / cell + 0.5) / side, 0.0).r * cell;
+        sand = smoothstep(0.0, world.bedrock.y, ground - world.bedrock.x);
+    }
     // The dune's tangent frame: T along world +x in the surface, B toward world +z.
     vec3 t = normalize(vec3(1.0, 0.0, 0.0) - nd * nd.x);
     vec3 b = cross(t, nd);
@@ -407,7 +416,7 @@ void main() {
             print_lit = d.w;
         }
     }
-    ripple = normalize(vec3(ripple.xy * dune.tile.y * (1.0 - trodden) * rippled, max(ripple.z, 1e-3)));
+    ripple = normalize(vec3(ripple.xy * dune.tile.y * (1.0 - trodden) * rippled * sand, max(ripple.z, 1e-3)));
     // Back from tile to world orientation, then into the dune frame (tilted normal).
     vec2 rxy = vec2(c.x * ripple.x - c.y * ripple.y, c.y * ripple.x + c.x * ripple.y);
     vec3 n = normalize(t * rxy.x + b * rxy.y + nd * ripple.z);
@@ -416,8 +425,8 @@ void main() {
     if (GRAINFLOWS) {
         if (rippled < 1.0) {
             vec3 g = grainflows(in_world.xz, normalize(nd.xz + vec2(1e-6, 0.0)), world_dx, world_dy);
-            prints += (1.0 - rippled) * g.xy;
-            tongue_tone = (1.0 - rippled) * g.z;
+            prints += (1.0 - rippled) * sand * g.xy;
+            tongue_tone = (1.0 - rippled) * sand * g.z;
         }
     }
     // The prints' slopes in world x, z, tilted into the dune's frame like the ripples.
@@ -464,13 +473,14 @@ void main() {
         float elevation = atan(lt.z, max(length(lt.xy), 1e-4));
         float horizon = r.b * (0.5 * PI);
         float soft = dune.shadows.z + r.a * (0.5 * PI) + 2.0 * fwidth(horizon);
-        lit *= mix(1.0, smoothstep(horizon - soft, horizon + soft, elevation), rippled);
+        lit *= mix(1.0, smoothstep(horizon - soft, horizon + soft, elevation), rippled * sand);
     }
 
     lit *= print_lit;
     float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z,
                           frame.params.z).r;
-    vec3 albedo = dune.albedo.rgb * (0.8 + 0.4 * grain) * (1.0 + tongue_tone);
+    vec3 albedo = mix(world.bedrock_albedo.rgb, dune.albedo.rgb * (1.0 + tongue_tone), sand)
+        * (0.8 + 0.4 * grain);
     // Sky light: the sky's irradiance from the harmonics, scaled by the share of the
     // sky the point sees; where a dune hides the sky, its sand lights the point
     // instead: in a dune's shadow the sand toward the sun is that dune's shaded lee.
@@ -503,7 +513,8 @@ void main() {
         vec3 cell = hash3(ivec2(floor(in_world.xz / (GLINT_CELL_M * exp2(level))))
                           + ivec2(int(level) * 7919, 0));
         vec3 facet = normalize(n + GLINT_TILT * (t * (2.0 * cell.x - 1.0) + b * (2.0 * cell.y - 1.0)));
-        float mirror = step(cell.z, GLINT_SHARE)
+        // Quartz grains glint; the rock's varnished gravel does not.
+        float mirror = sand * step(cell.z, GLINT_SHARE)
             * smoothstep(cos(GLINT_ANGLE), cos(0.5 * GLINT_ANGLE), dot(facet, h));
         const float CONE = 2.0 * PI * (1.0 - cos(GLINT_ANGLE));
         hdr += frame.sun_color.rgb * (PI * lit * (specular * nl + fresnel(vh) / CONE * mirror * nl));

@@ -16,6 +16,10 @@ layout(set = 0, binding = 9) uniform World {
     // The ripple tile's lattice of copies: x its spacing (m), y the weights' power,
     // zw the salt added to a corner before hashing.
     vec4 ripples;
+    // The bedrock under the sand: x its height (m), y the depth of sand that hides it
+    // (0: none drawn); and its albedo (rgb).
+    vec4 bedrock;
+    vec4 bedrock_albedo;
 } world;
 
 // Warp::at.

@@ -226,15 +226,31 @@ pub struct DuneWorldUniforms {
     /// The ripple tile's lattice: x its spacing (m), y the weights' power, zw the
     /// salt of its corners' hash.
     pub ripples: Vec4,
+    /// The bedrock under the sand (`Bedrock`): x its height (metres, the dune
+    /// heights'), y the depth of sand that hides it (m; 0: none drawn), zw unused.
+    pub bedrock: Vec4,
+    /// rgb the bedrock's albedo (linear), w unused.
+    pub bedrock_albedo: Vec4,
 }
-// SAFETY: repr(C), eight Vec4.
+// SAFETY: repr(C), ten Vec4.
 unsafe impl Pod for DuneWorldUniforms {}
 
 impl DuneWorldUniforms {
     /// `world` as the shader reads it; `None`: the period and the ripple tile
     /// repeated as they are (the pipelines' `DuneSwitches::endless` off, which read
     /// none of it).
-    pub fn new(world: Option<&DesertWorld>, period: f32, ripple_tile: f32) -> Self {
+    pub fn new(
+        world: Option<&DesertWorld>,
+        period: f32,
+        ripple_tile: f32,
+        bedrock: Option<Bedrock>,
+    ) -> Self {
+        let (bedrock, bedrock_albedo) = bedrock.map_or((Vec4::ZERO, Vec4::ZERO), |b| {
+            (
+                Vec4::new(b.height_m, b.cover_m, 0.0, 0.0),
+                b.albedo.extend(0.0),
+            )
+        });
         let ripples = Vec4::new(
             RIPPLE_LATTICE_TILES * ripple_tile,
             RIPPLE_SHARPNESS as f32,
@@ -248,14 +264,29 @@ impl DuneWorldUniforms {
                     .map(|v| Vec4::new(v.k.x, v.k.y, v.phase, v.amplitude)),
                 params: Vec4::new(w.period, w.ramp, w.depth, LATTICE_PERIODS * w.period),
                 ripples,
+                bedrock,
+                bedrock_albedo,
             },
             None => Self {
                 waves: [Vec4::ZERO; 2 * WAVES],
                 params: Vec4::new(period, 0.0, 0.0, period),
                 ripples,
+                bedrock,
+                bedrock_albedo,
             },
         }
     }
+}
+
+/// The floor the sand lies on, drawn where it runs out.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bedrock {
+    /// Its height in the dune heights' metres.
+    pub height_m: f32,
+    /// The depth of sand that hides it (metres): bare rock at none, sand at this much.
+    pub cover_m: f32,
+    /// Its albedo, linear RGB.
+    pub albedo: Vec3,
 }
 
 /// The footprints' detail texture: RGBA8 texels, width, height.

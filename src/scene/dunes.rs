@@ -288,6 +288,12 @@ crate::params! {
         /// avalanche erased the ripples, grainflows a few decimetres wide and a few
         /// centimetres thick streak the face down its fall line (off: smooth faces).
         [top, "Shading"] grainflows: bool = true, "on|off", "", check::any();
+        /// Wind law: the bedrock drawn where the sand runs out, beyond the paper: the
+        /// gravel floor between barchans, darker and redder than the sand and without
+        /// its ripples and glints, the sand thinning onto it over its last 30 cm
+        /// (off: sand everywhere, as the paper's law always draws it and the fig
+        /// presets draw the wind law's dunes).
+        [top, "Shading"] bedrock: bool = true, "on|off", "", check::any();
         /// Ripple orientation relative to the wind that blew last: the last of
         /// --winds with the wind law, +x with the paper's law (the ripples and the
         /// dust follow it).
@@ -386,6 +392,15 @@ impl Degrees {
 /// colour of the Sahara's erg sand (sRGB about (221, 188, 149)).
 pub const SAND_ALBEDO: Vec3 = Vec3::new(0.72, 0.5, 0.3);
 
+/// The bedrock's albedo (linear RGB) where the wind law's sand runs out: a desert
+/// pavement of grey-brown gravel, darker and greyer than the sand (sRGB about
+/// (148, 126, 106)).
+pub const BEDROCK_ALBEDO: Vec3 = Vec3::new(0.296, 0.209, 0.145);
+
+/// Depth of sand (metres) over which the bedrock shows through, fading from bare rock
+/// at none to sand at this much.
+pub const BEDROCK_COVER_M: f32 = 0.3;
+
 /// Figures 12–17 of the paper: the dune field without and with ripples, without and
 /// with shadows (low sun), without and with ripple shadows.
 pub const PRESETS: &[(&str, &str)] = &[
@@ -432,6 +447,8 @@ pub fn preset(name: &str) -> Result<DunesScene> {
         ripple_tile: PAPER_RIPPLE_TILE,
         ripple_strength: 0.65,
         ripples_mirrored: false,
+        // Sand everywhere, as the paper's figures have it (its law's sand has no floor).
+        bedrock: false,
         ..natural.clone()
     };
     let low_sun = DunesScene {

@@ -520,6 +520,7 @@ fn dust_is_soft_where_it_meets_the_sand_and_blows_over_time() {
                 data: vec![1.0; 256],
             },
             dune_field: flat,
+            bedrock_m: None,
         };
         let scene = DunesScene {
             ripple_size: 16,
@@ -921,6 +922,7 @@ fn sawtooth_dunes() -> (DunesScene, Terrain, sediment::camera::Camera) {
     assert!((rise / (lee as f32 * cell)).atan().to_degrees() > 30.0);
     let terrain = Terrain {
         dune_heights: (0..n * n).map(|k| profile(k % n)).collect(),
+        bedrock_m: None,
         ..simulated
     };
     let field = base.field_size();
@@ -1033,6 +1035,7 @@ fn ripples_lie_across_the_wind_that_blew_last() {
         let n = base.dune_size;
         let terrain = Terrain {
             dune_heights: vec![0.0; n * n],
+            bedrock_m: None,
             ..simulated
         };
         let centre = 0.5 * base.field_size();
@@ -1227,6 +1230,7 @@ fn the_desert_reaches_the_horizon_and_does_not_repeat() {
         // The ripples alone, on flat sand: nothing else changes across the frame.
         let flat = Terrain {
             dune_heights: vec![0.0; terrain.dune_heights.len()],
+            bedrock_m: None,
             ..terrain.clone()
         };
         let render_on = |endless: bool, terrain: &Terrain, camera: &sediment::camera::Camera| {
@@ -1344,6 +1348,7 @@ fn ripples_at_their_scale_reach_the_horizon_without_moire() {
 
         let flat = Terrain {
             dune_heights: vec![0.0; terrain.dune_heights.len()],
+            bedrock_m: None,
             ..terrain.clone()
         };
         let size = Size::new(480, 320);
@@ -1403,5 +1408,90 @@ fn ripples_at_their_scale_reach_the_horizon_without_moire() {
                 );
             }
         }
+    });
+}
+
+/// The wind law's sand lies on a bedrock, drawn where the sand runs out: on the barchans
+/// preset's bare rock the frame turns darker with the bedrock on (the grey-brown gravel
+/// under pale sand), over at least a fifth of the picture; the paper's law has no floor,
+/// and its frames are the same either way.
+#[test]
+fn the_bedrock_shows_where_the_sand_runs_out() {
+    common::with_gpu(|ctx| {
+        let size = Size::new(240, 160);
+        let scene = small("barchans");
+        let terrain = dunes::simulate(&scene, &mut |_, _| {}).expect("simulate");
+        let floor = terrain.bedrock_m.expect("the wind law's sand has a floor");
+        let lowest = terrain
+            .dune_heights
+            .iter()
+            .copied()
+            .fold(f32::MAX, f32::min);
+        assert!(
+            floor <= lowest + 1e-6,
+            "bedrock {floor} above the sand's lowest {lowest}"
+        );
+        let bare = terrain
+            .dune_heights
+            .iter()
+            .filter(|&&h| h - floor < 0.01)
+            .count() as f64
+            / terrain.dune_heights.len() as f64;
+        assert!(
+            bare > 0.3,
+            "barchans on bare rock: {:.0} % bare",
+            100.0 * bare
+        );
+
+        let on = render_desert(ctx, &scene, &terrain, size, None).image;
+        let without = DunesScene {
+            bedrock: false,
+            ..scene.clone()
+        };
+        let off = render_desert(ctx, &without, &terrain, size, None).image;
+        let (a, b) = (luma_of(&on), luma_of(&off));
+        let changed: Vec<usize> = on
+            .pixels()
+            .zip(off.pixels())
+            .enumerate()
+            .filter(|(_, (p, q))| (0..3).any(|c| p[c].abs_diff(q[c]) > 8))
+            .map(|(i, _)| i)
+            .collect();
+        let mean = |l: &[f64]| changed.iter().map(|&i| l[i]).sum::<f64>() / changed.len() as f64;
+        let share = changed.len() as f64 / a.len() as f64;
+        eprintln!(
+            "bedrock: {:.0} % of the cells bare, {:.1} % of the pixels changed, their luma {:.1} \
+             with it, {:.1} without",
+            100.0 * bare,
+            100.0 * share,
+            mean(&a),
+            mean(&b)
+        );
+        assert!(share > 0.2, "{:.1} % of the pixels changed", 100.0 * share);
+        assert!(
+            mean(&a) < 0.85 * mean(&b),
+            "rock {:.1}, sand {:.1}",
+            mean(&a),
+            mean(&b)
+        );
+
+        let paper = DunesScene {
+            dune_law: dunes::DuneLaw::Paper,
+            dune_size: 32,
+            ..small("fig17")
+        };
+        let terrain = dunes::simulate(&paper, &mut |_, _| {}).expect("simulate");
+        assert_eq!(terrain.bedrock_m, None);
+        let with = render_desert(ctx, &paper, &terrain, size, None).image;
+        let without = DunesScene {
+            bedrock: false,
+            ..paper.clone()
+        };
+        let without = render_desert(ctx, &without, &terrain, size, None).image;
+        assert_eq!(
+            mean_abs_diff(&with, &without),
+            0.0,
+            "the paper's law has no bedrock"
+        );
     });
 }

@@ -40,8 +40,8 @@ use crate::render::atmosphere::{
 };
 use crate::render::dune_shadow::DuneShadowPass;
 use crate::render::dune_surface::{
-    DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSkyLight, DuneSurfacePass, DuneSwitches,
-    DuneTextures, DuneWorldUniforms,
+    Bedrock, DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSkyLight, DuneSurfacePass,
+    DuneSwitches, DuneTextures, DuneWorldUniforms,
 };
 use crate::render::dust::{DustLight, DustPass};
 use crate::render::lighting::Lighting;
@@ -64,6 +64,10 @@ pub struct Terrain {
     pub ripples: Heightfield,
     /// The simulated dune field as the simulation left it, in model units.
     pub dune_field: Heightfield,
+    /// The bedrock's height in the metres of `dune_heights` (the wind law's sand lies
+    /// on it, at or below the lowest sand); `None` under the paper's law, whose sand
+    /// has no floor.
+    pub bedrock_m: Option<f32>,
 }
 
 /// Runs both simulations; `progress(done, total)` over all steps.
@@ -168,6 +172,7 @@ fn terrain_of(scene: &DunesScene, ripples: Heightfield, dune_field: Heightfield)
         .map(|&h| (h - min) as f32 * scale)
         .collect();
     Terrain {
+        bedrock_m: (scene.dune_law == DuneLaw::Wind).then(|| -(min as f32) * scale),
         dune_heights,
         ripples: if scene.ripples_mirrored {
             mirrored_along_the_wind(&ripples)
@@ -291,6 +296,19 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
     }
 }
 
+/// The bedrock as the dune shader reads it (`DuneWorldUniforms::bedrock`): where the
+/// wind law's sand runs out, unless the scene turns it off.
+fn bedrock(scene: &DunesScene, terrain: &Terrain) -> Option<Bedrock> {
+    terrain
+        .bedrock_m
+        .filter(|_| scene.bedrock)
+        .map(|height_m| Bedrock {
+            height_m,
+            cover_m: super::BEDROCK_COVER_M,
+            albedo: super::BEDROCK_ALBEDO,
+        })
+}
+
 /// The grain texture of a scene (RGBA8, grey).
 pub(super) fn sand_grain(scene: &DunesScene) -> Vec<u8> {
     grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize)
@@ -352,7 +370,12 @@ impl DunesFrame {
             &textures,
             9 * n * n,
             switches(&scene, prints.is_some(), false),
-            &DuneWorldUniforms::new(world.as_ref(), scene.field_size(), scene.ripple_tile),
+            &DuneWorldUniforms::new(
+                world.as_ref(),
+                scene.field_size(),
+                scene.ripple_tile,
+                bedrock(&scene, terrain),
+            ),
         )?;
         // The dust: released whether or not it is shown (the viewer's `u` shows it).
         let cloud = scene.dust_params().as_ref().map(|params| {
