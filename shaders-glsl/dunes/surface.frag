@@ -65,6 +65,7 @@ layout(constant_id = 8) const bool SPARKLE = true;         // specular sheen and
 layout(constant_id = 9) const bool FAR = false;            // the far rings: one ripple copy
 layout(constant_id = 10) const bool ENDLESS = true;        // the world beyond the period (world.glsl)
 layout(constant_id = 11) const bool GRAINFLOWS = true;     // avalanche tongues on the slip faces
+layout(constant_id = 12) const bool BEDROCK = true;        // the floor where the sand runs out
 
 layout(push_constant) uniform Dune {
     vec4 tile;     // x world size of a ripple tile, y ripple strength, z grain tile size, w field period
@@ -305,11 +306,13 @@ void main() {
     // Sand over the bedrock (the wind law's floor): 1 where it lies deeper than the
     // cover depth, 0 on bare rock; without a bedrock, sand everywhere.
     float sand = 1.0;
-    if (world.bedrock.y > 0.0) {
-        float side = float(textureSize(sampler2D(dune_heights, repeat_sampler), 0).x);
-        float cell = dune.tile.w / side;
-        float ground = textureLod(sampler2D(dune_heights, repeat_sampler), (at / cell + 0.5) / side, 0.0).r * cell;
-        sand = smoothstep(0.0, world.bedrock.y, ground - world.bedrock.x);
+    if (BEDROCK) {
+        if (world.bedrock.y > 0.0) {
+            float side = float(textureSize(sampler2D(dune_heights, repeat_sampler), 0).x);
+            float cell = dune.tile.w / side;
+            float ground = textureLod(sampler2D(dune_heights, repeat_sampler), (at / cell + 0.5) / side, 0.0).r * cell;
+            sand = smoothstep(0.0, world.bedrock.y, ground - world.bedrock.x);
+        }
     }
     // The dune's tangent frame: T along world +x in the surface, B toward world +z.
     vec3 t = normalize(vec3(1.0, 0.0, 0.0) - nd * nd.x);

@@ -86,6 +86,8 @@ pub struct DuneSwitches {
     pub endless: bool,
     /// The avalanches' tongues (grainflows) on the slip faces, where the ripples fade.
     pub grainflows: bool,
+    /// The bedrock where the sand runs out (`DuneWorldUniforms::bedrock`).
+    pub bedrock: bool,
 }
 
 impl DuneSwitches {
@@ -115,6 +117,7 @@ impl DuneSwitches {
             self.far,
             self.endless,
             self.grainflows,
+            self.bedrock,
         ]
         .into_iter()
         .zip(0..)
