@@ -1474,6 +1474,23 @@ fn the_bedrock_shows_where_the_sand_runs_out() {
             mean(&a),
             mean(&b)
         );
+        // The viewer's key b draws it into a frame started without it, as the option.
+        {
+            use sediment::frame::Scene;
+            let camera = dunes::default_camera(&without, &terrain);
+            let mut frame = dunes::DunesFrame::new(ctx, without.clone(), &terrain).expect("frame");
+            let mut runner = sediment::frame::FrameRunner::new(ctx, size).expect("runner");
+            let keys = frame.interactive().expect("the dunes take keys");
+            assert!(keys.key(ctx, sediment::input::Key::Char('b')).expect("key"));
+            let (keyed, _) = runner
+                .render(&mut frame, &camera, sediment::frame::Time::At(0))
+                .expect("render");
+            assert_eq!(
+                common::difference(&keyed, &on).1.max,
+                0,
+                "b draws the bedrock"
+            );
+        }
 
         let paper = DunesScene {
             dune_law: dunes::DuneLaw::Paper,

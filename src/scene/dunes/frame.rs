@@ -213,6 +213,9 @@ pub struct DunesFrame {
     light: Option<(Vec3, DesertLight)>,
     dust: DustPass,
     dust_blobs: usize,
+    /// The terrain's bedrock height (`Terrain::bedrock_m`): the viewer's key has one to
+    /// show only under the wind law.
+    bedrock_m: Option<f32>,
     /// The dust as released and as it drifts (the viewer advances it a step a frame).
     dust_cloud: Option<(DustCloud, DustCloud)>,
     /// The dust moved in the last `set_frame`.
@@ -298,16 +301,14 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
 }
 
 /// The bedrock as the dune shader reads it (`DuneWorldUniforms::bedrock`): where the
-/// wind law's sand runs out, unless the scene turns it off.
-fn bedrock(scene: &DunesScene, terrain: &Terrain) -> Option<Bedrock> {
-    terrain
-        .bedrock_m
-        .filter(|_| scene.bedrock)
-        .map(|height_m| Bedrock {
-            height_m,
-            cover_m: super::BEDROCK_COVER_M,
-            albedo: super::BEDROCK_ALBEDO,
-        })
+/// wind law's sand runs out (drawn where the scene's switch turns it on, so that the
+/// viewer's key can).
+fn bedrock(terrain: &Terrain) -> Option<Bedrock> {
+    terrain.bedrock_m.map(|height_m| Bedrock {
+        height_m,
+        cover_m: super::BEDROCK_COVER_M,
+        albedo: super::BEDROCK_ALBEDO,
+    })
 }
 
 /// The grain texture of a scene (RGBA8, grey).
@@ -375,7 +376,7 @@ impl DunesFrame {
                 world.as_ref(),
                 scene.field_size(),
                 scene.ripple_tile,
-                bedrock(&scene, terrain),
+                bedrock(terrain),
             ),
         )?;
         // The dust: released whether or not it is shown (the viewer's `u` shows it).
@@ -422,6 +423,7 @@ impl DunesFrame {
                 n as u32,
             )?,
             dust_blobs: blobs.len(),
+            bedrock_m: terrain.bedrock_m,
             dust_cloud: cloud,
             dust_moved: false,
             prints,
@@ -504,7 +506,7 @@ impl DunesFrame {
     pub const CONTROLS: &'static [&'static str] = &[
         "left/right sun azimuth  up/down sun elevation  l lod  k culling",
         "o shadows none/dune/dune+ripple  j ripples  u dust",
-        "y sky occlusion  g sheen and glints  i grainflows",
+        "y sky occlusion  g sheen and glints  i grainflows  b bedrock",
     ];
 }
 
@@ -749,6 +751,13 @@ impl Interactive for DunesFrame {
             Key::Char('y') => s.sky_occlusion = !s.sky_occlusion,
             Key::Char('g') => s.sparkle = !s.sparkle,
             Key::Char('i') => s.grainflows = !s.grainflows,
+            Key::Char('b') => {
+                if self.bedrock_m.is_none() {
+                    self.message = "no bedrock under this sand (the paper's law has none)".into();
+                    return Ok(true);
+                }
+                s.bedrock = !s.bedrock;
+            }
             Key::Char('o') => {
                 s.shadows = match s.shadows {
                     Shadows::None => Shadows::Dune,
