@@ -5,7 +5,7 @@
 use glam::{Vec2, Vec3};
 
 use super::frame::{GRAIN_SIZE, GRAIN_TILE_M, Terrain, sand_grain};
-use super::{DunesScene, SAND_ALBEDO};
+use super::{BEDROCK_ALBEDO, BEDROCK_COVER_M, DuneLaw, DunesScene, SAND_ALBEDO};
 use crate::export::asset::{
     Asset, Material, PartMesh, SurfaceCoordinates, Textures, floor_centre, linear_to_srgb,
 };
@@ -108,6 +108,25 @@ pub fn export(scene: &DunesScene, terrain: &Terrain, mesh: &Mesh, title: &str) -
         surface.tangents.push([t.x, t.y, t.z, handed]);
     }
     part.surface = Some(surface);
+    // The bedrock where the sand runs out, as surface.frag draws it: vertex colours that
+    // turn the sand's base colour into the rock's there (the ripples' normal map, one
+    // texture over the whole field, stays on).
+    if let Some(floor) = terrain
+        .bedrock_m
+        .filter(|_| scene.bedrock && scene.dune_law == DuneLaw::Wind)
+    {
+        let rock = BEDROCK_ALBEDO / SAND_ALBEDO;
+        part.colors = Some(
+            mesh.positions
+                .iter()
+                .map(|p| {
+                    let t = ((p.y - floor) / BEDROCK_COVER_M).clamp(0.0, 1.0);
+                    let sand = t * t * (3.0 - 2.0 * t);
+                    rock.lerp(Vec3::ONE, sand).to_array()
+                })
+                .collect(),
+        );
+    }
     let material = Material {
         textures: Some(Textures {
             base_color: sand_colour_image(scene),
@@ -125,6 +144,57 @@ pub fn export(scene: &DunesScene, terrain: &Terrain, mesh: &Mesh, title: &str) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The exported field's vertex colours turn the sand's base colour into the
+    /// bedrock's where the wind law's sand runs out, as the renderer draws it, and the
+    /// sand's own colour stays where it lies deeper than the cover; without the bedrock,
+    /// no vertex colours.
+    #[test]
+    fn the_export_colours_the_bare_floor_as_bedrock() {
+        let n = 8;
+        let scene = DunesScene {
+            ripple_size: 16,
+            dune_size: n,
+            ..DunesScene::default()
+        };
+        let heights: Vec<f32> = (0..n * n)
+            .map(|i| if i % n < n / 2 { 0.0 } else { 2.0 })
+            .collect();
+        let field = |side: usize| crate::model::sand::Heightfield {
+            width: side,
+            height: side,
+            data: vec![0.0; side * side],
+        };
+        let terrain = Terrain {
+            dune_heights: heights.clone(),
+            ripples: field(16),
+            dune_field: field(n),
+            bedrock_m: Some(0.0),
+        };
+        let mesh = crate::model::dune_mesh::dune_mesh_tiled(n, scene.cell, &heights, 1);
+        let asset = export(&scene, &terrain, &mesh, "t");
+        let colors = asset.parts[0].mesh.colors.clone().expect("vertex colours");
+        let rock = (BEDROCK_ALBEDO / SAND_ALBEDO).to_array();
+        let (mut bare, mut covered) = (0, 0);
+        for (p, c) in mesh.positions.iter().zip(&colors) {
+            if p.y == 0.0 {
+                assert_eq!(*c, rock);
+                bare += 1;
+            } else if p.y == 2.0 {
+                assert_eq!(*c, [1.0; 3]);
+                covered += 1;
+            }
+        }
+        assert!(bare > 0 && covered > 0, "{bare} bare, {covered} covered");
+        let off = DunesScene {
+            bedrock: false,
+            ..scene
+        };
+        assert_eq!(
+            export(&off, &terrain, &mesh, "t").parts[0].mesh.colors,
+            None
+        );
+    }
 
     /// What a glTF reader does with the normal map — `t * r + cross(n, t) * w * g + n
     /// * b` — gives surface.frag's ripple normal `t * x + v * y + n * z`.
