@@ -546,6 +546,12 @@ fn dune_type() -> DunesScene {
 }
 
 impl DunesScene {
+    /// Whether the bedrock is drawn where the sand runs out: asked for, and under the
+    /// wind law (the paper's law's sand has no floor).
+    pub fn draws_bedrock(&self) -> bool {
+        self.bedrock && self.dune_law == DuneLaw::Wind
+    }
+
     /// Surface height per unit of the ripple heightfield, in texels, as the shading
     /// shows it: the normal map's slopes (of `ripple_height_scale`) are multiplied by
     /// the bump strength in surface.frag, so the drawn ripples are that much taller —

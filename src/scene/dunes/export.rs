@@ -5,7 +5,7 @@
 use glam::{Vec2, Vec3};
 
 use super::frame::{GRAIN_SIZE, GRAIN_TILE_M, Terrain, sand_grain};
-use super::{BEDROCK_ALBEDO, BEDROCK_COVER_M, DuneLaw, DunesScene, SAND_ALBEDO};
+use super::{BEDROCK_ALBEDO, BEDROCK_COVER_M, DunesScene, SAND_ALBEDO};
 use crate::export::asset::{
     Asset, Material, PartMesh, SurfaceCoordinates, Textures, floor_centre, linear_to_srgb,
 };
@@ -111,10 +111,7 @@ pub fn export(scene: &DunesScene, terrain: &Terrain, mesh: &Mesh, title: &str) -
     // The bedrock where the sand runs out, as surface.frag draws it: vertex colours that
     // turn the sand's base colour into the rock's there (the ripples' normal map, one
     // texture over the whole field, stays on).
-    if let Some(floor) = terrain
-        .bedrock_m
-        .filter(|_| scene.bedrock && scene.dune_law == DuneLaw::Wind)
-    {
+    if let Some(floor) = terrain.bedrock_m.filter(|_| scene.draws_bedrock()) {
         let rock = BEDROCK_ALBEDO / SAND_ALBEDO;
         part.colors = Some(
             mesh.positions

@@ -296,7 +296,7 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
         far: false,
         endless: scene.endless,
         grainflows: scene.grainflows,
-        bedrock: scene.bedrock && scene.dune_law == DuneLaw::Wind,
+        bedrock: scene.draws_bedrock(),
     }
 }
 
