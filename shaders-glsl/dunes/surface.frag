@@ -304,7 +304,8 @@ void main() {
     float map_margin = (field.b * 2.0 - 1.0) * dune.detail.x;
     float map_soft = 0.5 * fwidth(map_margin);
     // Sand over the bedrock (the wind law's floor): 1 where it lies deeper than the
-    // cover depth, 0 on bare rock; without a bedrock, sand everywhere.
+    // cover depth, 0 on bare rock (render::dune_surface::Bedrock::sand); without a
+    // bedrock, sand everywhere.
     float sand = 1.0;
     if (BEDROCK) {
         if (world.bedrock.y > 0.0) {

@@ -292,6 +292,15 @@ pub struct Bedrock {
     pub albedo: Vec3,
 }
 
+impl Bedrock {
+    /// How much the sand hides the rock at a surface `height_m` high: 0 on bare rock,
+    /// 1 under `cover_m` of sand or more (surface.frag's smoothstep, its CPU twin).
+    pub fn sand(&self, height_m: f32) -> f32 {
+        let t = ((height_m - self.height_m) / self.cover_m).clamp(0.0, 1.0);
+        t * t * (3.0 - 2.0 * t)
+    }
+}
+
 /// The footprints' detail texture: RGBA8 texels, width, height.
 pub struct DetailTexels {
     /// Row-major RGBA8 texels, 4 bytes each, `width` x `height` of them.

@@ -4,8 +4,8 @@
 
 use glam::{Vec2, Vec3};
 
-use super::frame::{GRAIN_SIZE, GRAIN_TILE_M, Terrain, sand_grain};
-use super::{BEDROCK_ALBEDO, BEDROCK_COVER_M, DunesScene, SAND_ALBEDO};
+use super::frame::{GRAIN_SIZE, GRAIN_TILE_M, Terrain, bedrock, sand_grain};
+use super::{DunesScene, SAND_ALBEDO};
 use crate::export::asset::{
     Asset, Material, PartMesh, SurfaceCoordinates, Textures, floor_centre, linear_to_srgb,
 };
@@ -111,16 +111,12 @@ pub fn export(scene: &DunesScene, terrain: &Terrain, mesh: &Mesh, title: &str) -
     // The bedrock where the sand runs out, as surface.frag draws it: vertex colours that
     // turn the sand's base colour into the rock's there (the ripples' normal map, one
     // texture over the whole field, stays on).
-    if let Some(floor) = terrain.bedrock_m.filter(|_| scene.draws_bedrock()) {
-        let rock = BEDROCK_ALBEDO / SAND_ALBEDO;
+    if let Some(floor) = bedrock(terrain).filter(|_| scene.draws_bedrock()) {
+        let rock = floor.albedo / SAND_ALBEDO;
         part.colors = Some(
             mesh.positions
                 .iter()
-                .map(|p| {
-                    let t = ((p.y - floor) / BEDROCK_COVER_M).clamp(0.0, 1.0);
-                    let sand = t * t * (3.0 - 2.0 * t);
-                    rock.lerp(Vec3::ONE, sand).to_array()
-                })
+                .map(|p| rock.lerp(Vec3::ONE, floor.sand(p.y)).to_array())
                 .collect(),
         );
     }
@@ -171,7 +167,7 @@ mod tests {
         let mesh = crate::model::dune_mesh::dune_mesh_tiled(n, scene.cell, &heights, 1);
         let asset = export(&scene, &terrain, &mesh, "t");
         let colors = asset.parts[0].mesh.colors.clone().expect("vertex colours");
-        let rock = (BEDROCK_ALBEDO / SAND_ALBEDO).to_array();
+        let rock = (super::super::BEDROCK_ALBEDO / SAND_ALBEDO).to_array();
         let (mut bare, mut covered) = (0, 0);
         for (p, c) in mesh.positions.iter().zip(&colors) {
             if p.y == 0.0 {

@@ -303,7 +303,7 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
 /// The bedrock as the dune shader reads it (`DuneWorldUniforms::bedrock`): where the
 /// wind law's sand runs out (drawn where the scene's switch turns it on, so that the
 /// viewer's key can).
-fn bedrock(terrain: &Terrain) -> Option<Bedrock> {
+pub(super) fn bedrock(terrain: &Terrain) -> Option<Bedrock> {
     terrain.bedrock_m.map(|height_m| Bedrock {
         height_m,
         cover_m: super::BEDROCK_COVER_M,
