@@ -28,7 +28,14 @@ layout(set = 0, binding = 1) uniform texture2D ripple_normals;
 // margin over its range (0.5: the sun's centre on the horizon, above it lit);
 // a the share of the sky the dunes leave (sky_visibility).
 layout(set = 0, binding = 2) uniform texture2D dune_field;
+// r the sand's grain; the bedrock's desert pavement on the same tile: g its tone over
+// 2, ba its slopes (d height / dx, dz) over PAVEMENT_SLOPE_RANGE as n * 0.5 + 0.5
+// (model::pavement, scene::dunes::frame::sand_grain).
 layout(set = 0, binding = 3) uniform texture2D sand_grain;
+const float PAVEMENT_SLOPE_RANGE = 4.0;
+const float PATCH_M = 2.5;      // the pavement's patches, their size
+const float PATCH_TONE = 0.35;  // and tone either side of its mean
+const float PEBBLE_M = 0.032;   // a pebble's width: the grain tile over model::pavement::PEBBLES_PER_SIDE
 layout(set = 0, binding = 4) uniform sampler repeat_sampler;
 layout(set = 0, binding = 5) uniform texture2D dune_heights;    // one period, cell units
 layout(set = 0, binding = 6) uniform texture2D detail_map;      // footprints: slopes, trodden, lit
@@ -277,6 +284,16 @@ vec3 grainflows(vec2 p, vec2 down, vec2 dx, vec2 dy) {
     return seen * vec3(across * across_slope + down * along_slope, GRAINFLOW_TONE * 0.5 * tone);
 }
 
+// Smooth value noise in [0, 1] on the integer lattice.
+float value_noise(vec2 p) {
+    vec2 i = floor(p);
+    vec2 f = p - i;
+    f = f * f * (3.0 - 2.0 * f);
+    ivec2 c = ivec2(i);
+    return mix(mix(hash3(c).x, hash3(c + ivec2(1, 0)).x, f.x),
+               mix(hash3(c + ivec2(0, 1)).x, hash3(c + ivec2(1, 1)).x, f.x), f.y);
+}
+
 // A unit normal from its two bytes (`n * 0.5 + 0.5`) across the surface; the third
 // component points out of it.
 vec3 unpack_normal(vec2 across) {
@@ -433,6 +450,25 @@ void main() {
             tongue_tone = (1.0 - rippled) * sand * g.z;
         }
     }
+    // The sand's grain, and on the bedrock its pebbles (their slopes join the prints').
+    vec4 grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z,
+                         frame.params.z);
+    float pebble_tone = 1.0;
+    if (BEDROCK) {
+        // Where a pixel spans more than a pebble the tile's mips still hold its
+        // repeat (11 pebbles every GRAIN_TILE_M), which beats with the pixels: the
+        // pebbles fade into their mean before.
+        float seen = (1.0 - sand) * (1.0 - smoothstep(0.15, 0.6, pixel_m / PEBBLE_M));
+        prints += seen * (grain.ba * 2.0 - 1.0) * PAVEMENT_SLOPE_RANGE;
+        // Metres apart, the pavement's patches (more or fewer pebbles, sand
+        // streaks): value noise at two scales turned against each other, faded
+        // where a pixel spans a patch.
+        float patchy = 1.0 - smoothstep(0.5, 1.0, pixel_m / PATCH_M);
+        float patches = 1.0 + PATCH_TONE * patchy
+            * (value_noise(mat2(0.8, 0.6, -0.6, 0.8) * in_world.xz / PATCH_M)
+               + 0.5 * value_noise(mat2(0.6, -0.8, 0.8, 0.6) * in_world.xz / (3.7 * PATCH_M)) - 0.75);
+        pebble_tone = mix(1.0, grain.g * 2.0, seen) * patches;
+    }
     // The prints' slopes in world x, z, tilted into the dune's frame like the ripples.
     n = normalize(n - t * prints.x - b * prints.y);
 
@@ -481,10 +517,8 @@ void main() {
     }
 
     lit *= print_lit;
-    float grain = texture(sampler2D(sand_grain, repeat_sampler), in_world.xz / dune.tile.z,
-                          frame.params.z).r;
-    vec3 albedo = mix(world.bedrock_albedo.rgb, dune.albedo.rgb * (1.0 + tongue_tone), sand)
-        * (0.8 + 0.4 * grain);
+    vec3 albedo = mix(world.bedrock_albedo.rgb * pebble_tone, dune.albedo.rgb * (1.0 + tongue_tone), sand)
+        * (0.8 + 0.4 * grain.r);
     // Sky light: the sky's irradiance from the harmonics, scaled by the share of the
     // sky the point sees; where a dune hides the sky, its sand lights the point
     // instead: in a dune's shadow the sand toward the sun is that dune's shaded lee.

@@ -14,6 +14,7 @@ pub mod layers;
 pub mod mesh;
 pub mod noise;
 pub mod normal_map;
+pub mod pavement;
 pub mod random;
 pub mod ripple_maps;
 pub mod rock;

@@ -31,6 +31,7 @@ use crate::model::dune_world::{DesertWorld, FAR_RINGS, FarField, far_field, worl
 use crate::model::dust::{DustCloud, DustGround};
 use crate::model::footprints::{self, DetailField, FootprintParams};
 use crate::model::mesh::Mesh;
+use crate::model::pavement::pavement;
 use crate::model::sand::{Heightfield, SandSim};
 use crate::model::sand_grain::grain_texture;
 use crate::model::sky_light::{SkyIrradiance, visibility_texels};
@@ -311,10 +312,27 @@ pub(super) fn bedrock(terrain: &Terrain) -> Option<Bedrock> {
     })
 }
 
-/// The grain texture of a scene (RGBA8, grey).
+/// The grain texture of a scene (RGBA8): r the sand's grain, and on the same tile the
+/// bedrock's desert pavement (`model::pavement`): g its tone over 2, b and a its
+/// slopes (d height / dx, dz) over `PAVEMENT_SLOPE_RANGE`, as `n * 0.5 + 0.5`.
 pub(super) fn sand_grain(scene: &DunesScene) -> Vec<u8> {
-    grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize)
+    let mut texels = grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize);
+    let floor = pavement(scene.seed ^ 0x9EB1, GRAIN_SIZE as usize);
+    let byte = |v: f32| ((v * 0.5 + 0.5) * 255.0).round().clamp(0.0, 255.0) as u8;
+    for ((texel, tone), slope) in texels
+        .chunks_exact_mut(4)
+        .zip(&floor.tone)
+        .zip(&floor.slope)
+    {
+        texel[1] = (tone * 0.5 * 255.0).round().clamp(0.0, 255.0) as u8;
+        texel[2] = byte(slope[0] / PAVEMENT_SLOPE_RANGE);
+        texel[3] = byte(slope[1] / PAVEMENT_SLOPE_RANGE);
+    }
+    texels
 }
+
+/// The steepest pavement slope the grain texture holds (surface.frag's twin).
+const PAVEMENT_SLOPE_RANGE: f32 = 4.0;
 const SHADOW_RES: u32 = 256;
 
 impl DunesFrame {
