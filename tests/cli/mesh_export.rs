@@ -526,7 +526,17 @@ fn heightmaps_keep_their_heights_in_png_json_and_exr() {
 #[test]
 fn parts_and_materials_have_one_name_in_gltf_and_obj_across_scenes() {
     let dir = scratch("export-names");
-    let runs: [(&str, Vec<&str>); 5] = [
+    // The wind law's field at its preset's size: its sand leaves rock bare.
+    let barchans = vec![
+        "dunes",
+        "--preset",
+        "barchans",
+        "--ripple-size",
+        "64",
+        "--ripple-steps",
+        "20",
+    ];
+    let runs: [(&str, Vec<&str>); 6] = [
         ("grow", vec!["grow", "--preset", "fig9g"]),
         ("cave", vec!["cave", "--preset", "fig8", "--depth", "5"]),
         (
@@ -534,6 +544,8 @@ fn parts_and_materials_have_one_name_in_gltf_and_obj_across_scenes() {
             vec!["cave", "--depth", "5", "--speleothems", "grown"],
         ),
         ("dunes", common::cli::SMALL_DUNES.to_vec()),
+        // The wind law's bare floor: a part of its own.
+        ("barchans", barchans),
         ("layers", vec!["layers", "--rep", "60"]),
     ];
     let identifier = |n: &str| {
@@ -599,6 +611,7 @@ fn parts_and_materials_have_one_name_in_gltf_and_obj_across_scenes() {
         [
             "cave_calcite",
             "cave_rock",
+            "desert_pavement",
             "dunes_sand",
             "grow_calcite",
             "layers_band_dark",

@@ -332,7 +332,7 @@ pub(super) fn sand_grain(scene: &DunesScene) -> Vec<u8> {
 }
 
 /// The steepest pavement slope the grain texture holds (surface.frag's twin).
-const PAVEMENT_SLOPE_RANGE: f32 = 4.0;
+pub(super) const PAVEMENT_SLOPE_RANGE: f32 = 4.0;
 const SHADOW_RES: u32 = 256;
 
 impl DunesFrame {
