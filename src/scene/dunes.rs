@@ -289,10 +289,11 @@ crate::params! {
         /// centimetres thick streak the face down its fall line (off: smooth faces).
         [top, "Shading"] grainflows: bool = true, "on|off", "", check::any();
         /// Wind law: the bedrock drawn where the sand runs out, beyond the paper: the
-        /// gravel floor between barchans, darker and redder than the sand and without
-        /// its ripples and glints, the sand thinning onto it over its last 30 cm
-        /// (off: sand everywhere, as the paper's law always draws it and the fig
-        /// presets draw the wind law's dunes).
+        /// gravel floor between barchans, a desert pavement of varnished pebbles about
+        /// 3 cm across over paler silt, darker than the sand and without its ripples
+        /// and glints, the sand thinning onto it over its last 30 cm (off: sand
+        /// everywhere, as the paper's law always draws it and the fig presets draw the
+        /// wind law's dunes).
         [top, "Shading"] bedrock: bool = true, "on|off", "", check::any();
         /// Ripple orientation relative to the wind that blew last: the last of
         /// --winds with the wind law, +x with the paper's law (the ripples and the
