@@ -551,8 +551,8 @@ pub struct DuneSurfacePass {
     levels: Buffer,
     /// `DuneSkyLight`, per sun.
     sky_light: Buffer,
-    /// `DuneWorldUniforms`, per scene (written once, read by the set).
-    _world: Buffer,
+    /// `DuneWorldUniforms`: per scene, and again when the viewer toggles the world.
+    world: Buffer,
     /// The switches the next draws use, and a pipeline for each set of switches
     /// used so far (each one costs lavapipe a shader compilation).
     switches: DuneSwitches,
@@ -628,7 +628,7 @@ impl DuneSurfacePass {
             frame,
             levels,
             sky_light,
-            _world: world_buffer,
+            world: world_buffer,
             switches,
             pipelines: HashMap::new(),
             target,
@@ -655,6 +655,12 @@ impl DuneSurfacePass {
             self.set.write(name, Descriptor::Image(image))?;
         }
         Ok(())
+    }
+
+    /// The world beyond the period for the next draws (the viewer's toggle); call
+    /// between frames.
+    pub fn set_world(&mut self, world: &DuneWorldUniforms) -> Result<()> {
+        self.world.write(0, std::slice::from_ref(world))
     }
 
     /// The switches of the next draws; builds their pipeline the first time.

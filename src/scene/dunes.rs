@@ -717,12 +717,9 @@ impl DunesScene {
 /// it.
 pub fn default_camera(scene: &DunesScene, terrain: &Terrain) -> Camera {
     let s = scene.field_size();
-    // As far as the desert reaches.
-    let far = if scene.endless {
-        crate::model::dune_world::far_reach(s, crate::model::dune_world::FAR_RINGS) + 2.0 * s
-    } else {
-        4.0 * s
-    };
+    // As far as the endless desert reaches, with or without it: the viewer's `f`
+    // draws it into a frame started without it.
+    let far = crate::model::dune_world::far_reach(s, crate::model::dune_world::FAR_RINGS) + 2.0 * s;
     let top = terrain.dune_heights.iter().copied().fold(0.0, f32::max);
     if let Some([a, b, ..]) = scene.footprints.0.as_deref() {
         let grid = crate::model::dune_shadow::DuneGrid {

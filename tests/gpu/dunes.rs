@@ -1574,3 +1574,37 @@ fn the_bedrock_is_a_pavement_of_pebbles_lit_by_the_sun() {
         );
     });
 }
+
+// The viewer's `f` draws the desert beyond the period into a frame started without it,
+// and takes it away again, as `--endless` does.
+#[test]
+fn the_viewers_f_key_draws_the_world_beyond_the_period() {
+    use sediment::frame::Scene;
+    common::with_gpu(|ctx| {
+        let size = Size::new(240, 160);
+        let endless = small("fig17");
+        let tiled = DunesScene {
+            endless: false,
+            ..endless.clone()
+        };
+        let terrain = dunes::simulate(&endless, &mut |_, _| {}).expect("simulate");
+        let camera = dunes::default_camera(&endless, &terrain);
+        assert_eq!(camera.far, dunes::default_camera(&tiled, &terrain).far);
+        let on = render_desert(ctx, &endless, &terrain, size, Some(&camera)).image;
+        let off = render_desert(ctx, &tiled, &terrain, size, Some(&camera)).image;
+        assert!(
+            mean_abs_diff(&on, &off) > 1.0,
+            "the world beyond the period shows"
+        );
+        let mut frame = dunes::DunesFrame::new(ctx, tiled.clone(), &terrain).expect("frame");
+        let mut runner = sediment::frame::FrameRunner::new(ctx, size).expect("runner");
+        for want in [&on, &off] {
+            let keys = frame.interactive().expect("the dunes take keys");
+            assert!(keys.key(ctx, sediment::input::Key::Char('f')).expect("key"));
+            let (keyed, _) = runner
+                .render(&mut frame, &camera, sediment::frame::Time::At(0))
+                .expect("render");
+            assert_eq!(common::difference(&keyed, want).1.max, 0, "f as --endless");
+        }
+    });
+}

@@ -305,7 +305,12 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
 /// wind law's sand runs out (drawn where the scene's switch turns it on, so that the
 /// viewer's key can).
 pub(super) fn bedrock(terrain: &Terrain) -> Option<Bedrock> {
-    terrain.bedrock_m.map(|height_m| Bedrock {
+    bedrock_at(terrain.bedrock_m)
+}
+
+/// `bedrock` of a terrain whose floor lies at `bedrock_m`.
+fn bedrock_at(bedrock_m: Option<f32>) -> Option<Bedrock> {
+    bedrock_m.map(|height_m| Bedrock {
         height_m,
         cover_m: super::BEDROCK_COVER_M,
         albedo: super::BEDROCK_ALBEDO,
@@ -413,15 +418,7 @@ impl DunesFrame {
             (released, cloud)
         });
         let blobs = cloud.as_ref().map_or(&[][..], |(_, c)| c.blobs());
-        let grid = match &world {
-            Some(w) => world_tiles(n, scene.cell, &terrain.dune_heights, w),
-            None => tiled_heights(n, &terrain.dune_heights, 3),
-        };
-        let mesh = dune_mesh_grid(n, scene.cell, 3, &grid);
-        let lod = DuneLod::new(n, 3, &grid);
-        let far = world
-            .as_ref()
-            .map(|w| far_field(n, scene.cell, &terrain.dune_heights, w, FAR_RINGS));
+        let (mesh, lod, far) = world_geometry(&scene, &terrain.dune_heights, world.as_ref());
         let atmosphere = scene.atmosphere();
         let multiple = scene
             .multiple_scattering
@@ -465,6 +462,28 @@ impl DunesFrame {
             terrain: None,
             scene,
         })
+    }
+
+    /// Draws the world beyond the period as the scene now asks (`--endless`, the
+    /// viewer's `f`): its geometry and the shading's copies of the field made again.
+    /// Call between frames, when no submission reading the old geometry is pending.
+    fn rebuild_world(&mut self, ctx: &Arc<Context>) -> Result<()> {
+        let scene = &self.scene;
+        let world = scene
+            .endless
+            .then(|| DesertWorld::new(scene.field_size(), &self.dune_heights));
+        let (mesh, lod, far) = world_geometry(scene, &self.dune_heights, world.as_ref());
+        self.geometry = DuneGeometry::new(ctx, &with_far(&mesh, far.as_ref()))?;
+        self.surface.set_world(&DuneWorldUniforms::new(
+            world.as_ref(),
+            scene.field_size(),
+            scene.ripple_tile,
+            bedrock_at(self.bedrock_m),
+        ))?;
+        self.mesh = mesh;
+        self.lod = lod;
+        self.far = far;
+        Ok(())
     }
 
     /// Triangles drawn after culling, and in all (the far rings' too).
@@ -525,6 +544,7 @@ impl DunesFrame {
         "left/right sun azimuth  up/down sun elevation  l lod  k culling",
         "o shadows none/dune/dune+ripple  j ripples  u dust",
         "y sky occlusion  g sheen and glints  i grainflows  b bedrock",
+        "f the desert beyond the period: endless / the period's copies",
     ];
 }
 
@@ -756,7 +776,7 @@ impl Scene for DunesFrame {
 }
 
 impl Interactive for DunesFrame {
-    fn key(&mut self, _ctx: &Arc<Context>, key: Key) -> Result<bool> {
+    fn key(&mut self, ctx: &Arc<Context>, key: Key) -> Result<bool> {
         let s = &mut self.scene;
         match key {
             Key::Left => s.sun_azimuth = (s.sun_azimuth - 10.0).rem_euclid(360.0),
@@ -769,6 +789,10 @@ impl Interactive for DunesFrame {
             Key::Char('y') => s.sky_occlusion = !s.sky_occlusion,
             Key::Char('g') => s.sparkle = !s.sparkle,
             Key::Char('i') => s.grainflows = !s.grainflows,
+            Key::Char('f') => {
+                s.endless = !s.endless;
+                self.rebuild_world(ctx)?;
+            }
             Key::Char('b') => {
                 if self.bedrock_m.is_none() {
                     self.message = "no bedrock under this sand (the paper's law has none)".into();
@@ -874,6 +898,25 @@ fn with_far(mesh: &Mesh, far: Option<&FarField>) -> Mesh {
         all.append(&far.mesh);
     }
     all
+}
+
+/// The drawn field of `scene` over one period's `heights`: the 3 x 3 periods (the
+/// middle one and, in `world`, its neighbours beyond; else its copies), their
+/// simplified chunks, and in `world` the far rings to the horizon.
+fn world_geometry(
+    scene: &DunesScene,
+    heights: &[f32],
+    world: Option<&DesertWorld>,
+) -> (Mesh, DuneLod, Option<FarField>) {
+    let n = scene.dune_size;
+    let grid = match world {
+        Some(w) => world_tiles(n, scene.cell, heights, w),
+        None => tiled_heights(n, heights, 3),
+    };
+    let mesh = dune_mesh_grid(n, scene.cell, 3, &grid);
+    let lod = DuneLod::new(n, 3, &grid);
+    let far = world.map(|w| far_field(n, scene.cell, heights, w, FAR_RINGS));
+    (mesh, lod, far)
 }
 
 /// The footprints' detail texture for `sun`.
