@@ -381,8 +381,9 @@ void main() {
     if (ENDLESS) {
         // The ripple tile's copies (DesertWorld::ripple_copies): each corner of the
         // lattice around the point moves the tile by its own offset; the sharpened
-        // weights leave one copy alone over most of a cell, and the blocks of pixels
-        // there skip the others' fetches. The far rings take the heaviest copy alone.
+        // weights leave one copy alone over most of a cell. lavapipe fetches all
+        // three in every pixel even so (it runs the body of every `if` under a lane
+        // mask); the far rings take the heaviest copy alone.
         ivec2 corner[3];
         float weight[3];
         simplex_corners(in_warped / world.ripples.x, corner, weight);
@@ -531,9 +532,9 @@ void main() {
         * lit_dune;
     float nl = max(dot(n, l), 0.0);
     vec3 hdr = albedo * (frame.sun_color.rgb * nl * lit + ambient);
-    // Only where the sun reaches: the dune shadows, coherent over many pixels, skip it.
-    // (The glints' footprint is found outside the branch: derivatives need every
-    // pixel of a quad.)
+    // Only where the sun reaches (a GPU skips it over the dune shadows, coherent over
+    // many pixels; lavapipe runs it under a lane mask everywhere). (The glints'
+    // footprint is found outside the branch: derivatives need every pixel of a quad.)
     if (SPARKLE && nl * lit > 0.0) {
         // sun_color is the sunlight's irradiance over pi: a BRDF f gives f pi sun_color n.l.
         vec3 v = normalize(frame.camera_pos.xyz - in_world);
