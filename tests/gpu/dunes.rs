@@ -71,6 +71,35 @@ fn render_desert(
     }
 }
 
+/// The frames of a viewer started on `scene` after each of `keys` is pressed in turn.
+fn after_keys(
+    ctx: &std::sync::Arc<sediment::gpu::Context>,
+    scene: &DunesScene,
+    terrain: &Terrain,
+    camera: &sediment::camera::Camera,
+    size: Size,
+    keys: &[char],
+) -> Vec<image::RgbaImage> {
+    use sediment::frame::Scene;
+    let mut frame = dunes::DunesFrame::new(ctx, scene.clone(), terrain).expect("frame");
+    let mut runner = sediment::frame::FrameRunner::new(ctx, size).expect("runner");
+    keys.iter()
+        .map(|&key| {
+            let interactive = frame.interactive().expect("the dunes take keys");
+            assert!(
+                interactive
+                    .key(ctx, sediment::input::Key::Char(key))
+                    .expect("key"),
+                "{key} is a dunes key"
+            );
+            runner
+                .render(&mut frame, camera, sediment::frame::Time::At(0))
+                .expect("render")
+                .0
+        })
+        .collect()
+}
+
 fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
     common::difference(a, b).1.mean
 }
@@ -1159,10 +1188,15 @@ fn shifted_correlation(values: &[f64], width: usize, dx: usize, dy: usize) -> f6
             b.push(values[(y + dy) * width + x + dx]);
         }
     }
+    correlation(&a, &b)
+}
+
+/// Pearson correlation of `a` and `b`, paired.
+fn correlation(a: &[f64], b: &[f64]) -> f64 {
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let (ma, mb) = (mean(&a), mean(&b));
+    let (ma, mb) = (mean(a), mean(b));
     let (mut ab, mut aa, mut bb) = (0.0, 0.0, 0.0);
-    for (x, y) in a.iter().zip(&b) {
+    for (x, y) in a.iter().zip(b) {
         ab += (x - ma) * (y - mb);
         aa += (x - ma) * (x - ma);
         bb += (y - mb) * (y - mb);
@@ -1475,22 +1509,13 @@ fn the_bedrock_shows_where_the_sand_runs_out() {
             mean(&b)
         );
         // The viewer's key b draws it into a frame started without it, as the option.
-        {
-            use sediment::frame::Scene;
-            let camera = dunes::default_camera(&without, &terrain);
-            let mut frame = dunes::DunesFrame::new(ctx, without.clone(), &terrain).expect("frame");
-            let mut runner = sediment::frame::FrameRunner::new(ctx, size).expect("runner");
-            let keys = frame.interactive().expect("the dunes take keys");
-            assert!(keys.key(ctx, sediment::input::Key::Char('b')).expect("key"));
-            let (keyed, _) = runner
-                .render(&mut frame, &camera, sediment::frame::Time::At(0))
-                .expect("render");
-            assert_eq!(
-                common::difference(&keyed, &on).1.max,
-                0,
-                "b draws the bedrock"
-            );
-        }
+        let camera = dunes::default_camera(&without, &terrain);
+        let keyed = after_keys(ctx, &without, &terrain, &camera, size, &['b']);
+        assert_eq!(
+            common::difference(&keyed[0], &on).1.max,
+            0,
+            "b draws the bedrock"
+        );
 
         let paper = DunesScene {
             dune_law: dunes::DuneLaw::Paper,
@@ -1555,15 +1580,7 @@ fn the_bedrock_is_a_pavement_of_pebbles_lit_by_the_sun() {
         };
         let (a, b) = (lit_from(90.0), lit_from(270.0));
         let contrast = a.iter().map(|v| v.abs()).sum::<f64>() / a.len() as f64;
-        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-        let (ma, mb) = (mean(&a), mean(&b));
-        let (mut ab, mut aa, mut bb) = (0.0, 0.0, 0.0);
-        for (x, y) in a.iter().zip(&b) {
-            ab += (x - ma) * (y - mb);
-            aa += (x - ma) * (x - ma);
-            bb += (y - mb) * (y - mb);
-        }
-        let correlation = ab / (aa * bb).sqrt().max(1e-12);
+        let correlation = correlation(&a, &b);
         eprintln!(
             "pavement at ({i}, {j}): high-pass {contrast:.2} levels, correlation across the sun's turn {correlation:.2}"
         );
@@ -1579,7 +1596,6 @@ fn the_bedrock_is_a_pavement_of_pebbles_lit_by_the_sun() {
 // and takes it away again, as `--endless` does.
 #[test]
 fn the_viewers_f_key_draws_the_world_beyond_the_period() {
-    use sediment::frame::Scene;
     common::with_gpu(|ctx| {
         let size = Size::new(240, 160);
         let endless = small("fig17");
@@ -1596,15 +1612,9 @@ fn the_viewers_f_key_draws_the_world_beyond_the_period() {
             mean_abs_diff(&on, &off) > 1.0,
             "the world beyond the period shows"
         );
-        let mut frame = dunes::DunesFrame::new(ctx, tiled.clone(), &terrain).expect("frame");
-        let mut runner = sediment::frame::FrameRunner::new(ctx, size).expect("runner");
-        for want in [&on, &off] {
-            let keys = frame.interactive().expect("the dunes take keys");
-            assert!(keys.key(ctx, sediment::input::Key::Char('f')).expect("key"));
-            let (keyed, _) = runner
-                .render(&mut frame, &camera, sediment::frame::Time::At(0))
-                .expect("render");
-            assert_eq!(common::difference(&keyed, want).1.max, 0, "f as --endless");
+        let keyed = after_keys(ctx, &tiled, &terrain, &camera, size, &['f', 'f']);
+        for (frame, want) in keyed.iter().zip([&on, &off]) {
+            assert_eq!(common::difference(frame, want).1.max, 0, "f as --endless");
         }
     });
 }
