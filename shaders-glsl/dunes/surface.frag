@@ -457,7 +457,7 @@ void main() {
     float pebble_tone = 1.0;
     if (BEDROCK) {
         // Where a pixel spans more than a pebble the tile's mips still hold its
-        // repeat (11 pebbles every GRAIN_TILE_M), which beats with the pixels: the
+        // repeat (44 pebbles every GRAIN_TILE_M, 1.4 m), which beats with the pixels: the
         // pebbles fade into their mean before.
         float seen = (1.0 - sand) * (1.0 - smoothstep(0.15, 0.6, pixel_m / PEBBLE_M));
         prints += seen * (grain.ba * 2.0 - 1.0) * PAVEMENT_SLOPE_RANGE;

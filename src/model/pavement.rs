@@ -8,7 +8,7 @@
 use super::random::Rng;
 
 /// Pebbles per side of the tile.
-pub const PEBBLES_PER_SIDE: usize = 11;
+pub const PEBBLES_PER_SIDE: usize = 44;
 /// The silt between two pebbles, half its width as a share of a lattice cell.
 const GAP: f32 = 0.07;
 /// How far in from its rim a pebble rounds to its full height, share of a cell.
@@ -72,7 +72,7 @@ pub fn pavement(seed: u64, size: usize) -> Pavement {
             ]
         })
         .collect();
-    let mean = samples.iter().map(|s| s.1).sum::<f32>() / samples.len() as f32;
+    let mean = (samples.iter().map(|s| f64::from(s.1)).sum::<f64>() / samples.len() as f64) as f32;
     Pavement {
         size: n,
         tone: samples.iter().map(|s| s.1 / mean).collect(),
@@ -123,9 +123,9 @@ mod tests {
 
     #[test]
     fn pebbles_cover_most_of_the_pavement_and_the_tile_wraps() {
-        let p = pavement(7, 128);
-        assert_eq!(p.tone.len(), 128 * 128);
-        let mean = p.tone.iter().sum::<f32>() / p.tone.len() as f32;
+        let p = pavement(7, 512);
+        assert_eq!(p.tone.len(), 512 * 512);
+        let mean = p.tone.iter().map(|&t| f64::from(t)).sum::<f64>() / p.tone.len() as f64;
         assert!((mean - 1.0).abs() < 1e-4, "mean tone {mean}");
         // Silt is the palest tone there is; pebbles cover 70-90 % of the ground.
         let silt = p.tone.iter().cloned().fold(f32::MIN, f32::max);
@@ -141,15 +141,18 @@ mod tests {
             assert!(sum.abs() < 1e-3 * p.slope.len() as f32, "slopes sum {sum}");
         }
         // Seeded: the same seed, the same pavement; another, another.
-        assert_eq!(p.tone, pavement(7, 128).tone);
-        assert_ne!(p.tone, pavement(8, 128).tone);
+        assert_eq!(p.tone, pavement(7, 512).tone);
+        assert_ne!(p.tone, pavement(8, 512).tone);
     }
 
     #[test]
     fn the_pavement_is_periodic_over_its_lattice() {
         // A point and its copies one tile over (in x, in y, both) see the same pebble.
         let pebbles: Vec<([f32; 2], f32)> = (0..PEBBLES_PER_SIDE * PEBBLES_PER_SIDE)
-            .map(|k| ([(k % 11) as f32 + 0.3, (k / 11) as f32 + 0.6], k as f32))
+            .map(|k| {
+                let (i, j) = (k % PEBBLES_PER_SIDE, k / PEBBLES_PER_SIDE);
+                ([i as f32 + 0.3, j as f32 + 0.6], k as f32)
+            })
             .collect();
         let m = PEBBLES_PER_SIDE as f32;
         let mut rng = Rng::new(1);

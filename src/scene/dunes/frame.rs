@@ -261,9 +261,10 @@ struct DunesView {
     dust: bool,
 }
 
-/// The sand grain texture: its side in texels and the metres one tile covers.
-pub(super) const GRAIN_SIZE: u32 = 128;
-pub(super) const GRAIN_TILE_M: f32 = 0.35;
+/// The sand grain texture (and the bedrock's pavement on it): its side in texels and
+/// the metres one tile covers, about 2.7 mm a texel.
+pub(super) const GRAIN_SIZE: u32 = 512;
+pub(super) const GRAIN_TILE_M: f32 = 1.4;
 
 /// The ripple shadows' edge: half the width of the transition from lit to shadowed
 /// around the horizon, radians (about 2.3 degrees; the mips' spread widens it).
