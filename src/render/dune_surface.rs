@@ -324,13 +324,14 @@ pub struct DuneBake<'a> {
     pub sky: &'a [f32],
 }
 
-/// A value in -1..=1 as an 8-bit unorm byte (`v * 0.5 + 0.5`).
-fn signed_byte(v: f32) -> u8 {
+/// A value in -1..=1 as an 8-bit unorm byte (`v * 0.5 + 0.5`), as the dune textures
+/// store normals, slopes and margins.
+pub fn signed_byte(v: f32) -> u8 {
     ((v.clamp(-1.0, 1.0) * 0.5 + 0.5) * 255.0).round() as u8
 }
 
 /// A value in 0..=1 as an 8-bit unorm byte.
-fn unit_byte(v: f32) -> u8 {
+pub fn unit_byte(v: f32) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 

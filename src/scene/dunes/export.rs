@@ -4,7 +4,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::frame::{GRAIN_SIZE, GRAIN_TILE_M, PAVEMENT_SLOPE_RANGE, Terrain, bedrock, sand_grain};
+use super::frame::{GRAIN_SIZE, GRAIN_TILE_M, PAVEMENT_SLOPE_RANGE, Terrain, bedrock};
 use super::{DunesScene, SAND_ALBEDO};
 use crate::export::asset::{
     Asset, Material, PartMesh, SurfaceCoordinates, Textures, floor_centre, linear_to_srgb,
@@ -12,6 +12,7 @@ use crate::export::asset::{
 use crate::export::heightmap::Heightmap;
 use crate::model::mesh::Mesh;
 use crate::model::ripple_maps::normal_level0;
+use crate::render::dune_surface::signed_byte;
 
 /// The wind's direction in the ground plane (x, z): the ripple tile's +u.
 fn wind(scene: &DunesScene) -> Vec2 {
@@ -38,18 +39,16 @@ pub fn ripple_normal_image(scene: &DunesScene, terrain: &Terrain) -> image::Rgba
         0.0
     };
     let normals = normal_level0(&terrain.ripples, scene.ripple_height_scale);
-    let byte = |v: f32| ((v * 0.5 + 0.5) * 255.0).round().clamp(0.0, 255.0) as u8;
     image::RgbaImage::from_fn(size, size, |x, y| {
         let r = normals[(y * size + x) as usize];
         let n = Vec3::new(r[0] * strength, r[1] * strength, r[2].max(1e-3)).normalize();
-        image::Rgba([byte(n.x), byte(-n.y), byte(n.z), 255])
+        image::Rgba([signed_byte(n.x), signed_byte(-n.y), signed_byte(n.z), 255])
     })
 }
 
 /// The sand's albedo under its grain (`albedo * (0.8 + 0.4 grain)`, as surface.frag
-/// shades it), sRGB-encoded.
-pub fn sand_colour_image(scene: &DunesScene) -> image::RgbaImage {
-    let grain = sand_grain(scene);
+/// shades it), sRGB-encoded, from the scene's grain texture (`frame::sand_grain`).
+pub fn sand_colour_image(grain: &[u8]) -> image::RgbaImage {
     image::RgbaImage::from_fn(GRAIN_SIZE, GRAIN_SIZE, |x, y| {
         let g = f32::from(grain[4 * (y * GRAIN_SIZE + x) as usize]) / 255.0;
         let c = SAND_ALBEDO * (0.8 + 0.4 * g);
@@ -89,9 +88,9 @@ pub fn ripple_heightmap(scene: &DunesScene, terrain: &Terrain) -> Heightmap {
 /// The bedrock's desert pavement (`model::pavement`, on the grain's tile) as surface.frag
 /// draws it close up: its colour map (the rock's albedo times the pebbles' tone and the
 /// grain, sRGB-encoded) and its normal map (tangent-space as `ripple_normal_image`'s,
-/// u along world x, v along world z).
-pub fn pavement_images(scene: &DunesScene, albedo: Vec3) -> (image::RgbaImage, image::RgbaImage) {
-    let texels = sand_grain(scene);
+/// u along world x, v along world z), from the scene's grain texture
+/// (`frame::sand_grain`), which holds the pavement.
+pub fn pavement_images(texels: &[u8], albedo: Vec3) -> (image::RgbaImage, image::RgbaImage) {
     let texel = |x: u32, y: u32| &texels[4 * (y * GRAIN_SIZE + x) as usize..][..4];
     let colour = image::RgbaImage::from_fn(GRAIN_SIZE, GRAIN_SIZE, |x, y| {
         let t = texel(x, y);
@@ -100,13 +99,12 @@ pub fn pavement_images(scene: &DunesScene, albedo: Vec3) -> (image::RgbaImage, i
         let byte = |v: f32| (linear_to_srgb(v.min(1.0)) * 255.0).round() as u8;
         image::Rgba([byte(c.x), byte(c.y), byte(c.z), 255])
     });
-    let byte = |v: f32| ((v * 0.5 + 0.5) * 255.0).round().clamp(0.0, 255.0) as u8;
     let normal = image::RgbaImage::from_fn(GRAIN_SIZE, GRAIN_SIZE, |x, y| {
         let t = texel(x, y);
         let slope = |b: u8| (f32::from(b) / 255.0 * 2.0 - 1.0) * PAVEMENT_SLOPE_RANGE;
         // The surface y = h(u, v): its normal is (-dh/du, -dh/dv, 1).
         let n = Vec3::new(-slope(t[2]), -slope(t[3]), 1.0).normalize();
-        image::Rgba([byte(n.x), byte(-n.y), byte(n.z), 255])
+        image::Rgba([signed_byte(n.x), signed_byte(-n.y), signed_byte(n.z), 255])
     });
     (colour, normal)
 }
@@ -155,8 +153,14 @@ fn textured_part(mesh: &Mesh, keep: &[bool], along: Vec2, per_tile: f32) -> Part
 /// surface.frag draws it): triangles wholly on bare rock as a part of their own, the
 /// pavement, and vertex colours that turn the sand's base colour into the rock's where
 /// the sand thins out over it.
-pub fn export(scene: &DunesScene, terrain: &Terrain, mesh: &Mesh, title: &str) -> Asset {
-    let floor = bedrock(terrain).filter(|_| scene.draws_bedrock());
+pub fn export(
+    scene: &DunesScene,
+    terrain: &Terrain,
+    mesh: &Mesh,
+    grain: &[u8],
+    title: &str,
+) -> Asset {
+    let floor = bedrock(terrain.bedrock_m).filter(|_| scene.draws_bedrock());
     let bare: Vec<bool> = mesh
         .indices
         .chunks_exact(3)
@@ -184,14 +188,14 @@ pub fn export(scene: &DunesScene, terrain: &Terrain, mesh: &Mesh, title: &str) -
         sand,
         Material {
             textures: Some(Textures {
-                base_color: sand_colour_image(scene),
+                base_color: sand_colour_image(grain),
                 normal: ripple_normal_image(scene, terrain),
             }),
             ..Material::plain("dunes_sand", Vec3::ONE, 0.95)
         },
     );
     if let Some(floor) = floor {
-        let (base_color, normal) = pavement_images(scene, floor.albedo);
+        let (base_color, normal) = pavement_images(grain, floor.albedo);
         asset.push(
             "bedrock",
             textured_part(mesh, &bare, Vec2::X, GRAIN_TILE_M),
@@ -208,6 +212,7 @@ pub fn export(scene: &DunesScene, terrain: &Terrain, mesh: &Mesh, title: &str) -
 
 #[cfg(test)]
 mod tests {
+    use super::super::frame::sand_grain;
     use super::*;
 
     /// The exported field's vertex colours turn the sand's base colour into the
@@ -238,7 +243,8 @@ mod tests {
             bedrock_m: Some(0.0),
         };
         let mesh = crate::model::dune_mesh::dune_mesh_tiled(n, scene.cell, &heights, 1);
-        let asset = export(&scene, &terrain, &mesh, "t");
+        let grain = sand_grain(&scene);
+        let asset = export(&scene, &terrain, &mesh, &grain, "t");
         let names: Vec<&str> = asset.parts.iter().map(|p| p.name.as_str()).collect();
         assert_eq!(names, ["dune_field", "bedrock"]);
         let (sand, rock) = (&asset.parts[0].mesh, &asset.parts[1].mesh);
@@ -284,7 +290,7 @@ mod tests {
             bedrock: false,
             ..scene
         };
-        let plain = export(&off, &terrain, &mesh, "t");
+        let plain = export(&off, &terrain, &mesh, &grain, "t");
         assert_eq!(plain.parts.len(), 1);
         assert_eq!(plain.parts[0].mesh.colors, None);
     }
@@ -295,7 +301,7 @@ mod tests {
     fn the_pavement_maps_hold_the_renderers_slopes() {
         let scene = DunesScene::default();
         let texels = sand_grain(&scene);
-        let (colour, normal) = pavement_images(&scene, super::super::BEDROCK_ALBEDO);
+        let (colour, normal) = pavement_images(&texels, super::super::BEDROCK_ALBEDO);
         assert_eq!(colour.dimensions(), (GRAIN_SIZE, GRAIN_SIZE));
         let mut tilted = 0;
         for (k, p) in normal.pixels().enumerate() {

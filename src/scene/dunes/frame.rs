@@ -42,7 +42,7 @@ use crate::render::atmosphere::{
 use crate::render::dune_shadow::DuneShadowPass;
 use crate::render::dune_surface::{
     Bedrock, DetailTexels, DuneBake, DuneGeometry, DunePush, DuneSkyLight, DuneSurfacePass,
-    DuneSwitches, DuneTextures, DuneWorldUniforms,
+    DuneSwitches, DuneTextures, DuneWorldUniforms, signed_byte, unit_byte,
 };
 use crate::render::dust::{DustLight, DustPass};
 use crate::render::lighting::Lighting;
@@ -302,15 +302,11 @@ fn switches(scene: &DunesScene, footprints: bool, shadow_mask: bool) -> DuneSwit
     }
 }
 
-/// The bedrock as the dune shader reads it (`DuneWorldUniforms::bedrock`): where the
-/// wind law's sand runs out (drawn where the scene's switch turns it on, so that the
-/// viewer's key can).
-pub(super) fn bedrock(terrain: &Terrain) -> Option<Bedrock> {
-    bedrock_at(terrain.bedrock_m)
-}
-
-/// `bedrock` of a terrain whose floor lies at `bedrock_m`.
-fn bedrock_at(bedrock_m: Option<f32>) -> Option<Bedrock> {
+/// The bedrock as the dune shader reads it (`DuneWorldUniforms::bedrock`) under a
+/// terrain whose floor lies at `bedrock_m` (`Terrain::bedrock_m`): where the wind law's
+/// sand runs out (drawn where the scene's switch turns it on, so that the viewer's key
+/// can).
+pub(super) fn bedrock(bedrock_m: Option<f32>) -> Option<Bedrock> {
     bedrock_m.map(|height_m| Bedrock {
         height_m,
         cover_m: super::BEDROCK_COVER_M,
@@ -324,15 +320,14 @@ fn bedrock_at(bedrock_m: Option<f32>) -> Option<Bedrock> {
 pub(super) fn sand_grain(scene: &DunesScene) -> Vec<u8> {
     let mut texels = grain_texture(scene.seed ^ 0x6A11, GRAIN_SIZE as usize);
     let floor = pavement(scene.seed ^ 0x9EB1, GRAIN_SIZE as usize);
-    let byte = |v: f32| ((v * 0.5 + 0.5) * 255.0).round().clamp(0.0, 255.0) as u8;
     for ((texel, tone), slope) in texels
         .chunks_exact_mut(4)
         .zip(&floor.tone)
         .zip(&floor.slope)
     {
-        texel[1] = (tone * 0.5 * 255.0).round().clamp(0.0, 255.0) as u8;
-        texel[2] = byte(slope[0] / PAVEMENT_SLOPE_RANGE);
-        texel[3] = byte(slope[1] / PAVEMENT_SLOPE_RANGE);
+        texel[1] = unit_byte(tone * 0.5);
+        texel[2] = signed_byte(slope[0] / PAVEMENT_SLOPE_RANGE);
+        texel[3] = signed_byte(slope[1] / PAVEMENT_SLOPE_RANGE);
     }
     texels
 }
@@ -386,9 +381,8 @@ impl DunesFrame {
             GRAIN_SIZE,
             detail_texels(prints.as_ref(), sun).as_ref(),
         )?;
-        let world = scene
-            .endless
-            .then(|| DesertWorld::new(scene.field_size(), &terrain.dune_heights));
+        let (world, world_uniforms) =
+            desert_world(&scene, &terrain.dune_heights, terrain.bedrock_m);
         let surface = DuneSurfacePass::new(
             ctx,
             ctx.frame_format(),
@@ -396,12 +390,7 @@ impl DunesFrame {
             &textures,
             9 * n * n,
             switches(&scene, prints.is_some(), false),
-            &DuneWorldUniforms::new(
-                world.as_ref(),
-                scene.field_size(),
-                scene.ripple_tile,
-                bedrock(terrain),
-            ),
+            &world_uniforms,
         )?;
         // The dust: released whether or not it is shown (the viewer's `u` shows it).
         let cloud = scene.dust_params().as_ref().map(|params| {
@@ -469,18 +458,10 @@ impl DunesFrame {
     /// viewer's `f`): its geometry and the shading's copies of the field made again.
     /// Call between frames, when no submission reading the old geometry is pending.
     fn rebuild_world(&mut self, ctx: &Arc<Context>) -> Result<()> {
-        let scene = &self.scene;
-        let world = scene
-            .endless
-            .then(|| DesertWorld::new(scene.field_size(), &self.dune_heights));
-        let (mesh, lod, far) = world_geometry(scene, &self.dune_heights, world.as_ref());
+        let (world, uniforms) = desert_world(&self.scene, &self.dune_heights, self.bedrock_m);
+        let (mesh, lod, far) = world_geometry(&self.scene, &self.dune_heights, world.as_ref());
         self.geometry = DuneGeometry::new(ctx, &with_far(&mesh, far.as_ref()))?;
-        self.surface.set_world(&DuneWorldUniforms::new(
-            world.as_ref(),
-            scene.field_size(),
-            scene.ripple_tile,
-            bedrock_at(self.bedrock_m),
-        ))?;
+        self.surface.set_world(&uniforms)?;
         self.mesh = mesh;
         self.lod = lod;
         self.far = far;
@@ -854,7 +835,7 @@ impl Exportable for DunesFrame {
         Ok(self.terrain.as_ref().map(|terrain| {
             let s = &self.scene;
             let mesh = dune_mesh_tiled(s.dune_size, s.cell, &terrain.dune_heights, 1);
-            super::export::export(s, terrain, &mesh, title)
+            super::export::export(s, terrain, &mesh, &self.grain, title)
         }))
     }
 }
@@ -899,6 +880,26 @@ fn with_far(mesh: &Mesh, far: Option<&FarField>) -> Mesh {
         all.append(&far.mesh);
     }
     all
+}
+
+/// The world beyond the period of `scene` over one period's `heights` (none unless
+/// `--endless`), and the uniforms the shading reads it and the bedrock at `bedrock_m`
+/// from.
+fn desert_world(
+    scene: &DunesScene,
+    heights: &[f32],
+    bedrock_m: Option<f32>,
+) -> (Option<DesertWorld>, DuneWorldUniforms) {
+    let world = scene
+        .endless
+        .then(|| DesertWorld::new(scene.field_size(), heights));
+    let uniforms = DuneWorldUniforms::new(
+        world.as_ref(),
+        scene.field_size(),
+        scene.ripple_tile,
+        bedrock(bedrock_m),
+    );
+    (world, uniforms)
 }
 
 /// The drawn field of `scene` over one period's `heights`: the 3 x 3 periods (the
