@@ -18,7 +18,9 @@
 //! Beyond Werner's grid-aligned wind, the wind blows from any direction: a hop is the
 //! wind's vector with each coordinate rounded up or down at random in proportion
 //! (stochastic rounding, unbiased), so crests do not lock to the grid's rows and
-//! columns. The wind regime is a list of directions with shares, blown in turn over a
+//! columns. (Between the axes the lattice still pulls them: the shadow test reads the
+//! cells nearest the wind's line and the avalanche sheds to 8 neighbours; see the
+//! book's limits.) The wind regime is a list of directions with shares, blown in turn over a
 //! cycle of `period` iterations: one wind gives barchans on a thin supply and
 //! transverse ridges on a thick one; two winds far apart give linear dunes along
 //! their resultant; three or more, star dunes.

@@ -460,8 +460,10 @@ impl DunesFrame {
     fn rebuild_world(&mut self, ctx: &Arc<Context>) -> Result<()> {
         let (world, uniforms) = desert_world(&self.scene, &self.dune_heights, self.bedrock_m);
         let (mesh, lod, far) = world_geometry(&self.scene, &self.dune_heights, world.as_ref());
-        self.geometry = DuneGeometry::new(ctx, &with_far(&mesh, far.as_ref()))?;
+        // Everything that can fail first, so that a failure leaves the old world whole.
+        let geometry = DuneGeometry::new(ctx, &with_far(&mesh, far.as_ref()))?;
         self.surface.set_world(&uniforms)?;
+        self.geometry = geometry;
         self.mesh = mesh;
         self.lod = lod;
         self.far = far;
