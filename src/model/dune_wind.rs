@@ -18,12 +18,15 @@
 //! Beyond Werner's grid-aligned wind, the wind blows from any direction: a hop is the
 //! wind's vector with each coordinate rounded up or down at random in proportion
 //! (stochastic rounding, unbiased), so crests do not lock to the grid's rows and
-//! columns. (Between the axes the lattice still pulls them: the shadow test reads the
-//! cells nearest the wind's line and the avalanche sheds to 8 neighbours; see the
-//! book's limits.) The wind regime is a list of directions with shares, blown in turn over a
-//! cycle of `period` iterations: one wind gives barchans on a thin supply and
-//! transverse ridges on a thick one; two winds far apart give linear dunes along
-//! their resultant; three or more, star dunes.
+//! columns. Between the axes Werner's lattice still pulls them: the shadow test reads
+//! the cells nearest the wind's line, which step along the lattice, and the avalanche
+//! sheds to 8 neighbours, so under a wind toward 30 degrees the slip faces face within
+//! a few degrees of the x axis. `isotropic` reads the relief on the wind's own line
+//! instead (interpolated between cells) and sheds to 16 neighbours (a knight's move
+//! too): the slip faces then face the wind's way. The wind regime is a list of
+//! directions with shares, blown in turn over a cycle of `period` iterations: one wind
+//! gives barchans on a thin supply and transverse ridges on a thick one; two winds far
+//! apart give linear dunes along their resultant; three or more, star dunes.
 //!
 //! The model is sequential (one random stream, seeded): the same seed gives the same
 //! field on any machine and any number of threads.
@@ -63,6 +66,10 @@ pub struct WindDuneParams {
     pub winds: Vec<Wind>,
     /// Iterations in one cycle of the regime.
     pub period: u32,
+    /// The shadow test on the wind's own line and the avalanche to 16 neighbours, so
+    /// that crests face winds between the axes (the module's notes); off, Werner's
+    /// nearest cells and 8 neighbours.
+    pub isotropic: bool,
 }
 
 impl Default for WindDuneParams {
@@ -82,6 +89,7 @@ impl Default for WindDuneParams {
                 share: 1.0,
             }],
             period: 20,
+            isotropic: false,
         }
     }
 }
@@ -136,33 +144,60 @@ impl WindDuneParams {
     }
 }
 
-/// A wind's hop and the cells a shadow test looks at, upwind.
+/// A wind's hop and the points a shadow test looks at, upwind.
 struct Step {
     /// The wind's direction (radians) and the hop length, cells.
     toward: f64,
     hop: f64,
-    /// Offsets (dx, dy) of the cells 1, 2, ... cells upwind, nearest on the line.
-    upwind: Vec<(isize, isize)>,
+    /// The points 1, 2, ... cells upwind on the wind's line, each as the cell below
+    /// and left of it and its bilinear weights.
+    upwind: Vec<Upwind>,
+}
+
+/// A point upwind: the offset of the cell at or below and left of it, and how far
+/// past that cell it lies in x and y (0..1).
+#[derive(Clone, Copy)]
+struct Upwind {
+    cell: (isize, isize),
+    frac: (f64, f64),
 }
 
 impl Step {
-    fn new(wind: Wind, hop: f64, reach: usize) -> Self {
+    /// `interpolated`: the points exactly on the wind's line; otherwise the cells
+    /// nearest it.
+    fn new(wind: Wind, hop: f64, reach: usize, interpolated: bool) -> Self {
         let (s, c) = wind.toward_degrees.to_radians().sin_cos();
+        // Snapped where the line passes within a hair of a cell, so that a wind along
+        // an axis reads whole cells (cos 90 degrees is 6e-17, not 0).
+        let split = |v: f64| {
+            let cell = v.round();
+            if !interpolated || (v - cell).abs() < 1e-9 {
+                (cell as isize, 0.0)
+            } else {
+                (v.floor() as isize, v - v.floor())
+            }
+        };
         Self {
             toward: wind.toward_degrees.to_radians(),
             hop,
             upwind: (1..=reach)
                 .map(|k| {
                     let k = k as f64;
-                    ((-k * c).round() as isize, (-k * s).round() as isize)
+                    let ((x, fx), (y, fy)) = (split(-k * c), split(-k * s));
+                    Upwind {
+                        cell: (x, y),
+                        frac: (fx, fy),
+                    }
                 })
                 .collect(),
         }
     }
 }
 
-/// The 8 neighbours, axial first, with their distance in cells.
-const NEIGHBOURS: [(isize, isize, f64); 8] = [
+/// The neighbours a slope beyond the repose sheds to, with their distance in cells:
+/// the 8 around a cell, axial first, then (`isotropic`) the 8 a knight's move away.
+/// The 8 alone make a slip face of facets in eight directions.
+const NEIGHBOURS: [(isize, isize, f64); 16] = [
     (1, 0, 1.0),
     (0, 1, 1.0),
     (-1, 0, 1.0),
@@ -171,7 +206,32 @@ const NEIGHBOURS: [(isize, isize, f64); 8] = [
     (-1, 1, std::f64::consts::SQRT_2),
     (-1, -1, std::f64::consts::SQRT_2),
     (1, -1, std::f64::consts::SQRT_2),
+    (2, 1, KNIGHT),
+    (1, 2, KNIGHT),
+    (-1, 2, KNIGHT),
+    (-2, 1, KNIGHT),
+    (-2, -1, KNIGHT),
+    (-1, -2, KNIGHT),
+    (1, -2, KNIGHT),
+    (2, -1, KNIGHT),
 ];
+
+/// The length of a knight's move, cells (the root of 5).
+const KNIGHT: f64 = 2.236_067_977_499_79;
+
+/// `v` on a period of `n`: a branch for the neighbours and the points upwind, which
+/// lie within a period of the field, instead of a division in every lookup.
+fn wrap(v: isize, n: isize) -> isize {
+    if v < 0 && v >= -n {
+        v + n
+    } else if v >= n && v < 2 * n {
+        v - n
+    } else if v < 0 || v >= n {
+        v.rem_euclid(n)
+    } else {
+        v
+    }
+}
 
 /// Hops after which a slab that has not settled settles anyway (only a field of bare
 /// rock with `p_bare` near 0 gets there).
@@ -292,7 +352,12 @@ impl WindDunes {
         // The shadow test need look no further upwind than the tallest column can
         // shade.
         let reach = (f64::from(self.tallest) / self.shadow_per_cell).ceil() as usize + 1;
-        let step = Step::new(wind, self.params.hop, reach.min(self.n));
+        let step = Step::new(
+            wind,
+            self.params.hop,
+            reach.min(self.n),
+            self.params.isotropic,
+        );
         let spread = self.params.spread_degrees.to_radians();
         let cells = self.n * self.n;
         for _ in 0..cells {
@@ -333,19 +398,34 @@ impl WindDunes {
 
     fn index(&self, x: isize, y: isize) -> usize {
         let n = self.n as isize;
-        (y.rem_euclid(n) * n + x.rem_euclid(n)) as usize
+        (wrap(y, n) * n + wrap(x, n)) as usize
     }
 
     /// Whether cell `i` lies in the shadow zone of the relief upwind.
     fn in_shadow(&self, i: usize, step: &Step) -> bool {
         let h = f64::from(self.slabs[i]);
         let (x, y) = self.xy(i);
-        for (k, &(ox, oy)) in step.upwind.iter().enumerate() {
+        let at = |ox: isize, oy: isize| f64::from(self.slabs[self.index(x + ox, y + oy)]);
+        for (k, p) in step.upwind.iter().enumerate() {
             let edge = h + (k + 1) as f64 * self.shadow_per_cell;
             if edge > f64::from(self.tallest) {
                 return false;
             }
-            if f64::from(self.slabs[self.index(x + ox, y + oy)]) > edge {
+            // The relief on the wind's line: its nearest cell, or (isotropic) between
+            // the four around it.
+            let ((ox, oy), (fx, fy)) = (p.cell, p.frac);
+            let mut up = at(ox, oy) * (1.0 - fx);
+            if fx > 0.0 {
+                up += at(ox + 1, oy) * fx;
+            }
+            if fy > 0.0 {
+                let mut next = at(ox, oy + 1) * (1.0 - fx);
+                if fx > 0.0 {
+                    next += at(ox + 1, oy + 1) * fx;
+                }
+                up = up * (1.0 - fy) + next * fy;
+            }
+            if up > edge {
                 return true;
             }
         }
@@ -400,7 +480,8 @@ impl WindDunes {
         let h = f64::from(self.slabs[i]);
         let mut best = None;
         let mut best_slope = self.repose_per_cell;
-        for &(ox, oy, d) in &NEIGHBOURS {
+        let reach = if self.params.isotropic { 16 } else { 8 };
+        for &(ox, oy, d) in &NEIGHBOURS[..reach] {
             let j = self.index(x + ox, y + oy);
             let slope = sign * (h - f64::from(self.slabs[j])) / d;
             if slope > best_slope {

@@ -224,6 +224,12 @@ crate::params! {
         /// Wind law: thickness of a slab of sand, in cell widths (thinner: smoother
         /// dunes, slower to form).
         [top, "Wind dunes"] dune_slab: f64 = 0.1, "F", "cell widths", check::within(0.01..=1.0);
+        /// Wind law: dunes that face a wind between the axes: the shadow test reads the
+        /// relief on the wind's own line and slip faces shed to 16 neighbours (off:
+        /// Werner's nearest cells and 8 neighbours, which turn the crests of a wind
+        /// toward 30 degrees within a few degrees of the x axis; the presets' fields;
+        /// on: about a fifth slower).
+        [top, "Wind dunes"] dune_isotropic: bool = false, "on|off", "", check::any();
         /// Ripple saltation length L0 (the paper's 7.3).
         [top, "Ripple law"] ripple_l0: f64 = 7.3, "CELLS", "texels", check::at_least(0.0);
         /// Ripple saltation amount q (the paper's 0.6).
@@ -642,6 +648,7 @@ impl DunesScene {
             repose_degrees: self.repose.0.unwrap_or(base.repose_degrees),
             winds: self.winds.0.clone(),
             period: self.wind_period,
+            isotropic: self.dune_isotropic,
             ..base
         }
     }

@@ -142,6 +142,7 @@ fn bad_input_is_named_and_nothing_is_written() {
             (vec!["--dune-law", "sand"], "--dune-law"),
             (vec!["--winds", "0:0"], "--winds"),
             (vec!["--winds", "east"], "--winds"),
+            (vec!["--dune-isotropic", "maybe"], "--dune-isotropic"),
             // Werner's model needs its shadow zone.
             (vec!["--shadow-zone", "off"], "--shadow-zone"),
             (

@@ -1330,6 +1330,20 @@ mod tests {
         assert_eq!(paper.ripple_wind_degrees(), 0.0);
     }
 
+    /// `--dune-isotropic` reaches the wind law, off in every preset (their fields were
+    /// made on Werner's lattice).
+    #[test]
+    fn the_isotropic_lattice_is_asked_for() {
+        for (name, _) in PRESETS {
+            assert!(!preset(name).expect("preset").wind_dune_params().isotropic);
+        }
+        let scene = DunesScene {
+            dune_isotropic: true,
+            ..DunesScene::default()
+        };
+        assert!(scene.wind_dune_params().isotropic);
+    }
+
     /// Every preset's dune field off the grid: at most 35 % of the slip faces' brinks
     /// continue in the same column in the next row of the model's field (the paper's
     /// law gives 80-90 %), at most 45 % on the surface drawn (straight transverse
