@@ -508,7 +508,7 @@ pub fn preset(name: &str) -> Result<DunesScene> {
             ..dune_type()
         },
         "transverse" => DunesScene {
-            sand_supply: 5.0,
+            sand_supply: 10.0,
             ..dune_type()
         },
         "linear" => DunesScene {

@@ -1347,7 +1347,7 @@ mod tests {
     /// Every preset's dune field off the grid: at most 35 % of the slip faces' brinks
     /// continue in the same column in the next row of the model's field (the paper's
     /// law gives 80-90 %), at most 45 % on the surface drawn (straight transverse
-    /// crests across the grid's +x wind give 38 %); the crests no more than 6 cells
+    /// crests across the grid's +x wind give 37 %); the crests no more than 6 cells
     /// upwind of the brinks (nature: at the brink).
     #[test]
     fn every_presets_crests_lie_off_the_grid() {
