@@ -10,6 +10,7 @@
 #include "lighting.glsl"
 #include "tonemap.glsl"
 #include "shadow.glsl"
+#include "wet_film.glsl"
 
 layout(set = 0, binding = 0) uniform Frame {
     mat4 view_proj;
@@ -50,46 +51,11 @@ layout(location = 5) SHADED vec4 in_axis;
 layout(location = 0) out vec4 out_color;
 
 const float SHININESS = 48.0;
-// The water film: its GGX roughness (still water over the rings, not a mirror: the
-// drip's ripples), water's reflectance at normal incidence ((1.33 - 1)^2 /
-// (1.33 + 1)^2), and the share of the normal map's relief its surface keeps (water
-// fills the finer hollows).
+// The water film (`wet_film.glsl`): its GGX roughness (still water over the rings, not
+// a mirror: the drip's ripples), and the share of the normal map's relief its surface
+// keeps (water fills the finer hollows).
 const float FILM_ALPHA = 0.015;
-const float WATER_F0 = 0.02;
 const float FILM_RELIEF = 0.15;
-
-// Schlick's Fresnel for water at incidence cosine `c` (clamped: a unit vectors' dot
-// product can pass 1 by a rounding, and pow of a negative base is undefined).
-float water_fresnel(float c) {
-    return WATER_F0 + (1.0 - WATER_F0) * pow(clamp(1.0 - c, 0.0, 1.0), 5.0);
-}
-
-// The film's highlight of the lamp, a sphere of radius `radius` at `lamp`, per unit of
-// the radiance it sends to `world`: GGX (Walter et al. 2007) with the height-correlated
-// Smith visibility (Heitz 2014) and Schlick's Fresnel for water, toward the point of
-// the sphere nearest the mirror direction `r`, the lobe widened by the sphere's
-// angular size and renormalised so the sphere gives what a point lamp would (Karis
-// 2013). Times n.l, and pi: a lamp's `radiance` lights a white diffuser to 1 here.
-float film_highlight(vec3 n, vec3 v, vec3 r, vec3 world, vec3 lamp, float radius, float alpha) {
-    vec3 to = lamp - world;
-    vec3 across = dot(to, r) * r - to;
-    vec3 l = normalize(to + across * clamp(radius / max(length(across), 1e-6), 0.0, 1.0));
-    float nl = dot(n, l);
-    if (nl <= 0.0) {
-        return 0.0;
-    }
-    float wide = clamp(alpha + radius / (2.0 * length(to)), 0.0, 1.0);
-    float norm = (alpha / wide) * (alpha / wide);
-    float a2 = wide * wide;
-    float nv = max(dot(n, v), 1e-4);
-    vec3 h = normalize(l + v);
-    float nh = max(dot(n, h), 0.0);
-    float k = nh * nh * (a2 - 1.0) + 1.0;
-    float d = a2 / (3.14159265 * k * k);
-    float vis = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2));
-    float f = water_fresnel(dot(v, h));
-    return 3.14159265 * norm * d * vis * f * nl;
-}
 
 // Calcite's mean free path for light, in scene units (metres): how far light crosses
 // the crystals before it is scattered or absorbed. A few centimetres of speleothem
@@ -122,18 +88,6 @@ float transmitted(vec3 world, vec3 n, vec3 l, vec4 axis, out float chord) {
     float radius = max(dot(world.xz - axis.xz, nr), 0.0);
     chord = 2.0 * radius * entering / lp2;
     return entering * exp(-chord / CALCITE_FREE_PATH);
-}
-
-// Lekner & Dorf (1988): the albedo of a rough surface of albedo `a` under water. The
-// water's surface reflects WATER_DIFFUSE_R of diffuse light from outside; from inside
-// it lets out (1 - WATER_DIFFUSE_R) / n^2 and reflects the rest, p, back down to the
-// calcite, so the light goes back and forth: (1 - R) a (1 - p) / (1 - p a).
-const float WATER_DIFFUSE_R = 0.066;
-const float WATER_N = 1.33;
-vec3 wet_albedo(vec3 a) {
-    float out_share = (1.0 - WATER_DIFFUSE_R) / (WATER_N * WATER_N);
-    float p = 1.0 - out_share;
-    return (1.0 - WATER_DIFFUSE_R) * a * out_share / (1.0 - p * a);
 }
 
 void main() {

@@ -59,6 +59,8 @@ pub struct CaveWallPass {
     shadow_set: DescriptorSet,
     frame_buffer: Buffer,
     fill: Pipeline,
+    /// `fill` with `cave_wall.frag`'s `WET`: the Short-profile speleothems' calcite.
+    wet: Pipeline,
     fill_under_lines: Pipeline,
     lines: Pipeline,
     layout: PipelineLayout,
@@ -76,11 +78,25 @@ pub enum Style {
         /// Scale of the normalised Blinn-Phong lobe added to the albedo.
         specular: f32,
     },
+    /// Wet calcite: `Lit` under a film of water, with a relief of flowstone rims and
+    /// crystal knobs (`cave_wall.frag`'s `calcite`), for speleothems without texture
+    /// coordinates.
+    Calcite {
+        /// Linear RGB albedo, dry.
+        albedo: Vec3,
+        /// Blinn-Phong exponent of the calcite's own sheen under the film.
+        shininess: f32,
+        /// Scale of that sheen.
+        specular: f32,
+    },
     /// Faces in a flat colour, pushed back in depth so lines drawn after win.
     UnderLines(Vec3),
     /// Lines in a flat colour (the mesh must be uploaded with `upload_edges`).
     Lines(Vec3),
 }
+
+/// `cave_wall.frag`'s specialization constant `WET` (wet calcite).
+const WET: u32 = 0;
 
 impl CaveWallPass {
     /// Builds the three pipelines for `target` over `lit_mesh.vert`, tone-mapping with
@@ -105,6 +121,9 @@ impl CaveWallPass {
                 .specialize(&tone.constants())
         };
         let fill = desc("cave faces").build(ctx, &layout)?;
+        let wet = desc("cave wet calcite")
+            .specialize(&[(WET, 1)])
+            .build(ctx, &layout)?;
         let mut under = desc("cave faces under lines");
         under.depth_bias = Some((2.0, 2.0));
         let fill_under_lines = under.build(ctx, &layout)?;
@@ -129,6 +148,7 @@ impl CaveWallPass {
             shadow_set,
             frame_buffer,
             fill,
+            wet,
             fill_under_lines,
             lines,
             layout,
@@ -148,6 +168,11 @@ impl CaveWallPass {
                 shininess,
                 specular,
             } => (&self.fill, albedo, Vec4::new(shininess, specular, 0.0, 0.0)),
+            Style::Calcite {
+                albedo,
+                shininess,
+                specular,
+            } => (&self.wet, albedo, Vec4::new(shininess, specular, 0.0, 0.0)),
             Style::UnderLines(c) => (&self.fill_under_lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
             Style::Lines(c) => (&self.lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
         };

@@ -119,6 +119,10 @@ crate::params! {
         /// speleothems meet the wall (screen space, cave_size / 24 round each pixel);
         /// the viewer's `k`.
         [top, "Look"] ao: bool = true, "on|off", "", check::any();
+        /// The Short-profile speleothems as wet calcite: crystal knobs and low rims of
+        /// flowstone under a film of water that mirrors the lamp and darkens the calcite
+        /// (off: dry, the paper's smooth calcite); the viewer's `c`.
+        [top, "Look"] wet: bool = true, "on|off", "", check::any();
         /// Camera position x,y,z in metres (the cave spans 0..cave_size on each axis;
         /// the passage runs along x with its floor at y = cave_size / 4); default: down
         /// the passage from near its start.

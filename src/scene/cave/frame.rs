@@ -128,6 +128,8 @@ pub struct CaveFrame {
     shadows: bool,
     /// Ambient occlusion is on (not over the wireframe).
     ao: bool,
+    /// The Short-profile speleothems are wet calcite (`Style::Calcite`), else dry.
+    wet: bool,
     occlusion: AmbientOcclusionPass,
     /// The camera of the frame being drawn, jitter included.
     camera: Option<Camera>,
@@ -224,6 +226,7 @@ impl CaveFrame {
             message: String::new(),
             shadows: scene.shadows,
             ao: scene.ao,
+            wet: scene.wet,
             // A metre in the default 24 m cave: corners, ledges, where speleothems
             // meet the wall.
             occlusion: AmbientOcclusionPass::new(ctx, scene.cave_size / 24.0)?,
@@ -265,7 +268,7 @@ impl CaveFrame {
 
     /// The viewer's keys.
     pub const CONTROLS: &'static [&'static str] =
-        &["x wireframe  b smoothed/blocky wall  u shadows  k ambient occlusion"];
+        &["x wireframe  b smoothed/blocky wall  u shadows  k ambient occlusion  c wet/dry calcite"];
 }
 
 impl Scene for CaveFrame {
@@ -375,15 +378,22 @@ impl Scene for CaveFrame {
                 )?,
             }
             if let Some(short) = &self.short {
-                self.pass.draw(
-                    cmd,
-                    short,
+                // Under water the calcite's own sheen is a fifth of the dry one's (its
+                // reflectance against water, as the grown speleothems' surface.glsl).
+                let style = if self.wet {
+                    Style::Calcite {
+                        albedo: CALCITE,
+                        shininess: 24.0,
+                        specular: 0.024,
+                    }
+                } else {
                     Style::Lit {
                         albedo: CALCITE,
                         shininess: 24.0,
                         specular: 0.12,
-                    },
-                )?;
+                    }
+                };
+                self.pass.draw(cmd, short, style)?;
             }
             if let Some(g) = &self.grown {
                 g.surface.draw(cmd, g.growth.source())?;
@@ -434,6 +444,12 @@ impl Interactive for CaveFrame {
                 self.ao = !self.ao;
                 let on = if self.ao { "on" } else { "off" };
                 self.message = format!("ambient occlusion {on}");
+                return Ok(true);
+            }
+            Key::Char('c') => {
+                self.wet = !self.wet;
+                let wet = if self.wet { "wet" } else { "dry" };
+                self.message = format!("{wet} calcite");
                 return Ok(true);
             }
             Key::Char('u') => {
