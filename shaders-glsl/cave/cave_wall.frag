@@ -7,7 +7,7 @@
 #include "lighting.glsl"
 #include "tonemap.glsl"
 #include "shadow.glsl"
-#include "noise.glsl"
+#include "rock.glsl"
 #include "wet_film.glsl"
 
 layout(set = 0, binding = 0) uniform Frame {
@@ -32,6 +32,10 @@ layout(push_constant) uniform Object {
 // The pipeline of wet calcite (`Style::Calcite`): its code compiled away from the
 // walls' pipeline, where llvmpipe would run it under a lane mask for every pixel.
 layout(constant_id = 0) const bool WET = false;
+// The walls' pipeline (`Style::Rock`): limestone (`rock.glsl`) over a grey of
+// ROCK_GREY times their albedo.
+layout(constant_id = 1) const bool ROCK = false;
+const float ROCK_GREY = 0.5;
 
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec3 in_normal;
@@ -84,11 +88,14 @@ void main() {
     if (object.material.z < 0.5) {
         vec3 n = normalize(in_normal);
         vec3 geometric = n;
+        // A temporal frame's sample stands for its share of the pixel.
+        float footprint = length(fwidth(in_world)) * exp2(frame.params.z);
         if (WET) {
-            // A temporal frame's sample stands for its share of the pixel.
-            float footprint = length(fwidth(in_world)) * exp2(frame.params.z);
             calcite(in_world, footprint, n, albedo);
             albedo = wet_albedo(albedo);
+        }
+        if (ROCK) {
+            limestone(in_world, footprint, albedo * ROCK_GREY, n, albedo);
         }
         float shininess = object.material.x;
         float specular = object.material.y;

@@ -2,7 +2,7 @@
 // `lit_mesh_shadowed.frag` (the lamp's light through its shadow map, set 1).
 #include "lighting.glsl"
 #include "tonemap.glsl"
-#include "noise.glsl"
+#include "rock.glsl"
 #ifdef SHADOWED
 #include "shadow.glsl"
 #endif
@@ -28,24 +28,11 @@ layout(location = 1) in vec3 in_normal;
 
 layout(location = 0) out vec4 out_color;
 
-// Rock (`material.w` 1): limestone whose colour wanders between iron-stained ochre
-// and grey in beds and patches, speckled at the grain, with a relief of the same solid
-// noise bent into the normal. Solid noise, not a projected texture: steep walls and
-// floors are textured alike and no seam shows where projections would meet.
+// Rock (`material.w` 1): `limestone` over a dark grey (`common/rock.glsl`).
 void rock(vec3 p, inout vec3 n, inout vec3 albedo) {
     // A temporal frame's sample stands for its share of the pixel (`Jitter::lod_bias`).
     float footprint = length(fwidth(p)) * exp2(frame.params.z);
-    vec4 patches = value_noise(p * vec3(1.1, 2.6, 1.1));
-    vec4 grain = value_noise(p * 9.0 + 13.0);
-    vec4 fine = value_noise(p * 31.0 + 71.0);
-    float g = octave_weight(9.0, footprint);
-    float f = octave_weight(31.0, footprint);
-    vec3 grey = vec3(0.095, 0.09, 0.085);
-    float stain = smoothstep(0.25, 0.8, patches.x);
-    albedo = mix(grey, albedo, stain) * (0.91 + g * 0.46 * (grain.x - 0.5))
-           * (1.0 + f * 0.36 * (fine.x - 0.5));
-    vec3 slope = 0.05 * patches.yzw + g * 0.045 * grain.yzw + f * 0.02 * fine.yzw;
-    n = normalize(n - (slope - dot(slope, n) * n));
+    limestone(p, footprint, vec3(0.095, 0.09, 0.085), n, albedo);
 }
 
 void main() {

@@ -61,6 +61,8 @@ pub struct CaveWallPass {
     fill: Pipeline,
     /// `fill` with `cave_wall.frag`'s `WET`: the Short-profile speleothems' calcite.
     wet: Pipeline,
+    /// `fill` with `cave_wall.frag`'s `ROCK`: the walls' limestone.
+    rock: Pipeline,
     fill_under_lines: Pipeline,
     lines: Pipeline,
     layout: PipelineLayout,
@@ -89,14 +91,26 @@ pub enum Style {
         /// Scale of that sheen.
         specular: f32,
     },
+    /// Limestone (`common/rock.glsl`): `Lit` with the albedo wandering to a grey half
+    /// as bright in patches, speckled, and a relief of the same solid noise.
+    Rock {
+        /// Linear RGB albedo of the stained rock.
+        albedo: Vec3,
+        /// Blinn-Phong exponent of the sun and lamp highlights.
+        shininess: f32,
+        /// Scale of the normalised Blinn-Phong lobe added to the albedo.
+        specular: f32,
+    },
     /// Faces in a flat colour, pushed back in depth so lines drawn after win.
     UnderLines(Vec3),
     /// Lines in a flat colour (the mesh must be uploaded with `upload_edges`).
     Lines(Vec3),
 }
 
-/// `cave_wall.frag`'s specialization constant `WET` (wet calcite).
+/// `cave_wall.frag`'s specialization constants: `WET` (wet calcite), `ROCK` (the
+/// walls' limestone).
 const WET: u32 = 0;
+const ROCK: u32 = 1;
 
 impl CaveWallPass {
     /// Builds the three pipelines for `target` over `lit_mesh.vert`, tone-mapping with
@@ -124,6 +138,9 @@ impl CaveWallPass {
         let wet = desc("cave wet calcite")
             .specialize(&[(WET, 1)])
             .build(ctx, &layout)?;
+        let rock = desc("cave rock")
+            .specialize(&[(ROCK, 1)])
+            .build(ctx, &layout)?;
         let mut under = desc("cave faces under lines");
         under.depth_bias = Some((2.0, 2.0));
         let fill_under_lines = under.build(ctx, &layout)?;
@@ -149,6 +166,7 @@ impl CaveWallPass {
             frame_buffer,
             fill,
             wet,
+            rock,
             fill_under_lines,
             lines,
             layout,
@@ -173,6 +191,11 @@ impl CaveWallPass {
                 shininess,
                 specular,
             } => (&self.wet, albedo, Vec4::new(shininess, specular, 0.0, 0.0)),
+            Style::Rock {
+                albedo,
+                shininess,
+                specular,
+            } => (&self.rock, albedo, Vec4::new(shininess, specular, 0.0, 0.0)),
             Style::UnderLines(c) => (&self.fill_under_lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
             Style::Lines(c) => (&self.lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
         };

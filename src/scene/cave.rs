@@ -123,6 +123,11 @@ crate::params! {
         /// flowstone under a film of water that mirrors the lamp and darkens the calcite
         /// (off: dry, the paper's smooth calcite); the viewer's `c`.
         [top, "Look"] wet: bool = true, "on|off", "", check::any();
+        /// The walls as limestone: their colour wandering to a darker grey in beds and
+        /// patches, speckled, with a relief of the same solid noise (off: one flat
+        /// colour, as the paper draws them; off in the presets of its Figs. 2, 5, 7 and
+        /// 8a, which show the mesh); the viewer's `l`.
+        [top, "Look"] limestone: bool = true, "on|off", "", check::any();
         /// Camera position x,y,z in metres (the cave spans 0..cave_size on each axis;
         /// the passage runs along x with its floor at y = cave_size / 4); default: down
         /// the passage from near its start.
@@ -201,14 +206,19 @@ pub const PRESETS: &[(&str, &str)] = &[
 
 /// The scene of one of [`PRESETS`] (`--preset`); an unknown name is refused, listing them.
 pub fn preset(name: &str) -> Result<CaveScene> {
+    // The paper's figures of the mesh draw it in one flat colour, as the paper does.
+    let paper = CaveScene {
+        limestone: false,
+        ..CaveScene::default()
+    };
     let bare = CaveScene {
         speleothems: Speleothems::None,
-        ..CaveScene::default()
+        ..paper.clone()
     };
     // Fig. 7's close look at voxel speleothems: depth 8, so that slender ones are a few
     // voxels wide, and more of them. Fig. 8a: Fig. 8's passage, its speleothems voxels.
     let voxels = |close: bool, smooth| {
-        let d = CaveScene::default();
+        let d = paper.clone();
         CaveScene {
             depth: if close { 8 } else { d.depth },
             speleothem_count: if close { 80 } else { d.speleothem_count },

@@ -130,6 +130,8 @@ pub struct CaveFrame {
     ao: bool,
     /// The Short-profile speleothems are wet calcite (`Style::Calcite`), else dry.
     wet: bool,
+    /// The walls are limestone (`Style::Rock`), else one flat colour.
+    limestone: bool,
     occlusion: AmbientOcclusionPass,
     /// The camera of the frame being drawn, jitter included.
     camera: Option<Camera>,
@@ -227,6 +229,7 @@ impl CaveFrame {
             shadows: scene.shadows,
             ao: scene.ao,
             wet: scene.wet,
+            limestone: scene.limestone,
             // A metre in the default 24 m cave: corners, ledges, where speleothems
             // meet the wall.
             occlusion: AmbientOcclusionPass::new(ctx, scene.cave_size / 24.0)?,
@@ -267,8 +270,10 @@ impl CaveFrame {
     }
 
     /// The viewer's keys.
-    pub const CONTROLS: &'static [&'static str] =
-        &["x wireframe  b smoothed/blocky wall  u shadows  k ambient occlusion  c wet/dry calcite"];
+    pub const CONTROLS: &'static [&'static str] = &[
+        "x wireframe  b smoothed/blocky wall  u shadows  k ambient occlusion",
+        "c wet/dry calcite  l limestone/flat walls",
+    ];
 }
 
 impl Scene for CaveFrame {
@@ -367,15 +372,23 @@ impl Scene for CaveFrame {
                     self.pass
                         .draw(cmd, lines, Style::Lines(Vec3::new(0.55, 0.6, 0.5)))?;
                 }
-                _ => self.pass.draw(
-                    cmd,
-                    faces,
-                    Style::Lit {
-                        albedo: ROCK,
-                        shininess: 8.0,
-                        specular: 0.04,
-                    },
-                )?,
+                _ => {
+                    let (albedo, shininess, specular) = (ROCK, 8.0, 0.04);
+                    let style = if self.limestone {
+                        Style::Rock {
+                            albedo,
+                            shininess,
+                            specular,
+                        }
+                    } else {
+                        Style::Lit {
+                            albedo,
+                            shininess,
+                            specular,
+                        }
+                    };
+                    self.pass.draw(cmd, faces, style)?;
+                }
             }
             if let Some(short) = &self.short {
                 // Under water the calcite's own sheen is a fifth of the dry one's (its
@@ -450,6 +463,12 @@ impl Interactive for CaveFrame {
                 self.wet = !self.wet;
                 let wet = if self.wet { "wet" } else { "dry" };
                 self.message = format!("{wet} calcite");
+                return Ok(true);
+            }
+            Key::Char('l') => {
+                self.limestone = !self.limestone;
+                let on = if self.limestone { "limestone" } else { "flat" };
+                self.message = format!("{on} walls");
                 return Ok(true);
             }
             Key::Char('u') => {
