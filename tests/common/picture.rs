@@ -1,5 +1,6 @@
 //! Measures of rendered pictures: the colour a viewer takes away (the mean of the
-//! brightest pixels) and the distance from a supersampled reference.
+//! brightest pixels), the distance from a supersampled reference, and what a water
+//! film changes.
 
 /// sRGB channel (0..=255) to linear light.
 pub fn linear(c: u8) -> f64 {
@@ -108,4 +109,39 @@ pub fn distance_from_supersampled(
         }
     }
     sum / f64::from(image.width() * image.height() * 3)
+}
+
+/// Where two pictures of the same view differ as `--wet` or `--environment` makes them:
+/// the pixels `on` marks, the mean of their channels' absolute difference, and the share
+/// of them brighter wet than dry by more than `margin` grey levels (the film's
+/// highlights, in spite of its darkening).
+pub struct FilmChange {
+    /// Pixels compared.
+    pub count: u32,
+    /// Their mean absolute difference, grey levels.
+    pub average: f64,
+    /// The share of them brighter wet than dry by more than the margin.
+    pub brighter: f64,
+}
+
+/// [`FilmChange`] of `wet` against `dry` over the pixels `on` marks.
+pub fn film_change(
+    wet: &image::RgbaImage,
+    dry: &image::RgbaImage,
+    on: &[bool],
+    margin: f64,
+) -> FilmChange {
+    let grey = |p: &image::Rgba<u8>| (0..3).map(|k| f64::from(p[k])).sum::<f64>() / 3.0;
+    let (mut sum, mut count, mut brighter) = (0.0f64, 0u32, 0u32);
+    for ((w, d), _) in wet.pixels().zip(dry.pixels()).zip(on).filter(|(_, o)| **o) {
+        sum += (0..3).map(|k| f64::from(w[k].abs_diff(d[k]))).sum::<f64>() / 3.0;
+        count += 1;
+        brighter += u32::from(grey(w) > grey(d) + margin);
+    }
+    let n = f64::from(count.max(1));
+    FilmChange {
+        count,
+        average: sum / n,
+        brighter: f64::from(brighter) / n,
+    }
 }

@@ -311,17 +311,11 @@ fn the_caves_short_speleothems_are_wet_calcite() {
             .zip(bare.pixels())
             .map(|(a, b)| (0..3).any(|k| a[k].abs_diff(b[k]) > 12))
             .collect();
-        let mean = |p: &image::Rgba<u8>| (0..3).map(|k| f64::from(p[k])).sum::<f64>() / 3.0;
-        let (mut sum, mut count, mut glints) = (0.0f64, 0u32, 0u32);
-        for ((w, d), &o) in wet_image.pixels().zip(dry_image.pixels()).zip(&on) {
-            if o {
-                sum += (0..3).map(|k| f64::from(w[k].abs_diff(d[k]))).sum::<f64>() / 3.0;
-                count += 1;
-                glints += u32::from(mean(w) > mean(d) + 8.0);
-            }
-        }
-        let n = f64::from(count.max(1));
-        let (average, share) = (sum / n, f64::from(glints) / n);
+        let common::picture::FilmChange {
+            count,
+            average,
+            brighter: share,
+        } = common::picture::film_change(&wet_image, &dry_image, &on, 8.0);
         let (relief_wet, relief_dry) = (relief(&wet_image, &on), relief(&dry_image, &on));
         eprintln!(
             "fig8 wet against dry over {count} speleothem pixels: {average:.2} levels on \

@@ -152,24 +152,16 @@ fn the_water_film_darkens_the_calcite_and_shows_the_lamps_highlights() {
         };
         let (_, outline) = grown(ctx, &unshadowed, GrowthPath::XfbRestream, size);
         let chamber = chamber_alone(ctx, &unshadowed, size);
-        let mean = |p: &image::Rgba<u8>| (0..3).map(|k| f64::from(p[k])).sum::<f64>() / 3.0;
-        let (mut sum, mut count, mut glints) = (0.0f64, 0u32, 0u32);
-        for (((w, d), o), c) in wet_image
+        let on: Vec<bool> = outline
             .pixels()
-            .zip(dry_image.pixels())
-            .zip(outline.pixels())
             .zip(chamber.pixels())
-        {
-            if (0..3).all(|k| o[k].abs_diff(c[k]) <= 12) {
-                continue;
-            }
-            sum += (0..3).map(|k| f64::from(w[k].abs_diff(d[k]))).sum::<f64>() / 3.0;
-            count += 1;
-            if mean(w) > mean(d) {
-                glints += 1;
-            }
-        }
-        let (average, share) = (sum / f64::from(count), f64::from(glints) / f64::from(count));
+            .map(|(o, c)| (0..3).any(|k| o[k].abs_diff(c[k]) > 12))
+            .collect();
+        let common::picture::FilmChange {
+            count,
+            average,
+            brighter: share,
+        } = common::picture::film_change(&wet_image, &dry_image, &on, 0.0);
         eprintln!(
             "fig9f wet against dry over {count} speleothem pixels: {average:.2} levels on \
              average, {:.2} % brighter",
