@@ -29,10 +29,10 @@ layout(push_constant) uniform Object {
     vec4 material; // x shininess, y specular weight, z > 0.5: unlit (wireframe)
 } object;
 
-// The pipeline of wet calcite (`Style::Calcite`): its code compiled away from the
+// The pipeline of wet calcite (`Surface::WetCalcite`): its code compiled away from the
 // walls' pipeline, where llvmpipe would run it under a lane mask for every pixel.
 layout(constant_id = 0) const bool WET = false;
-// The walls' pipeline (`Style::Rock`): limestone (`rock.glsl`) over a grey of
+// The walls' pipeline (`Surface::Limestone`): limestone (`rock.glsl`) over a grey of
 // ROCK_GREY times their albedo.
 layout(constant_id = 1) const bool ROCK = false;
 const float ROCK_GREY = 0.5;

@@ -79,32 +79,27 @@ pub enum Style {
         shininess: f32,
         /// Scale of the normalised Blinn-Phong lobe added to the albedo.
         specular: f32,
-    },
-    /// Wet calcite: `Lit` under a film of water, with a relief of flowstone rims and
-    /// crystal knobs (`cave_wall.frag`'s `calcite`), for speleothems without texture
-    /// coordinates.
-    Calcite {
-        /// Linear RGB albedo, dry.
-        albedo: Vec3,
-        /// Blinn-Phong exponent of the calcite's own sheen under the film.
-        shininess: f32,
-        /// Scale of that sheen.
-        specular: f32,
-    },
-    /// Limestone (`common/rock.glsl`): `Lit` with the albedo wandering to a grey half
-    /// as bright in patches, speckled, and a relief of the same solid noise.
-    Rock {
-        /// Linear RGB albedo of the stained rock.
-        albedo: Vec3,
-        /// Blinn-Phong exponent of the sun and lamp highlights.
-        shininess: f32,
-        /// Scale of the normalised Blinn-Phong lobe added to the albedo.
-        specular: f32,
+        /// What the surface is made of.
+        surface: Surface,
     },
     /// Faces in a flat colour, pushed back in depth so lines drawn after win.
     UnderLines(Vec3),
     /// Lines in a flat colour (the mesh must be uploaded with `upload_edges`).
     Lines(Vec3),
+}
+
+/// What lit faces are made of, each drawn by a pipeline of its own (`cave_wall.frag`'s
+/// specialization constants), so that a surface pays only for its own shading.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Surface {
+    /// One flat colour, as the paper draws walls and speleothems.
+    Plain,
+    /// Limestone (`common/rock.glsl`): the albedo wandering to a grey half as bright
+    /// in patches, speckled, and a relief of the same solid noise.
+    Limestone,
+    /// Wet calcite: a relief of crystal knobs and flowstone rims (`cave_wall.frag`'s
+    /// `calcite`) under a film of water, for speleothems without texture coordinates.
+    WetCalcite,
 }
 
 /// `cave_wall.frag`'s specialization constants: `WET` (wet calcite), `ROCK` (the
@@ -185,17 +180,15 @@ impl CaveWallPass {
                 albedo,
                 shininess,
                 specular,
-            } => (&self.fill, albedo, Vec4::new(shininess, specular, 0.0, 0.0)),
-            Style::Calcite {
-                albedo,
-                shininess,
-                specular,
-            } => (&self.wet, albedo, Vec4::new(shininess, specular, 0.0, 0.0)),
-            Style::Rock {
-                albedo,
-                shininess,
-                specular,
-            } => (&self.rock, albedo, Vec4::new(shininess, specular, 0.0, 0.0)),
+                surface,
+            } => {
+                let pipeline = match surface {
+                    Surface::Plain => &self.fill,
+                    Surface::Limestone => &self.rock,
+                    Surface::WetCalcite => &self.wet,
+                };
+                (pipeline, albedo, Vec4::new(shininess, specular, 0.0, 0.0))
+            }
             Style::UnderLines(c) => (&self.fill_under_lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
             Style::Lines(c) => (&self.lines, c, Vec4::new(1.0, 0.0, 1.0, 0.0)),
         };

@@ -26,7 +26,7 @@ use crate::model::mesh::{HeightProbe, Mesh};
 use crate::model::speleothem::feet::{FOOT_REACH_RADII, feet};
 use crate::model::speleothem::{GrowthPlan, Kind, RingVertex};
 use crate::render::ambient_occlusion::{AmbientOcclusionPass, Output};
-use crate::render::cave_wall::{CaveFrame as WallUniforms, CaveWallPass, Style};
+use crate::render::cave_wall::{CaveFrame as WallUniforms, CaveWallPass, Style, Surface};
 use crate::render::environment::EnvironmentMap;
 use crate::render::growth::{Growth, GrowthPath};
 use crate::render::lighting::Lighting;
@@ -128,9 +128,9 @@ pub struct CaveFrame {
     shadows: bool,
     /// Ambient occlusion is on (not over the wireframe).
     ao: bool,
-    /// The Short-profile speleothems are wet calcite (`Style::Calcite`), else dry.
+    /// The Short-profile speleothems are wet calcite (`Surface::WetCalcite`), else dry.
     wet: bool,
-    /// The walls are limestone (`Style::Rock`), else one flat colour.
+    /// The walls are limestone (`Surface::Limestone`), else one flat colour.
     limestone: bool,
     occlusion: AmbientOcclusionPass,
     /// The camera of the frame being drawn, jitter included.
@@ -372,41 +372,39 @@ impl Scene for CaveFrame {
                     self.pass
                         .draw(cmd, lines, Style::Lines(Vec3::new(0.55, 0.6, 0.5)))?;
                 }
-                _ => {
-                    let (albedo, shininess, specular) = (ROCK, 8.0, 0.04);
-                    let style = if self.limestone {
-                        Style::Rock {
-                            albedo,
-                            shininess,
-                            specular,
-                        }
-                    } else {
-                        Style::Lit {
-                            albedo,
-                            shininess,
-                            specular,
-                        }
-                    };
-                    self.pass.draw(cmd, faces, style)?;
-                }
+                _ => self.pass.draw(
+                    cmd,
+                    faces,
+                    Style::Lit {
+                        albedo: ROCK,
+                        shininess: 8.0,
+                        specular: 0.04,
+                        surface: if self.limestone {
+                            Surface::Limestone
+                        } else {
+                            Surface::Plain
+                        },
+                    },
+                )?,
             }
             if let Some(short) = &self.short {
                 // Under water the calcite's own sheen is a fifth of the dry one's (its
                 // reflectance against water, as the grown speleothems' surface.glsl).
-                let style = if self.wet {
-                    Style::Calcite {
-                        albedo: CALCITE,
-                        shininess: 24.0,
-                        specular: 0.024,
-                    }
+                let (specular, surface) = if self.wet {
+                    (0.024, Surface::WetCalcite)
                 } else {
+                    (0.12, Surface::Plain)
+                };
+                self.pass.draw(
+                    cmd,
+                    short,
                     Style::Lit {
                         albedo: CALCITE,
                         shininess: 24.0,
-                        specular: 0.12,
-                    }
-                };
-                self.pass.draw(cmd, short, style)?;
+                        specular,
+                        surface,
+                    },
+                )?;
             }
             if let Some(g) = &self.grown {
                 g.surface.draw(cmd, g.growth.source())?;
