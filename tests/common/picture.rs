@@ -2,6 +2,11 @@
 //! brightest pixels), the distance from a supersampled reference, and what a water
 //! film changes.
 
+/// A pixel's grey level: the mean of its three 8-bit channels.
+pub fn grey(p: &image::Rgba<u8>) -> f64 {
+    (0..3).map(|k| f64::from(p[k])).sum::<f64>() / 3.0
+}
+
 /// sRGB channel (0..=255) to linear light.
 pub fn linear(c: u8) -> f64 {
     let c = f64::from(c) / 255.0;
@@ -131,7 +136,6 @@ pub fn film_change(
     on: &[bool],
     margin: f64,
 ) -> FilmChange {
-    let grey = |p: &image::Rgba<u8>| (0..3).map(|k| f64::from(p[k])).sum::<f64>() / 3.0;
     let (mut sum, mut count, mut brighter) = (0.0f64, 0u32, 0u32);
     for ((w, d), _) in wet.pixels().zip(dry.pixels()).zip(on).filter(|(_, o)| **o) {
         sum += (0..3).map(|k| f64::from(w[k].abs_diff(d[k]))).sum::<f64>() / 3.0;

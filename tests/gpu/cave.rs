@@ -196,7 +196,7 @@ fn the_head_lamps_shadows_fall_beside_the_speleothems() {
             ..scene.clone()
         });
         let (w, h) = (size.width as usize, size.height as usize);
-        let level = |p: &image::Rgba<u8>| (0..3).map(|k| f64::from(p[k])).sum::<f64>() / 3.0;
+        let level = common::picture::grey;
         let near: Vec<bool> = unshadowed
             .pixels()
             .zip(bare.pixels())
@@ -253,10 +253,7 @@ fn the_head_lamps_shadows_fall_beside_the_speleothems() {
 /// from the few outlines and shadow edges inside the marked region.
 fn relief(image: &image::RgbaImage, on: &[bool]) -> f64 {
     let (w, h) = (image.width() as usize, image.height() as usize);
-    let grey: Vec<f64> = image
-        .pixels()
-        .map(|p| (0..3).map(|k| f64::from(p[k])).sum::<f64>() / 3.0)
-        .collect();
+    let grey: Vec<f64> = image.pixels().map(common::picture::grey).collect();
     let mut magnitudes = Vec::new();
     for y in 1..h - 1 {
         for x in 1..w - 1 {
@@ -432,10 +429,7 @@ fn the_caves_walls_are_limestone() {
         let (relief_rock, relief_flat) =
             (relief(&limestone, &everywhere), relief(&flat, &everywhere));
         let mean = |image: &image::RgbaImage| {
-            image
-                .pixels()
-                .map(|p| (0..3).map(|k| f64::from(p[k])).sum::<f64>() / 3.0)
-                .sum::<f64>()
+            image.pixels().map(common::picture::grey).sum::<f64>()
                 / f64::from(size.width * size.height)
         };
         let (bright_rock, bright_flat) = (mean(&limestone), mean(&flat));
