@@ -110,8 +110,9 @@ void main() {
         vec3 lamp = frame.lamp.rgb * (visible / d2);
         hdr += sun_light(n, v, l, albedo, lamp, shininess, specular);
         if (WET) {
-            // The film follows part of the relief; it reflects the lamp and the light
-            // from above, and what it reflects the calcite below does not receive.
+            // The film follows part of the relief; it reflects the lamp, the directional
+            // light (a point of no size far along its direction) and the light from
+            // above, and what it reflects the calcite below does not receive.
             vec3 nc = normalize(mix(geometric, n, CALCITE_FILM_RELIEF));
             float facing = dot(nc, v);
             if (facing < 0.2) {
